@@ -1,0 +1,169 @@
+//! A node's processor as a cost model: a table of per-operation times and per-message
+//! overheads, turning operation counts into simulated time.
+//!
+//! Must never decide *when* work runs (the engine's cpu queue does that) and never invent a
+//! time: every duration is a count times a cost from the machine spec.
+
+use crate::units::{Bytes, SimTime};
+
+/// The operations a machine can charge for. A spec's `cpu.costs` names them in snake case;
+/// unnamed operations cost nothing. Adding an operation is adding a variant here.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, PartialOrd, Ord, Hash)]
+pub enum Op {
+    TransformVertex,
+    ClipTriangle,
+    SetupTriangle,
+    Span,
+    PixelTest,
+    PixelWrite,
+    Sample,
+    CompositePixel,
+    ByteCopy,
+    BucketInsert,
+    ActiveListOp,
+    RegionCount,
+    AssignRegion,
+}
+
+impl Op {
+    pub const ALL: [Op; 13] = [
+        Op::TransformVertex,
+        Op::ClipTriangle,
+        Op::SetupTriangle,
+        Op::Span,
+        Op::PixelTest,
+        Op::PixelWrite,
+        Op::Sample,
+        Op::CompositePixel,
+        Op::ByteCopy,
+        Op::BucketInsert,
+        Op::ActiveListOp,
+        Op::RegionCount,
+        Op::AssignRegion,
+    ];
+
+    pub fn name(self) -> &'static str {
+        match self {
+            Op::TransformVertex => "transform_vertex",
+            Op::ClipTriangle => "clip_triangle",
+            Op::SetupTriangle => "setup_triangle",
+            Op::Span => "span",
+            Op::PixelTest => "pixel_test",
+            Op::PixelWrite => "pixel_write",
+            Op::Sample => "sample",
+            Op::CompositePixel => "composite_pixel",
+            Op::ByteCopy => "byte_copy",
+            Op::BucketInsert => "bucket_insert",
+            Op::ActiveListOp => "active_list_op",
+            Op::RegionCount => "region_count",
+            Op::AssignRegion => "assign_region",
+        }
+    }
+
+    pub fn from_name(name: &str) -> Option<Op> {
+        Op::ALL.into_iter().find(|op| op.name() == name)
+    }
+
+    /// The valid names, for error messages.
+    pub fn valid_names() -> String {
+        Op::ALL.iter().map(|op| op.name()).collect::<Vec<_>>().join(", ")
+    }
+}
+
+/// Time per operation, indexed by `Op`.
+#[derive(Clone, Debug, Default, PartialEq, Eq)]
+pub struct CostTable {
+    per_op: [SimTime; Op::ALL.len()],
+}
+
+impl CostTable {
+    pub fn set(&mut self, op: Op, cost: SimTime) {
+        self.per_op[op as usize] = cost;
+    }
+    pub fn get(&self, op: Op) -> SimTime {
+        self.per_op[op as usize]
+    }
+    /// The time to perform `counts`.
+    pub fn time(&self, counts: &Counts) -> SimTime {
+        let ps: u128 = self.per_op.iter().zip(counts.n.iter()).map(|(c, &n)| c.ps() as u128 * n as u128).sum();
+        SimTime::from_ps(u64::try_from(ps).expect("a charged duration overflowed u64 picoseconds"))
+    }
+}
+
+/// Operation counts to be charged together (one `compute` per batch, not per pixel).
+#[derive(Clone, Debug, Default, PartialEq, Eq)]
+pub struct Counts {
+    n: [u64; Op::ALL.len()],
+}
+
+impl Counts {
+    pub fn new() -> Counts {
+        Counts::default()
+    }
+    pub fn of(op: Op, n: u64) -> Counts {
+        let mut c = Counts::default();
+        c.add(op, n);
+        c
+    }
+    pub fn add(&mut self, op: Op, n: u64) -> &mut Counts {
+        self.n[op as usize] += n;
+        self
+    }
+    pub fn get(&self, op: Op) -> u64 {
+        self.n[op as usize]
+    }
+}
+
+impl std::ops::AddAssign<&Counts> for Counts {
+    fn add_assign(&mut self, rhs: &Counts) {
+        for (a, b) in self.n.iter_mut().zip(rhs.n.iter()) {
+            *a += b;
+        }
+    }
+}
+
+/// A node's processor: operation costs, message overheads, and whether communication runs
+/// beside computation (DMA links) or occupies the cpu until the message is delivered.
+#[derive(Clone, Debug, Default, PartialEq, Eq)]
+pub struct CpuConfig {
+    pub costs: CostTable,
+    pub send_overhead: SimTime,
+    pub send_per_byte: SimTime,
+    pub recv_overhead: SimTime,
+    pub recv_per_byte: SimTime,
+    /// True: a send costs the cpu only its overhead and the transfer runs beside computation.
+    /// False: the sending program stays blocked until the message is delivered.
+    pub overlap: bool,
+}
+
+impl CpuConfig {
+    pub fn send_cost(&self, bytes: Bytes) -> SimTime {
+        self.send_overhead + self.send_per_byte.times(bytes.get())
+    }
+    pub fn recv_cost(&self, bytes: Bytes) -> SimTime {
+        self.recv_overhead + self.recv_per_byte.times(bytes.get())
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn names_round_trip() {
+        for op in Op::ALL {
+            assert_eq!(Op::from_name(op.name()), Some(op));
+        }
+        assert_eq!(Op::from_name("transfrom_vertex"), None);
+    }
+
+    #[test]
+    fn cost_is_count_times_price() {
+        let mut table = CostTable::default();
+        table.set(Op::PixelWrite, SimTime::from_ns(50));
+        table.set(Op::SetupTriangle, SimTime::from_us(2));
+        let mut counts = Counts::of(Op::PixelWrite, 1000);
+        counts.add(Op::SetupTriangle, 3).add(Op::Span, 99);
+        assert_eq!(table.time(&counts), SimTime::from_us(50 + 6));
+    }
+}

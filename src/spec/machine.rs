@@ -1,0 +1,211 @@
+//! The machine spec file (machines/*.json) and its validation into a `MachineConfig`.
+//!
+//! Owns the JSON shape of a machine and every rule a machine must satisfy, each reported
+//! with its field path. Must never build simulation state.
+
+use std::collections::BTreeMap;
+use std::path::Path;
+
+use serde::Deserialize;
+
+use super::{load_json, SpecError};
+use crate::machine::{CostTable, CpuConfig, MachineConfig, Op};
+use crate::net::{Fidelity, Network, NetworkConfig, Switching, TopologyKind};
+use crate::units::{Bandwidth, Bytes, SimTime};
+
+#[derive(Deserialize, Debug)]
+#[serde(deny_unknown_fields)]
+pub struct MachineSpec {
+    pub name: String,
+    pub source: String,
+    pub nodes: u32,
+    pub cpu: CpuSpec,
+    pub memory: MemorySpec,
+    pub network: NetworkSpec,
+}
+
+#[derive(Deserialize, Debug)]
+#[serde(deny_unknown_fields)]
+pub struct CpuSpec {
+    /// Time per operation, by operation name (see `Op`).
+    #[serde(default)]
+    pub costs: BTreeMap<String, SimTime>,
+    pub send_overhead: SimTime,
+    #[serde(default)]
+    pub send_per_byte: SimTime,
+    pub recv_overhead: SimTime,
+    #[serde(default)]
+    pub recv_per_byte: SimTime,
+    pub overlap: bool,
+}
+
+#[derive(Deserialize, Debug)]
+#[serde(deny_unknown_fields)]
+pub struct MemorySpec {
+    pub capacity_per_node: Bytes,
+}
+
+#[derive(Deserialize, Debug)]
+#[serde(deny_unknown_fields)]
+pub struct NetworkSpec {
+    pub topology: TopologySpec,
+    /// Extent per dimension; may be omitted for ring, pipeline, bus and crossbar.
+    #[serde(default)]
+    pub dims: Option<Vec<u32>>,
+    pub link_bandwidth: Bandwidth,
+    pub hop_latency: SimTime,
+    pub switching: SwitchingSpec,
+    pub packet_size: Bytes,
+    pub fidelity: FidelitySpec,
+}
+
+#[derive(Deserialize, Debug, Clone, Copy)]
+#[serde(rename_all = "kebab-case")]
+pub enum TopologySpec {
+    Ring,
+    Pipeline,
+    Torus,
+    Mesh,
+    Hypercube,
+    Bus,
+    Crossbar,
+}
+
+#[derive(Deserialize, Debug, Clone, Copy)]
+#[serde(rename_all = "kebab-case")]
+pub enum SwitchingSpec {
+    StoreAndForward,
+    Wormhole,
+}
+
+#[derive(Deserialize, Debug, Clone, Copy, PartialEq, Eq)]
+#[serde(rename_all = "kebab-case")]
+pub enum FidelitySpec {
+    Ideal,
+    Hops,
+    Flow,
+    Packet,
+}
+
+impl From<FidelitySpec> for Fidelity {
+    fn from(f: FidelitySpec) -> Fidelity {
+        match f {
+            FidelitySpec::Ideal => Fidelity::Ideal,
+            FidelitySpec::Hops => Fidelity::Hops,
+            FidelitySpec::Flow => Fidelity::Flow,
+            FidelitySpec::Packet => Fidelity::Packet,
+        }
+    }
+}
+
+impl From<TopologySpec> for TopologyKind {
+    fn from(t: TopologySpec) -> TopologyKind {
+        match t {
+            TopologySpec::Ring => TopologyKind::Ring,
+            TopologySpec::Pipeline => TopologyKind::Pipeline,
+            TopologySpec::Torus => TopologyKind::Torus,
+            TopologySpec::Mesh => TopologyKind::Mesh,
+            TopologySpec::Hypercube => TopologyKind::Hypercube,
+            TopologySpec::Bus => TopologyKind::Bus,
+            TopologySpec::Crossbar => TopologyKind::Crossbar,
+        }
+    }
+}
+
+/// Reads, parses and validates a machine spec.
+pub fn load_machine(path: &Path) -> Result<MachineConfig, SpecError> {
+    let spec: MachineSpec = load_json(path)?;
+    validate(path, spec)
+}
+
+/// Checks every rule a machine must satisfy and builds its `MachineConfig`.
+pub fn validate(path: &Path, spec: MachineSpec) -> Result<MachineConfig, SpecError> {
+    let invalid = |field: &str, msg: String| SpecError::invalid(path, field, msg);
+    if spec.nodes == 0 {
+        return Err(invalid("nodes", "a machine needs at least 1 node".into()));
+    }
+    let mut costs = CostTable::default();
+    for (name, &cost) in &spec.cpu.costs {
+        let op = Op::from_name(name).ok_or_else(|| {
+            invalid(&format!("cpu.costs.{name}"), format!("unknown operation; valid operations: {}", Op::valid_names()))
+        })?;
+        costs.set(op, cost);
+    }
+    if spec.memory.capacity_per_node == Bytes::ZERO {
+        return Err(invalid("memory.capacity_per_node", "must be greater than 0B".into()));
+    }
+    let network = network_config(path, spec.nodes, &spec.network)?;
+    Network::new(&network).map_err(|e| invalid("network", e.to_string()))?;
+    Ok(MachineConfig {
+        name: spec.name,
+        source: spec.source,
+        nodes: spec.nodes,
+        cpu: CpuConfig {
+            costs,
+            send_overhead: spec.cpu.send_overhead,
+            send_per_byte: spec.cpu.send_per_byte,
+            recv_overhead: spec.cpu.recv_overhead,
+            recv_per_byte: spec.cpu.recv_per_byte,
+            overlap: spec.cpu.overlap,
+        },
+        memory_per_node: spec.memory.capacity_per_node,
+        network,
+    })
+}
+
+fn network_config(path: &Path, nodes: u32, net: &NetworkSpec) -> Result<NetworkConfig, SpecError> {
+    let invalid = |field: &str, msg: String| SpecError::invalid(path, field, msg);
+    let topology = TopologyKind::from(net.topology);
+    let dims = match (&net.dims, topology) {
+        (Some(d), _) => d.clone(),
+        (None, TopologyKind::Ring | TopologyKind::Pipeline | TopologyKind::Bus | TopologyKind::Crossbar) => {
+            vec![nodes]
+        }
+        (None, TopologyKind::Hypercube) => vec![nodes],
+        (None, _) => {
+            return Err(invalid("network.dims", format!("a {topology:?} needs its extent per dimension, e.g. [4, 4]")))
+        }
+    };
+    if dims.is_empty() {
+        return Err(invalid("network.dims", "must list at least one dimension".into()));
+    }
+    if let Some(i) = dims.iter().position(|&d| d == 0) {
+        return Err(invalid(&format!("network.dims[{i}]"), "a dimension must be at least 1".into()));
+    }
+    let product: u64 = dims.iter().map(|&d| d as u64).product();
+    if product != nodes as u64 {
+        return Err(invalid(
+            "network.dims",
+            format!("the product of {dims:?} is {product}, but `nodes` is {nodes}; they must be equal"),
+        ));
+    }
+    match topology {
+        TopologyKind::Mesh if !(2..=3).contains(&dims.len()) => {
+            return Err(invalid("network.dims", format!("a mesh is 2D or 3D, got {} dimensions", dims.len())))
+        }
+        TopologyKind::Ring | TopologyKind::Pipeline | TopologyKind::Bus | TopologyKind::Crossbar | TopologyKind::Hypercube
+            if dims.len() != 1 =>
+        {
+            return Err(invalid("network.dims", format!("a {topology:?} has one dimension, [nodes]")))
+        }
+        TopologyKind::Hypercube if !nodes.is_power_of_two() => {
+            return Err(invalid("nodes", format!("a hypercube has a power-of-two node count, got {nodes}")))
+        }
+        _ => {}
+    }
+    if net.packet_size == Bytes::ZERO {
+        return Err(invalid("network.packet_size", "must be at least 1B".into()));
+    }
+    Ok(NetworkConfig {
+        topology,
+        dims,
+        link_bandwidth: net.link_bandwidth,
+        hop_latency: net.hop_latency,
+        switching: match net.switching {
+            SwitchingSpec::StoreAndForward => Switching::StoreAndForward,
+            SwitchingSpec::Wormhole => Switching::Wormhole,
+        },
+        packet_size: net.packet_size,
+        fidelity: net.fidelity.into(),
+    })
+}
