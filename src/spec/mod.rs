@@ -5,6 +5,7 @@
 //! Owns deserialization of user input. Must never simulate anything, and never let a
 //! malformed spec reach the rest of the crate: everything past `spec` is validated.
 
+pub mod check;
 pub mod machine;
 mod quantity;
 
