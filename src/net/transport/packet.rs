@@ -7,6 +7,10 @@
 //! - packet `k` (cumulative bytes `C_k`) occupies a link for `T(C_k) - T(C_{k-1})`, so the
 //!   rounding of `Bandwidth::transfer_time` telescopes and a message's packets together take
 //!   exactly `T(b)` on every link;
+//! - a message offers one packet at a time to its first hop: packet `k+1` joins the first
+//!   link's FIFO when packet `k` has taken it, so the messages queued at a link take turns
+//!   packet by packet (the packet-grain version of fair sharing) instead of one message
+//!   sending all its packets before the next starts;
 //! - a hop acquires its links in route order (one link, or on a crossbar the source's output
 //!   port then the destination's input port, held while waiting for the second), each from
 //!   its FIFO; a link is free again once the packet's last byte has been put on it;
@@ -43,6 +47,8 @@ pub struct Packet {
     packets: Vec<PacketState>,
     free_packets: Vec<u32>,
     links: Vec<LinkQueue>,
+    /// Messages whose next packet may now be offered to their first hop.
+    offers: Vec<u32>,
 }
 
 #[derive(Clone, Copy, Debug, PartialEq, Eq, PartialOrd, Ord)]
@@ -60,6 +66,12 @@ struct MessageState {
     hops: u32,
     links_per_hop: u32,
     packets_left: u64,
+    bytes: Bytes,
+    /// 1-based index of the next packet to offer; `> count` once all are in the network.
+    next_packet: u64,
+    count: u64,
+    /// `T(C_{k-1})` for the next packet `k`.
+    sent_before: SimTime,
 }
 
 #[derive(Clone, Copy)]
@@ -101,6 +113,7 @@ impl Packet {
                     peak: 0,
                 })
                 .collect(),
+            offers: Vec::new(),
         }
     }
 
@@ -109,13 +122,18 @@ impl Packet {
         self.events.push(Reverse((at, self.seq, event)));
     }
 
-    fn new_message(&mut self, msg: MsgId, route: &[LinkId], hops: u32, packets: u64) -> u32 {
+    fn new_message(&mut self, msg: MsgId, route: &[LinkId], hops: u32, bytes: Bytes) -> u32 {
+        let count = self.timing.packet_count(bytes);
         let state = MessageState {
             msg,
             route: route.to_vec(),
             hops,
             links_per_hop: route.len() as u32 / hops,
-            packets_left: packets,
+            packets_left: count,
+            bytes,
+            next_packet: 1,
+            count,
+            sent_before: SimTime::ZERO,
         };
         match self.free_messages.pop() {
             Some(slot) => {
@@ -145,6 +163,31 @@ impl Packet {
                 self.packets.push(state);
                 (self.packets.len() - 1) as u32
             }
+        }
+    }
+
+    /// Puts the message's next packet (if any) at its first hop. Its occupancy telescopes:
+    /// `T(C_k) - T(C_{k-1})`.
+    fn offer_next_packet(&mut self, now: SimTime, message: u32) {
+        let size = self.timing.packet_size.get();
+        let m = &mut self.messages[message as usize];
+        if m.next_packet > m.count {
+            return;
+        }
+        let cumulative = Bytes::new((m.next_packet * size).min(m.bytes.get()));
+        let sent = self.timing.serialization(cumulative);
+        let transmit = sent - m.sent_before;
+        m.sent_before = sent;
+        m.next_packet += 1;
+        let pkt = self.new_packet(message, transmit);
+        self.request(now, pkt);
+    }
+
+    /// Offers packets until no message has one ready (iterative: a packet that takes a free
+    /// link at once lets the next one be offered, without recursion).
+    fn drain_offers(&mut self, now: SimTime) {
+        while let Some(message) = self.offers.pop() {
+            self.offer_next_packet(now, message);
         }
     }
 
@@ -190,6 +233,9 @@ impl Packet {
         let first = (p.hop * m.links_per_hop) as usize;
         let hop_links = first..first + m.links_per_hop as usize;
         let last_hop = p.hop + 1 == m.hops;
+        if p.hop == 0 {
+            self.offers.push(p.message);
+        }
         let free_at = now + p.transmit;
         for i in hop_links {
             let link = self.messages[p.message as usize].route[i];
@@ -264,17 +310,9 @@ impl Transport for Packet {
         hops: u32,
         bytes: Bytes,
     ) -> Option<SimTime> {
-        let count = self.timing.packet_count(bytes);
-        let message = self.new_message(msg, route, hops, count);
-        let size = self.timing.packet_size.get();
-        let mut sent_before = SimTime::ZERO;
-        for k in 1..=count {
-            let cumulative = Bytes::new((k * size).min(bytes.get()));
-            let sent = self.timing.serialization(cumulative);
-            let pkt = self.new_packet(message, sent - sent_before);
-            sent_before = sent;
-            self.request(now, pkt);
-        }
+        let message = self.new_message(msg, route, hops, bytes);
+        self.offer_next_packet(now, message);
+        self.drain_offers(now);
         None
     }
 
@@ -292,6 +330,7 @@ impl Transport for Packet {
                 Event::Arrive(pkt) => self.on_arrive(at, pkt, delivered),
                 Event::LinkFree(link) => self.on_link_free(at, link),
             }
+            self.drain_offers(at);
         }
     }
 
