@@ -1,0 +1,377 @@
+//! `flow`: max-min fair sharing of every link's bandwidth among the messages crossing it
+//! (fluid model), recomputed incrementally.
+//!
+//! Owns the exact fluid arithmetic:
+//! - a flow's remaining work is an exact integer in bit-picoseconds (`Bandwidth::work_of`);
+//! - rates are whole bits per second from water-filling with floor division, so no link
+//!   carries more than its capacity and a flow never finishes early; a rate is never 0 (a
+//!   link shared by more flows than it has bits per second gives each 1 bit/s);
+//! - progress over `dt` picoseconds is exactly `rate * dt`; a completion is at
+//!   `now + ceil(remaining / rate)`, rounded once;
+//! - a flow's delivery is its fluid end plus `Timing::fixed_part` (route latency and the
+//!   store-and-forward pipeline term), so a lone message matches the formula exactly.
+//!
+//! Incremental: when flows start or end, only the connected component of flows that share
+//! links with them (transitively) gets new rates; every other flow keeps its rate and its
+//! progress is applied lazily. Starts at one instant are batched into one recomputation
+//! (`next_event_time` asks for an `advance` at the start instant).
+//!
+//! Must never use floating point, never iterate a hash map, and never let a stale completion
+//! entry (one computed under an old rate) deliver a message: entries carry the flow's version.
+
+use std::cmp::Reverse;
+use std::collections::BinaryHeap;
+
+use super::{Transport, Usage};
+use crate::net::timing::Timing;
+use crate::net::{Delivered, LinkId, MsgId};
+use crate::units::{ceil_div, Bandwidth, Bytes, SimTime};
+
+pub struct Flow {
+    timing: Timing,
+    capacity: u64,
+    clock: SimTime,
+    seq: u64,
+    flows: Vec<FlowState>,
+    free_slots: Vec<u32>,
+    links: Vec<LinkState>,
+    /// (completion, seq, flow slot, flow version); entries of older versions are stale.
+    completions: BinaryHeap<Reverse<(SimTime, u64, u32, u32)>>,
+    /// (delivery, seq, message): fluid transfer done, fixed latency running.
+    deliveries: BinaryHeap<Reverse<(SimTime, u64, MsgId)>>,
+    /// Flows started and links vacated since the last recomputation, and when.
+    dirty_flows: Vec<u32>,
+    dirty_links: Vec<LinkId>,
+    dirty_since: Option<SimTime>,
+    scratch: Scratch,
+}
+
+struct FlowState {
+    msg: MsgId,
+    route: Vec<LinkId>,
+    /// Bit-picoseconds still to move, as of `since`.
+    remaining: u128,
+    /// Bits per second; 0 only before the first recomputation.
+    rate: u64,
+    since: SimTime,
+    tail: SimTime,
+    version: u32,
+    active: bool,
+}
+
+#[derive(Default)]
+struct LinkState {
+    flows: Vec<u32>,
+    busy: SimTime,
+    busy_since: SimTime,
+    peak: u32,
+}
+
+/// Reused buffers of the recomputation; `epoch` marks what the current one has visited.
+#[derive(Default)]
+struct Scratch {
+    epoch: u32,
+    flow_epoch: Vec<u32>,
+    link_epoch: Vec<u32>,
+    component_flows: Vec<u32>,
+    component_links: Vec<LinkId>,
+    fixed: Vec<bool>,
+    cap_left: Vec<u64>,
+    unfixed: Vec<u32>,
+    key_version: Vec<u32>,
+    bottlenecks: BinaryHeap<Reverse<(u64, LinkId, u32)>>,
+}
+
+impl Flow {
+    pub fn new(timing: Timing, links: usize) -> Flow {
+        let mut scratch = Scratch {
+            link_epoch: vec![0; links],
+            cap_left: vec![0; links],
+            unfixed: vec![0; links],
+            key_version: vec![0; links],
+            ..Scratch::default()
+        };
+        scratch.epoch = 0;
+        Flow {
+            capacity: timing.bandwidth.bits_per_s(),
+            timing,
+            clock: SimTime::ZERO,
+            seq: 0,
+            flows: Vec::new(),
+            free_slots: Vec::new(),
+            links: (0..links).map(|_| LinkState::default()).collect(),
+            completions: BinaryHeap::new(),
+            deliveries: BinaryHeap::new(),
+            dirty_flows: Vec::new(),
+            dirty_links: Vec::new(),
+            dirty_since: None,
+            scratch,
+        }
+    }
+
+    fn next_seq(&mut self) -> u64 {
+        self.seq += 1;
+        self.seq
+    }
+
+    fn schedule_delivery(&mut self, at: SimTime, msg: MsgId) {
+        let seq = self.next_seq();
+        self.deliveries.push(Reverse((at, seq, msg)));
+    }
+
+    fn mark_dirty(&mut self, now: SimTime) {
+        self.dirty_since = Some(self.dirty_since.map_or(now, |t| t.min(now)));
+    }
+
+    fn start_flow(&mut self, now: SimTime, msg: MsgId, route: &[LinkId], tail: SimTime, bytes: Bytes) {
+        let slot = match self.free_slots.pop() {
+            Some(s) => s,
+            None => {
+                self.flows.push(FlowState {
+                    msg: 0,
+                    route: Vec::new(),
+                    remaining: 0,
+                    rate: 0,
+                    since: now,
+                    tail: SimTime::ZERO,
+                    version: 0,
+                    active: false,
+                });
+                self.scratch.flow_epoch.push(0);
+                self.scratch.fixed.push(false);
+                (self.flows.len() - 1) as u32
+            }
+        };
+        let f = &mut self.flows[slot as usize];
+        f.msg = msg;
+        f.route.clear();
+        f.route.extend_from_slice(route);
+        f.remaining = Bandwidth::work_of(bytes);
+        f.rate = 0;
+        f.since = now;
+        f.tail = tail;
+        f.active = true;
+        for &l in route {
+            let link = &mut self.links[l as usize];
+            if link.flows.is_empty() {
+                link.busy_since = now;
+            }
+            link.flows.push(slot);
+            link.peak = link.peak.max(link.flows.len() as u32);
+        }
+        self.dirty_flows.push(slot);
+        self.mark_dirty(now);
+    }
+
+    /// Ends the flow in `slot` at `now` (its work is done) and schedules its delivery.
+    fn finish_flow(&mut self, now: SimTime, slot: u32) {
+        let f = &mut self.flows[slot as usize];
+        let moved = f.rate as u128 * (now - f.since).ps() as u128;
+        debug_assert!(moved >= f.remaining, "flow completed before its work was done");
+        f.remaining = 0;
+        f.active = false;
+        f.version = f.version.wrapping_add(1);
+        let (msg, at) = (f.msg, now + f.tail);
+        let route = std::mem::take(&mut f.route);
+        for &l in &route {
+            let link = &mut self.links[l as usize];
+            let pos = link.flows.iter().position(|&x| x == slot).expect("flow on its link");
+            link.flows.swap_remove(pos);
+            if link.flows.is_empty() {
+                link.busy += now - link.busy_since;
+            }
+            self.dirty_links.push(l);
+        }
+        self.flows[slot as usize].route = route;
+        self.free_slots.push(slot);
+        self.schedule_delivery(at, msg);
+        self.mark_dirty(now);
+    }
+
+    /// Collects into the scratch lists every active flow and link connected to the dirty
+    /// flows and links.
+    fn collect_component(&mut self) {
+        let s = &mut self.scratch;
+        s.epoch = s.epoch.wrapping_add(1);
+        s.component_flows.clear();
+        s.component_links.clear();
+        let epoch = s.epoch;
+        let mut frontier: Vec<LinkId> = Vec::new();
+        for &slot in &self.dirty_flows {
+            if self.flows[slot as usize].active && s.flow_epoch[slot as usize] != epoch {
+                s.flow_epoch[slot as usize] = epoch;
+                s.component_flows.push(slot);
+            }
+        }
+        frontier.extend(self.dirty_links.iter().copied());
+        let mut next_flow = 0;
+        loop {
+            while let Some(l) = frontier.pop() {
+                if s.link_epoch[l as usize] == epoch {
+                    continue;
+                }
+                s.link_epoch[l as usize] = epoch;
+                s.component_links.push(l);
+                for &slot in &self.links[l as usize].flows {
+                    if s.flow_epoch[slot as usize] != epoch {
+                        s.flow_epoch[slot as usize] = epoch;
+                        s.component_flows.push(slot);
+                    }
+                }
+            }
+            if next_flow == s.component_flows.len() {
+                break;
+            }
+            let slot = s.component_flows[next_flow];
+            next_flow += 1;
+            frontier.extend(
+                self.flows[slot as usize]
+                    .route
+                    .iter()
+                    .filter(|&&l| s.link_epoch[l as usize] != epoch),
+            );
+        }
+        self.dirty_flows.clear();
+        self.dirty_links.clear();
+    }
+
+    /// New max-min fair rates for the dirty component at `now`, and new completions.
+    fn recompute(&mut self, now: SimTime) {
+        self.collect_component();
+        let comp = std::mem::take(&mut self.scratch.component_flows);
+        for &slot in &comp {
+            let f = &mut self.flows[slot as usize];
+            let moved = f.rate as u128 * (now - f.since).ps() as u128;
+            f.remaining = f.remaining.saturating_sub(moved);
+            f.since = now;
+            self.scratch.fixed[slot as usize] = false;
+        }
+        self.water_fill();
+        for &slot in &comp {
+            let f = &mut self.flows[slot as usize];
+            f.version = f.version.wrapping_add(1);
+            let left = ceil_div(f.remaining, f.rate as u128);
+            let (at, version) = (now + SimTime::from_ps(left), f.version);
+            let seq = self.next_seq();
+            self.completions.push(Reverse((at, seq, slot, version)));
+        }
+        self.scratch.component_flows = comp;
+    }
+
+    /// Progressive filling: repeatedly take the link whose remaining capacity gives its
+    /// unfixed flows the smallest (floored) share, fix those flows at that share.
+    fn water_fill(&mut self) {
+        let s = &mut self.scratch;
+        s.bottlenecks.clear();
+        for &l in &s.component_links {
+            let li = l as usize;
+            s.cap_left[li] = self.capacity;
+            s.unfixed[li] = self.links[li].flows.len() as u32;
+            s.key_version[li] = s.key_version[li].wrapping_add(1);
+            if s.unfixed[li] > 0 {
+                let share = s.cap_left[li] / s.unfixed[li] as u64;
+                s.bottlenecks.push(Reverse((share, l, s.key_version[li])));
+            }
+        }
+        while let Some(Reverse((share, l, version))) = s.bottlenecks.pop() {
+            if version != s.key_version[l as usize] || s.unfixed[l as usize] == 0 {
+                continue;
+            }
+            let rate = share.max(1);
+            for &slot in &self.links[l as usize].flows {
+                if s.fixed[slot as usize] {
+                    continue;
+                }
+                s.fixed[slot as usize] = true;
+                let f = &mut self.flows[slot as usize];
+                f.rate = rate;
+                for &l2 in &f.route {
+                    let i = l2 as usize;
+                    s.cap_left[i] = s.cap_left[i].saturating_sub(rate);
+                    s.unfixed[i] -= 1;
+                    s.key_version[i] = s.key_version[i].wrapping_add(1);
+                    if s.unfixed[i] > 0 && l2 != l {
+                        let share = s.cap_left[i] / s.unfixed[i] as u64;
+                        s.bottlenecks.push(Reverse((share, l2, s.key_version[i])));
+                    }
+                }
+            }
+        }
+    }
+
+    fn drop_stale_completions(&mut self) {
+        while let Some(&Reverse((_, _, slot, version))) = self.completions.peek() {
+            let f = &self.flows[slot as usize];
+            if f.active && f.version == version {
+                break;
+            }
+            self.completions.pop();
+        }
+    }
+}
+
+impl Transport for Flow {
+    fn inject(
+        &mut self,
+        now: SimTime,
+        msg: MsgId,
+        route: &[LinkId],
+        hops: u32,
+        bytes: Bytes,
+    ) -> Option<SimTime> {
+        debug_assert!(now >= self.clock, "inject in the past");
+        self.clock = self.clock.max(now);
+        let tail = self.timing.fixed_part(hops, bytes);
+        if bytes.get() == 0 {
+            self.schedule_delivery(now + tail, msg);
+        } else {
+            self.start_flow(now, msg, route, tail, bytes);
+        }
+        None
+    }
+
+    fn next_event_time(&self) -> Option<SimTime> {
+        let completion = self.completions.peek().map(|Reverse(e)| e.0);
+        let delivery = self.deliveries.peek().map(|Reverse(e)| e.0);
+        [self.dirty_since, completion, delivery]
+            .into_iter()
+            .flatten()
+            .min()
+    }
+
+    fn advance(&mut self, now: SimTime, delivered: &mut Vec<Delivered>) {
+        self.clock = self.clock.max(now);
+        while let Some(&Reverse((at, _, slot, _))) = self.completions.peek() {
+            if at > now {
+                break;
+            }
+            self.completions.pop();
+            self.finish_flow(at, slot);
+            self.drop_stale_completions();
+        }
+        if self.dirty_since.take().is_some() {
+            self.recompute(now);
+            self.drop_stale_completions();
+        }
+        while let Some(&Reverse((at, _, msg))) = self.deliveries.peek() {
+            if at > now {
+                break;
+            }
+            self.deliveries.pop();
+            delivered.push(Delivered { msg, at });
+        }
+    }
+
+    fn usage(&self, link: LinkId) -> Usage {
+        let l = &self.links[link as usize];
+        let running = if l.flows.is_empty() {
+            SimTime::ZERO
+        } else {
+            self.clock.saturating_sub(l.busy_since)
+        };
+        Usage {
+            busy: l.busy + running,
+            peak_queue: l.peak,
+        }
+    }
+}
