@@ -13,7 +13,7 @@ use clap::{Args, Parser, Subcommand, ValueEnum};
     long_about = "Deterministic discrete-event simulator of parallel polygon-rendering machines \
 (sort-middle, sort-last, pixel merging, adaptive supersampling). With no command it runs the \
 built-in default job and writes its report under reports/.",
-    after_help = "Examples:\n  sortsim check machines/*.json\n  sortsim netsim machines/delta.json tests/patterns/transpose-16x32.json --fidelity packet\n  sortsim bench phold --lps 1024 --events-per-lp 16"
+    after_help = "Examples:\n  sortsim check machines/*.json\n  sortsim netsim machines/delta.json tests/patterns/complement-16x32.json --fidelity packet\n  sortsim bench phold --lps 1024 --events-per-lp 16"
 )]
 pub struct Cli {
     #[command(subcommand)]
@@ -30,7 +30,7 @@ pub enum Command {
         files: Vec<PathBuf>,
     },
     /// Simulate a list of messages on a machine's network and print each completion time.
-    #[command(after_help = "Example:\n  sortsim netsim machines/multicluster-torus.json tests/patterns/hot-spot-4x4.json --fidelity flow\n  sortsim netsim machines/delta.json tests/patterns/transpose-16x32.json --compare")]
+    #[command(after_help = "Example:\n  sortsim netsim machines/multicluster-torus.json tests/patterns/hot-spot-4x4.json --fidelity flow\n  sortsim netsim machines/delta.json tests/patterns/complement-16x32.json --compare")]
     Netsim(NetsimArgs),
     /// Benchmarks of the simulator itself.
     #[command(subcommand)]
@@ -49,6 +49,9 @@ pub struct NetsimArgs {
     /// Run the pattern at every fidelity and print predicted time against simulator wall time.
     #[arg(long, conflicts_with = "fidelity")]
     pub compare: bool,
+    /// Also write DIR/summary.json (the printed report) and DIR/cost.json (wall time).
+    #[arg(short, long, value_name = "DIR")]
+    pub out: Option<PathBuf>,
 }
 
 #[derive(ValueEnum, Clone, Copy, Debug)]

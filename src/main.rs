@@ -9,9 +9,13 @@ use std::path::{Path, PathBuf};
 use std::process::ExitCode;
 
 use clap::Parser;
-use cli::{BenchCommand, Cli, Command, PholdArgs};
+use cli::{BenchCommand, Cli, Command, FidelityArg, NetsimArgs, PholdArgs};
 use sortsim::bench::{phold_report, PholdConfig};
-use sortsim::spec::{check::check, SpecError};
+use sortsim::net::fidelity::{fidelity_table, format_table};
+use sortsim::net::pattern::{run_pattern, Pattern};
+use sortsim::net::Fidelity;
+use sortsim::report::{cost::Stopwatch, to_json, write_atomic};
+use sortsim::spec::{check::check, load_json, machine::load_machine, SpecError};
 
 /// What went wrong, sorted by whose fault it is.
 enum Failure {
@@ -36,7 +40,7 @@ fn main() -> ExitCode {
     let outcome = match cli.command {
         None => default_job(),
         Some(Command::Check { files }) => check_files(&files),
-        Some(Command::Netsim(_args)) => Err(Failure::Internal("netsim is not wired yet".into())),
+        Some(Command::Netsim(args)) => netsim(&args),
         Some(Command::Bench(BenchCommand::Phold(args))) => bench_phold(&args),
     };
     match outcome {
@@ -64,6 +68,40 @@ fn check_files(files: &[PathBuf]) -> Result<(), Failure> {
         }
     }
     first_error.map_or(Ok(()), |e| Err(e.into()))
+}
+
+fn netsim(args: &NetsimArgs) -> Result<(), Failure> {
+    let machine = load_machine(&args.machine)?;
+    let pattern: Pattern = load_json(&args.pattern)?;
+    let in_pattern = |e: sortsim::net::NetError| Failure::BadInput(format!("{}: {e}", args.pattern.display()));
+    let mut network = machine.network.clone();
+    if args.compare {
+        let rows = fidelity_table(&network, &pattern).map_err(in_pattern)?;
+        print!("{}", format_table(&rows));
+        return Ok(());
+    }
+    if let Some(f) = args.fidelity {
+        network.fidelity = match f {
+            FidelityArg::Ideal => Fidelity::Ideal,
+            FidelityArg::Hops => Fidelity::Hops,
+            FidelityArg::Flow => Fidelity::Flow,
+            FidelityArg::Packet => Fidelity::Packet,
+        };
+    }
+    let clock = Stopwatch::start();
+    let report = run_pattern(&network, &pattern).map_err(in_pattern)?;
+    let cost = clock.cost(report.messages.len() as u64);
+    let json = to_json(&report);
+    if let Some(dir) = &args.out {
+        let write = |name: &str, text: &str| {
+            write_atomic(&dir.join(name), text.as_bytes())
+                .map_err(|e| Failure::BadInput(format!("{}: cannot write: {e}", dir.join(name).display())))
+        };
+        write("summary.json", &json)?;
+        write("cost.json", &to_json(&cost))?;
+    }
+    print!("{json}");
+    Ok(())
 }
 
 fn bench_phold(args: &PholdArgs) -> Result<(), Failure> {
