@@ -146,9 +146,10 @@ pub fn phold_baseline(cfg: &PholdConfig) -> PholdOutcome {
     PholdOutcome { events, last_event_ps: last, trace_hash: hash }
 }
 
-/// One PHOLD measurement: engine and baseline, same workload, same process.
+/// The deterministic part of a PHOLD run: the workload and what the engine computed.
+/// Byte-identical for identical inputs.
 #[derive(Clone, Debug, Serialize)]
-pub struct PholdReport {
+pub struct PholdSummary {
     pub lps: u32,
     pub events_per_lp: u32,
     pub in_flight: u64,
@@ -159,18 +160,24 @@ pub struct PholdReport {
     pub seed: u64,
     pub events: u64,
     pub simulated_end_s: f64,
+    pub trace_hash: String,
+    /// Whether the bare loop processed the same events in the same order.
+    pub baseline_agrees: bool,
+}
+
+/// What the PHOLD run cost on this host, engine against baseline in the same process.
+#[derive(Clone, Debug, Serialize)]
+pub struct PholdCost {
     pub engine_wall_s: f64,
     pub engine_events_per_s: f64,
     pub baseline_wall_s: f64,
     pub baseline_events_per_s: f64,
     /// Engine events/s over baseline events/s (1.0 = no overhead).
     pub ratio_to_baseline: f64,
-    /// Whether engine and baseline processed the same events in the same order.
-    pub outcomes_agree: bool,
 }
 
 /// Runs PHOLD on the engine and on the baseline and reports both.
-pub fn phold_report(cfg: &PholdConfig) -> Result<PholdReport, SimError> {
+pub fn phold_report(cfg: &PholdConfig) -> Result<(PholdSummary, PholdCost), SimError> {
     let t0 = Instant::now();
     let engine = phold_engine(cfg)?;
     let engine_wall = t0.elapsed().as_secs_f64();
@@ -180,7 +187,7 @@ pub fn phold_report(cfg: &PholdConfig) -> Result<PholdReport, SimError> {
     let rate = |events: u64, wall: f64| if wall > 0.0 { events as f64 / wall } else { 0.0 };
     let engine_rate = rate(engine.events, engine_wall);
     let baseline_rate = rate(baseline.events, baseline_wall);
-    Ok(PholdReport {
+    let summary = PholdSummary {
         lps: cfg.lps,
         events_per_lp: cfg.events_per_lp,
         in_flight: cfg.in_flight(),
@@ -191,13 +198,17 @@ pub fn phold_report(cfg: &PholdConfig) -> Result<PholdReport, SimError> {
         seed: cfg.seed,
         events: engine.events,
         simulated_end_s: SimTime::from_ps(engine.last_event_ps).as_secs_f64(),
+        trace_hash: format!("{:016x}", engine.trace_hash),
+        baseline_agrees: engine == baseline,
+    };
+    let cost = PholdCost {
         engine_wall_s: engine_wall,
         engine_events_per_s: engine_rate,
         baseline_wall_s: baseline_wall,
         baseline_events_per_s: baseline_rate,
         ratio_to_baseline: if baseline_rate > 0.0 { engine_rate / baseline_rate } else { 0.0 },
-        outcomes_agree: engine == baseline,
-    })
+    };
+    Ok((summary, cost))
 }
 
 #[cfg(test)]

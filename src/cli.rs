@@ -91,6 +91,9 @@ pub struct PholdArgs {
     pub end: sortsim::units::SimTime,
     #[arg(long, default_value_t = 1)]
     pub seed: u64,
+    /// Also write DIR/summary.json (deterministic) and DIR/cost.json (wall times).
+    #[arg(short, long, value_name = "DIR")]
+    pub out: Option<PathBuf>,
 }
 
 fn probability(s: &str) -> Result<f64, String> {

@@ -93,15 +93,16 @@ fn netsim(args: &NetsimArgs) -> Result<(), Failure> {
     let cost = clock.cost(report.messages.len() as u64);
     let json = to_json(&report);
     if let Some(dir) = &args.out {
-        let write = |name: &str, text: &str| {
-            write_atomic(&dir.join(name), text.as_bytes())
-                .map_err(|e| Failure::BadInput(format!("{}: cannot write: {e}", dir.join(name).display())))
-        };
-        write("summary.json", &json)?;
-        write("cost.json", &to_json(&cost))?;
+        write_file(dir, "summary.json", &json)?;
+        write_file(dir, "cost.json", &to_json(&cost))?;
     }
     print!("{json}");
     Ok(())
+}
+
+fn write_file(dir: &Path, name: &str, text: &str) -> Result<(), Failure> {
+    let path = dir.join(name);
+    write_atomic(&path, text.as_bytes()).map_err(|e| Failure::BadInput(format!("{}: cannot write: {e}", path.display())))
 }
 
 fn bench_phold(args: &PholdArgs) -> Result<(), Failure> {
@@ -114,8 +115,12 @@ fn bench_phold(args: &PholdArgs) -> Result<(), Failure> {
         end: args.end,
         seed: args.seed,
     };
-    let report = phold_report(&cfg)?;
-    println!("{}", serde_json::to_string_pretty(&report).expect("a report serializes"));
+    let (summary, cost) = phold_report(&cfg)?;
+    if let Some(dir) = &args.out {
+        write_file(dir, "summary.json", &to_json(&summary))?;
+        write_file(dir, "cost.json", &to_json(&cost))?;
+    }
+    print!("{}{}", to_json(&summary), to_json(&cost));
     Ok(())
 }
 
@@ -137,5 +142,6 @@ fn default_job() -> Result<(), Failure> {
         lookahead: sortsim::units::SimTime::from_ns(100),
         end: sortsim::units::SimTime::from_ms(1),
         seed: 1,
+        out: None,
     })
 }

@@ -22,8 +22,17 @@ pub enum SpecError {
     Syntax { file: PathBuf, line: usize, column: usize, message: String },
     #[error("{}:{line}:{column}: at `{field}`: {message}", file.display())]
     Field { file: PathBuf, field: String, line: usize, column: usize, message: String },
-    #[error("{}: at `{field}`: {message}", file.display())]
+    #[error("{}: {}{message}", file.display(), at(field))]
     Invalid { file: PathBuf, field: String, message: String },
+}
+
+/// "at `path`: " for a field, nothing for the document as a whole.
+fn at(field: &str) -> String {
+    if field.is_empty() {
+        String::new()
+    } else {
+        format!("at `{field}`: ")
+    }
 }
 
 impl SpecError {
@@ -102,7 +111,7 @@ impl SpecKind {
     pub fn detect(path: &Path) -> Result<SpecKind, SpecError> {
         let value: serde_json::Value = load_json(path)?;
         let has = |key: &str| value.get(key).is_some();
-        if has("network") {
+        if has("network") || has("cpu") || has("memory") {
             Ok(SpecKind::Machine)
         } else if has("geometry") || has("resolution") {
             Ok(SpecKind::Scene)
