@@ -28,6 +28,7 @@ pub trait Payload: Clone + 'static {
 }
 
 impl Payload for () {}
+impl Payload for u32 {}
 impl Payload for u64 {}
 
 /// A delivered message.
