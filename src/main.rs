@@ -124,9 +124,12 @@ fn bench_phold(args: &PholdArgs) -> Result<(), Failure> {
     Ok(())
 }
 
-/// The main job on the built-in default: validate the bundled machines and run a PHOLD.
+/// The main job on the built-in default: validate the bundled machines, run PHOLD on the
+/// engine against its baseline, and show what network fidelity costs on the Delta; the report
+/// goes to reports/default/.
 fn default_job() -> Result<(), Failure> {
-    let machines = Path::new(env!("CARGO_MANIFEST_DIR")).join("machines");
+    let root = Path::new(env!("CARGO_MANIFEST_DIR"));
+    let machines = root.join("machines");
     let mut files: Vec<PathBuf> = std::fs::read_dir(&machines)
         .map_err(|e| Failure::Internal(format!("{}: {e}", machines.display())))?
         .filter_map(|e| e.ok().map(|e| e.path()))
@@ -134,14 +137,25 @@ fn default_job() -> Result<(), Failure> {
         .collect();
     files.sort();
     check_files(&files)?;
+    let out = root.join("reports/default");
+    println!("\nPHOLD, 16,384 events in flight, engine against a bare binary-heap loop:");
     bench_phold(&PholdArgs {
         lps: 1024,
         events_per_lp: 16,
         remote: 0.9,
         mean: sortsim::units::SimTime::from_us(1),
         lookahead: sortsim::units::SimTime::from_ns(100),
-        end: sortsim::units::SimTime::from_ms(1),
+        end: sortsim::units::SimTime::from_us(500),
         seed: 1,
-        out: None,
-    })
+        out: Some(out.join("phold")),
+    })?;
+    println!("\nThe Delta's 16x32 mesh, every node sends 64 KiB to its mirror node (bit complement):");
+    let delta = load_machine(&machines.join("delta.json"))?;
+    let pattern: Pattern = load_json(&root.join("tests/patterns/complement-16x32.json"))?;
+    let rows = fidelity_table(&delta.network, &pattern).map_err(|e| Failure::Internal(e.to_string()))?;
+    let table = format_table(&rows);
+    print!("{table}");
+    write_file(&out, "fidelity.txt", &table)?;
+    println!("\nreport written to {}", out.display());
+    Ok(())
 }
