@@ -78,8 +78,11 @@ struct Scratch {
     fixed: Vec<bool>,
     cap_left: Vec<u64>,
     unfixed: Vec<u32>,
-    key_version: Vec<u32>,
-    bottlenecks: BinaryHeap<Reverse<(u64, LinkId, u32)>>,
+    /// Rates of the component's flows before the recomputation, aligned with
+    /// `component_flows`.
+    old_rates: Vec<u64>,
+    /// (share lower bound, link): see `water_fill`.
+    bottlenecks: BinaryHeap<Reverse<(u64, LinkId)>>,
 }
 
 impl Flow {
@@ -88,7 +91,6 @@ impl Flow {
             link_epoch: vec![0; links],
             cap_left: vec![0; links],
             unfixed: vec![0; links],
-            key_version: vec![0; links],
             ..Scratch::default()
         };
         scratch.epoch = 0;
@@ -236,19 +238,28 @@ impl Flow {
     }
 
     /// New max-min fair rates for the dirty component at `now`, and new completions.
+    ///
+    /// A flow whose rate did not change keeps its completion entry: with the same rate,
+    /// `since + ceil(remaining / rate)` is the same instant whenever it is computed.
     fn recompute(&mut self, now: SimTime) {
         self.collect_component();
         let comp = std::mem::take(&mut self.scratch.component_flows);
+        let mut old_rates = std::mem::take(&mut self.scratch.old_rates);
+        old_rates.clear();
         for &slot in &comp {
             let f = &mut self.flows[slot as usize];
             let moved = f.rate as u128 * (now - f.since).ps() as u128;
             f.remaining = f.remaining.saturating_sub(moved);
             f.since = now;
+            old_rates.push(f.rate);
             self.scratch.fixed[slot as usize] = false;
         }
         self.water_fill();
-        for &slot in &comp {
+        for (&slot, &old_rate) in comp.iter().zip(&old_rates) {
             let f = &mut self.flows[slot as usize];
+            if f.rate == old_rate {
+                continue;
+            }
             f.version = f.version.wrapping_add(1);
             let left = ceil_div(f.remaining, f.rate as u128);
             let (at, version) = (now + SimTime::from_ps(left), f.version);
@@ -256,10 +267,17 @@ impl Flow {
             self.completions.push(Reverse((at, seq, slot, version)));
         }
         self.scratch.component_flows = comp;
+        self.scratch.old_rates = old_rates;
+        self.compact_completions();
     }
 
     /// Progressive filling: repeatedly take the link whose remaining capacity gives its
     /// unfixed flows the smallest (floored) share, fix those flows at that share.
+    ///
+    /// Fixing flows at the current minimum share never lowers another link's share (it had
+    /// at least that much per flow), so the heap keys are lazy lower bounds: a popped link
+    /// whose real share has grown is pushed back with it, and no key is touched when a flow
+    /// is fixed. Ties go to the lowest link index.
     fn water_fill(&mut self) {
         let s = &mut self.scratch;
         s.bottlenecks.clear();
@@ -267,18 +285,22 @@ impl Flow {
             let li = l as usize;
             s.cap_left[li] = self.capacity;
             s.unfixed[li] = self.links[li].flows.len() as u32;
-            s.key_version[li] = s.key_version[li].wrapping_add(1);
             if s.unfixed[li] > 0 {
-                let share = s.cap_left[li] / s.unfixed[li] as u64;
-                s.bottlenecks.push(Reverse((share, l, s.key_version[li])));
+                s.bottlenecks.push(Reverse((self.capacity / s.unfixed[li] as u64, l)));
             }
         }
-        while let Some(Reverse((share, l, version))) = s.bottlenecks.pop() {
-            if version != s.key_version[l as usize] || s.unfixed[l as usize] == 0 {
+        while let Some(Reverse((key, l))) = s.bottlenecks.pop() {
+            let li = l as usize;
+            if s.unfixed[li] == 0 {
+                continue;
+            }
+            let share = s.cap_left[li] / s.unfixed[li] as u64;
+            if share > key {
+                s.bottlenecks.push(Reverse((share, l)));
                 continue;
             }
             let rate = share.max(1);
-            for &slot in &self.links[l as usize].flows {
+            for &slot in &self.links[li].flows {
                 if s.fixed[slot as usize] {
                     continue;
                 }
@@ -289,14 +311,25 @@ impl Flow {
                     let i = l2 as usize;
                     s.cap_left[i] = s.cap_left[i].saturating_sub(rate);
                     s.unfixed[i] -= 1;
-                    s.key_version[i] = s.key_version[i].wrapping_add(1);
-                    if s.unfixed[i] > 0 && l2 != l {
-                        let share = s.cap_left[i] / s.unfixed[i] as u64;
-                        s.bottlenecks.push(Reverse((share, l2, s.key_version[i])));
-                    }
                 }
             }
         }
+    }
+
+    /// Rebuilds the completion heap when stale entries outnumber live ones, so it stays
+    /// proportional to the active flows.
+    fn compact_completions(&mut self) {
+        let live = self.flows.len() - self.free_slots.len();
+        if self.completions.len() <= 2 * live + 64 {
+            return;
+        }
+        let flows = &self.flows;
+        let mut entries = std::mem::take(&mut self.completions).into_vec();
+        entries.retain(|Reverse((_, _, slot, version))| {
+            let f = &flows[*slot as usize];
+            f.active && f.version == *version
+        });
+        self.completions = BinaryHeap::from(entries);
     }
 
     fn drop_stale_completions(&mut self) {
