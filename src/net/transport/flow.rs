@@ -43,6 +43,11 @@ pub struct Flow {
     dirty_flows: Vec<u32>,
     dirty_links: Vec<LinkId>,
     dirty_since: Option<SimTime>,
+    /// The lowest rate among flows that ended since the last recomputation (0 once a flow
+    /// started): flows below it keep their rates (see `recompute`).
+    dirty_floor: u64,
+    /// Test switch: recompute from level 0 every time (the reference for the shortcut).
+    always_full: bool,
     scratch: Scratch,
 }
 
@@ -107,6 +112,8 @@ impl Flow {
             dirty_flows: Vec::new(),
             dirty_links: Vec::new(),
             dirty_since: None,
+            dirty_floor: u64::MAX,
+            always_full: false,
             scratch,
         }
     }
@@ -162,6 +169,7 @@ impl Flow {
             link.peak = link.peak.max(link.flows.len() as u32);
         }
         self.dirty_flows.push(slot);
+        self.dirty_floor = 0;
         self.mark_dirty(now);
     }
 
@@ -172,6 +180,7 @@ impl Flow {
         debug_assert!(moved >= f.remaining, "flow completed before its work was done");
         f.remaining = 0;
         f.active = false;
+        self.dirty_floor = self.dirty_floor.min(f.rate);
         f.version = f.version.wrapping_add(1);
         let (msg, at) = (f.msg, now + f.tail);
         let route = std::mem::take(&mut f.route);
@@ -190,9 +199,9 @@ impl Flow {
         self.mark_dirty(now);
     }
 
-    /// Collects into the scratch lists every active flow and link connected to the dirty
-    /// flows and links.
-    fn collect_component(&mut self) {
+    /// Collects into the scratch lists every active flow of rate >= `floor` connected to the
+    /// dirty flows and links through such flows, and the links they cross.
+    fn collect_component(&mut self, floor: u64) {
         let s = &mut self.scratch;
         s.epoch = s.epoch.wrapping_add(1);
         s.component_flows.clear();
@@ -215,7 +224,7 @@ impl Flow {
                 s.link_epoch[l as usize] = epoch;
                 s.component_links.push(l);
                 for &slot in &self.links[l as usize].flows {
-                    if s.flow_epoch[slot as usize] != epoch {
+                    if s.flow_epoch[slot as usize] != epoch && self.flows[slot as usize].rate >= floor {
                         s.flow_epoch[slot as usize] = epoch;
                         s.component_flows.push(slot);
                     }
@@ -241,8 +250,19 @@ impl Flow {
     ///
     /// A flow whose rate did not change keeps its completion entry: with the same rate,
     /// `since + ceil(remaining / rate)` is the same instant whenever it is computed.
+    ///
+    /// When flows only ended (none started), the flows whose rate is below the lowest
+    /// ended rate `r` keep their rates: water-filling fixes them at levels below `r`, where
+    /// no link the ended flows crossed can be the bottleneck (such a link would have fixed
+    /// the ended flow below `r`), and removing a flow only raises those links' shares. So
+    /// the filling restarts at level `r` with their rates subtracted, and gives exactly the
+    /// full recomputation's result.
     fn recompute(&mut self, now: SimTime) {
-        self.collect_component();
+        let mut floor = std::mem::replace(&mut self.dirty_floor, u64::MAX);
+        if self.always_full {
+            floor = 0;
+        }
+        self.collect_component(floor);
         let comp = std::mem::take(&mut self.scratch.component_flows);
         let mut old_rates = std::mem::take(&mut self.scratch.old_rates);
         old_rates.clear();
@@ -254,7 +274,7 @@ impl Flow {
             old_rates.push(f.rate);
             self.scratch.fixed[slot as usize] = false;
         }
-        self.water_fill();
+        self.water_fill(floor);
         for (&slot, &old_rate) in comp.iter().zip(&old_rates) {
             let f = &mut self.flows[slot as usize];
             if f.rate == old_rate {
@@ -278,15 +298,27 @@ impl Flow {
     /// at least that much per flow), so the heap keys are lazy lower bounds: a popped link
     /// whose real share has grown is pushed back with it, and no key is touched when a flow
     /// is fixed. Ties go to the lowest link index.
-    fn water_fill(&mut self) {
+    fn water_fill(&mut self, floor: u64) {
         let s = &mut self.scratch;
         s.bottlenecks.clear();
         for &l in &s.component_links {
             let li = l as usize;
-            s.cap_left[li] = self.capacity;
-            s.unfixed[li] = self.links[li].flows.len() as u32;
-            if s.unfixed[li] > 0 {
-                s.bottlenecks.push(Reverse((self.capacity / s.unfixed[li] as u64, l)));
+            let mut cap = self.capacity;
+            let mut unfixed = 0;
+            for &slot in &self.links[li].flows {
+                let rate = self.flows[slot as usize].rate;
+                let below = rate < floor;
+                s.fixed[slot as usize] = below;
+                if below {
+                    cap = cap.saturating_sub(rate);
+                } else {
+                    unfixed += 1;
+                }
+            }
+            s.cap_left[li] = cap;
+            s.unfixed[li] = unfixed;
+            if unfixed > 0 {
+                s.bottlenecks.push(Reverse((cap / unfixed as u64, l)));
             }
         }
         while let Some(Reverse((key, l))) = s.bottlenecks.pop() {
@@ -405,6 +437,65 @@ impl Transport for Flow {
         Usage {
             busy: l.busy + running,
             peak_queue: l.peak,
+        }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::net::Switching;
+    use rand::{Rng, SeedableRng};
+
+    fn timing() -> Timing {
+        Timing {
+            bandwidth: "17MB/s".parse().unwrap(),
+            hop_latency: SimTime::from_ns(300),
+            switching: Switching::Wormhole,
+            packet_size: Bytes::new(1024),
+        }
+    }
+
+    /// Runs random overlapping flows on 12 links; returns every delivery in order.
+    fn run(always_full: bool, seed: u64) -> Vec<Delivered> {
+        let mut rng = rand_chacha::ChaCha8Rng::seed_from_u64(seed);
+        let mut flow = Flow::new(timing(), 12);
+        flow.always_full = always_full;
+        let mut starts: Vec<(SimTime, Vec<LinkId>, Bytes)> = (0..300)
+            .map(|_| {
+                let first = rng.gen_range(0..12u32);
+                let len = rng.gen_range(1..5u32);
+                let route = (first..first + len).map(|l| l % 12).collect();
+                let at = SimTime::from_ps(rng.gen_range(0..50_000_000_000u64));
+                (at, route, Bytes::new(rng.gen_range(1..200_000)))
+            })
+            .collect();
+        starts.sort_by_key(|s| s.0);
+        let mut out = Vec::new();
+        let mut next = 0;
+        loop {
+            let start = starts.get(next).map(|s| s.0);
+            let Some(now) = [start, flow.next_event_time()].into_iter().flatten().min() else {
+                break;
+            };
+            while next < starts.len() && starts[next].0 == now {
+                let (at, route, bytes) = &starts[next];
+                flow.inject(*at, next as MsgId, route, route.len() as u32, *bytes);
+                next += 1;
+            }
+            if flow.next_event_time() == Some(now) {
+                flow.advance(now, &mut out);
+            }
+        }
+        out
+    }
+
+    #[test]
+    fn restarting_the_filling_at_the_ended_rate_equals_a_full_recomputation() {
+        for seed in 0..8 {
+            let full = run(true, seed);
+            assert_eq!(full.len(), 300);
+            assert_eq!(run(false, seed), full, "seed {seed}");
         }
     }
 }
