@@ -26,10 +26,18 @@ fn config(shape: usize, packet: bool, wormhole: bool) -> NetworkConfig {
         dims: dims.to_vec(),
         link_bandwidth: "17MB/s".parse().unwrap(),
         hop_latency: SimTime::from_ns(700),
-        switching: if wormhole { Switching::Wormhole } else { Switching::StoreAndForward },
+        switching: if wormhole {
+            Switching::Wormhole
+        } else {
+            Switching::StoreAndForward
+        },
         // Large packets keep the debug-build packet count reasonable.
         packet_size: Bytes::new(16 * 1024),
-        fidelity: if packet { Fidelity::Packet } else { Fidelity::Flow },
+        fidelity: if packet {
+            Fidelity::Packet
+        } else {
+            Fidelity::Flow
+        },
     }
 }
 
@@ -49,13 +57,18 @@ fn check(cfg: &NetworkConfig, raw: &[(u32, u32, u64, u64)]) {
     let timing = net.timing();
     let mut expected = vec![0u64; net.link_count()];
     for (m, &at) in messages.iter().zip(&done) {
-        let Dest::Node(d) = m.dest else { unreachable!() };
+        let Dest::Node(d) = m.dest else {
+            unreachable!()
+        };
         let earliest = if m.src == d {
             m.start
         } else {
             m.start + timing.contention_free(net.hops(m.src, d), m.bytes)
         };
-        assert!(at >= earliest, "{m:?} delivered at {at}, formula says {earliest}");
+        assert!(
+            at >= earliest,
+            "{m:?} delivered at {at}, formula says {earliest}"
+        );
         for l in net.route(m.src, d).unwrap() {
             expected[l as usize] += m.bytes.get();
         }

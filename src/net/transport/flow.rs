@@ -132,7 +132,14 @@ impl Flow {
         self.dirty_since = Some(self.dirty_since.map_or(now, |t| t.min(now)));
     }
 
-    fn start_flow(&mut self, now: SimTime, msg: MsgId, route: &[LinkId], tail: SimTime, bytes: Bytes) {
+    fn start_flow(
+        &mut self,
+        now: SimTime,
+        msg: MsgId,
+        route: &[LinkId],
+        tail: SimTime,
+        bytes: Bytes,
+    ) {
         let slot = match self.free_slots.pop() {
             Some(s) => s,
             None => {
@@ -177,7 +184,10 @@ impl Flow {
     fn finish_flow(&mut self, now: SimTime, slot: u32) {
         let f = &mut self.flows[slot as usize];
         let moved = f.rate as u128 * (now - f.since).ps() as u128;
-        debug_assert!(moved >= f.remaining, "flow completed before its work was done");
+        debug_assert!(
+            moved >= f.remaining,
+            "flow completed before its work was done"
+        );
         f.remaining = 0;
         f.active = false;
         self.dirty_floor = self.dirty_floor.min(f.rate);
@@ -186,7 +196,11 @@ impl Flow {
         let route = std::mem::take(&mut f.route);
         for &l in &route {
             let link = &mut self.links[l as usize];
-            let pos = link.flows.iter().position(|&x| x == slot).expect("flow on its link");
+            let pos = link
+                .flows
+                .iter()
+                .position(|&x| x == slot)
+                .expect("flow on its link");
             link.flows.swap_remove(pos);
             if link.flows.is_empty() {
                 link.busy += now - link.busy_since;
@@ -224,7 +238,9 @@ impl Flow {
                 s.link_epoch[l as usize] = epoch;
                 s.component_links.push(l);
                 for &slot in &self.links[l as usize].flows {
-                    if s.flow_epoch[slot as usize] != epoch && self.flows[slot as usize].rate >= floor {
+                    if s.flow_epoch[slot as usize] != epoch
+                        && self.flows[slot as usize].rate >= floor
+                    {
                         s.flow_epoch[slot as usize] = epoch;
                         s.component_flows.push(slot);
                     }
