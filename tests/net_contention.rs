@@ -33,7 +33,12 @@ use sortsim::net::pattern::{all_to_all, hot_spot, run_pattern, transpose, Patter
 use sortsim::net::{Fidelity, NetworkConfig, Switching, TopologyKind};
 use sortsim::units::{Bytes, SimTime};
 
-fn cfg(topology: TopologyKind, dims: &[u32], fidelity: Fidelity, switching: Switching) -> NetworkConfig {
+fn cfg(
+    topology: TopologyKind,
+    dims: &[u32],
+    fidelity: Fidelity,
+    switching: Switching,
+) -> NetworkConfig {
     NetworkConfig {
         topology,
         dims: dims.to_vec(),
@@ -46,7 +51,12 @@ fn cfg(topology: TopologyKind, dims: &[u32], fidelity: Fidelity, switching: Swit
 }
 
 /// (makespan ratio packet/flow, mean-latency ratio packet/flow).
-fn ratios(topology: TopologyKind, dims: &[u32], switching: Switching, pattern: &Pattern) -> (f64, f64) {
+fn ratios(
+    topology: TopologyKind,
+    dims: &[u32],
+    switching: Switching,
+    pattern: &Pattern,
+) -> (f64, f64) {
     let flow = run_pattern(&cfg(topology, dims, Fidelity::Flow, switching), pattern).unwrap();
     let packet = run_pattern(&cfg(topology, dims, Fidelity::Packet, switching), pattern).unwrap();
     (
@@ -58,13 +68,48 @@ fn ratios(topology: TopologyKind, dims: &[u32], switching: Switching, pattern: &
 fn cases() -> Vec<(&'static str, TopologyKind, Vec<u32>, Pattern)> {
     let b = Bytes::new(16 * 1024);
     vec![
-        ("torus4x4 all-to-all", TopologyKind::Torus, vec![4, 4], all_to_all(16, b)),
-        ("torus4x4 hot-spot", TopologyKind::Torus, vec![4, 4], hot_spot(16, 5, b)),
-        ("torus4x4 transpose", TopologyKind::Torus, vec![4, 4], transpose(&[4, 4], b)),
-        ("mesh8x8 all-to-all", TopologyKind::Mesh, vec![8, 8], all_to_all(64, Bytes::new(2048))),
-        ("mesh8x8 hot-spot", TopologyKind::Mesh, vec![8, 8], hot_spot(64, 27, b)),
-        ("mesh8x8 transpose", TopologyKind::Mesh, vec![8, 8], transpose(&[8, 8], b)),
-        ("bus8 all-to-all", TopologyKind::Bus, vec![8], all_to_all(8, b)),
+        (
+            "torus4x4 all-to-all",
+            TopologyKind::Torus,
+            vec![4, 4],
+            all_to_all(16, b),
+        ),
+        (
+            "torus4x4 hot-spot",
+            TopologyKind::Torus,
+            vec![4, 4],
+            hot_spot(16, 5, b),
+        ),
+        (
+            "torus4x4 transpose",
+            TopologyKind::Torus,
+            vec![4, 4],
+            transpose(&[4, 4], b),
+        ),
+        (
+            "mesh8x8 all-to-all",
+            TopologyKind::Mesh,
+            vec![8, 8],
+            all_to_all(64, Bytes::new(2048)),
+        ),
+        (
+            "mesh8x8 hot-spot",
+            TopologyKind::Mesh,
+            vec![8, 8],
+            hot_spot(64, 27, b),
+        ),
+        (
+            "mesh8x8 transpose",
+            TopologyKind::Mesh,
+            vec![8, 8],
+            transpose(&[8, 8], b),
+        ),
+        (
+            "bus8 all-to-all",
+            TopologyKind::Bus,
+            vec![8],
+            all_to_all(8, b),
+        ),
     ]
 }
 
@@ -73,9 +118,17 @@ fn flow_and_packet_agree_within_the_measured_tolerance() {
     for switching in [Switching::Wormhole, Switching::StoreAndForward] {
         for (name, topology, dims, pattern) in cases() {
             let (makespan, mean) = ratios(topology, &dims, switching, &pattern);
-            println!("{name:<22} {switching:?}: makespan packet/flow {makespan:.4}, mean {mean:.4}");
-            assert!((0.88..=1.10).contains(&makespan), "{name} {switching:?}: makespan {makespan}");
-            assert!((0.55..=1.02).contains(&mean), "{name} {switching:?}: mean {mean}");
+            println!(
+                "{name:<22} {switching:?}: makespan packet/flow {makespan:.4}, mean {mean:.4}"
+            );
+            assert!(
+                (0.88..=1.10).contains(&makespan),
+                "{name} {switching:?}: makespan {makespan}"
+            );
+            assert!(
+                (0.55..=1.02).contains(&mean),
+                "{name} {switching:?}: mean {mean}"
+            );
         }
     }
 }

@@ -21,7 +21,10 @@ fn net(topology: TopologyKind, dims: &[u32]) -> Network {
 /// `hops`.
 fn check(net: &Network, src: u32, dst: u32, expected: &[&str], hops: u32) {
     let route = net.route(src, dst).expect("routable");
-    let names: Vec<String> = route.iter().map(|&l| net.links()[l as usize].name()).collect();
+    let names: Vec<String> = route
+        .iter()
+        .map(|&l| net.links()[l as usize].name())
+        .collect();
     assert_eq!(names, expected, "route {src} -> {dst}");
     assert_eq!(net.hops(src, dst), hops, "hops {src} -> {dst}");
 }
@@ -40,7 +43,9 @@ fn ring_takes_the_short_way_and_ties_go_clockwise() {
     check(&ring, 5, 5, &[], 0);
     assert_eq!(ring.bisection_width(), 2);
     let small = net(TopologyKind::Ring, &[4]);
-    let expected = ["0->1", "0->3", "1->2", "1->0", "2->3", "2->1", "3->0", "3->2"];
+    let expected = [
+        "0->1", "0->3", "1->2", "1->0", "2->3", "2->1", "3->0", "3->2",
+    ];
     assert_eq!(link_names(&small), expected);
     check(&small, 3, 1, &["3->0", "0->1"], 2);
     assert_eq!(net(TopologyKind::Ring, &[1]).link_count(), 0);
@@ -144,10 +149,49 @@ fn invalid_configs_are_rejected_with_what_is_valid() {
         let e = Network::new(&cfg).err().expect("rejected").to_string();
         assert!(e.contains(needle), "{e}");
     };
-    reject(NetworkConfig { packet_size: Bytes::ZERO, ..base.clone() }, "packet_size must be at least 1 byte");
-    reject(NetworkConfig { dims: vec![], ..base.clone() }, "must not be empty");
-    reject(NetworkConfig { dims: vec![4, 0], ..base.clone() }, "at least 1");
-    reject(NetworkConfig { topology: TopologyKind::Hypercube, dims: vec![6], ..base.clone() }, "power of two");
-    reject(NetworkConfig { topology: TopologyKind::Mesh, dims: vec![6], ..base.clone() }, "2D or 3D");
-    reject(NetworkConfig { topology: TopologyKind::Bus, dims: vec![2, 2], ..base.clone() }, "exactly one dim");
+    reject(
+        NetworkConfig {
+            packet_size: Bytes::ZERO,
+            ..base.clone()
+        },
+        "packet_size must be at least 1 byte",
+    );
+    reject(
+        NetworkConfig {
+            dims: vec![],
+            ..base.clone()
+        },
+        "must not be empty",
+    );
+    reject(
+        NetworkConfig {
+            dims: vec![4, 0],
+            ..base.clone()
+        },
+        "at least 1",
+    );
+    reject(
+        NetworkConfig {
+            topology: TopologyKind::Hypercube,
+            dims: vec![6],
+            ..base.clone()
+        },
+        "power of two",
+    );
+    reject(
+        NetworkConfig {
+            topology: TopologyKind::Mesh,
+            dims: vec![6],
+            ..base.clone()
+        },
+        "2D or 3D",
+    );
+    reject(
+        NetworkConfig {
+            topology: TopologyKind::Bus,
+            dims: vec![2, 2],
+            ..base.clone()
+        },
+        "exactly one dim",
+    );
 }

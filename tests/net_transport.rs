@@ -8,7 +8,12 @@ use sortsim::units::{Bandwidth, Bytes, SimTime};
 
 const PACKET: u64 = 1024;
 
-fn cfg(topology: TopologyKind, dims: &[u32], fidelity: Fidelity, switching: Switching) -> NetworkConfig {
+fn cfg(
+    topology: TopologyKind,
+    dims: &[u32],
+    fidelity: Fidelity,
+    switching: Switching,
+) -> NetworkConfig {
     NetworkConfig {
         topology,
         dims: dims.to_vec(),
@@ -46,7 +51,15 @@ const SHAPES: [(TopologyKind, &[u32], u32, u32); 8] = [
     (TopologyKind::Crossbar, &[4], 2, 1),
 ];
 
-const SIZES: [u64; 7] = [1, 7, PACKET - 1, PACKET, PACKET + 1, 3 * PACKET + 5, 64 * 1024];
+const SIZES: [u64; 7] = [
+    1,
+    7,
+    PACKET - 1,
+    PACKET,
+    PACKET + 1,
+    3 * PACKET + 5,
+    64 * 1024,
+];
 
 #[test]
 fn a_lone_message_takes_exactly_the_formula_at_every_level() {
@@ -95,13 +108,15 @@ fn messages_that_share_no_link_do_not_see_each_other() {
         let net = Network::new(&cfg(TopologyKind::Ring, &[8], Fidelity::Ideal, switching)).unwrap();
         let timing = net.timing();
         for (i, m) in messages.iter().enumerate() {
-            let Dest::Node(d) = m.dest else { unreachable!() };
+            let Dest::Node(d) = m.dest else {
+                unreachable!()
+            };
             let h = net.hops(m.src, d) as u64;
             let saf = match switching {
                 Switching::Wormhole => SimTime::ZERO,
-                Switching::StoreAndForward => {
-                    timing.serialization(timing.first_packet(m.bytes)).times(h - 1)
-                }
+                Switching::StoreAndForward => timing
+                    .serialization(timing.first_packet(m.bytes))
+                    .times(h - 1),
             };
             assert_eq!(hops[i] - ideal[i], saf, "{switching:?} message {i}");
         }
@@ -144,15 +159,24 @@ fn pathological_messages() {
             let mut net = Network::new(&c).unwrap();
             let now = SimTime::from_us(7);
             // To self: delivered at `now`, no link touched.
-            assert_eq!(net.inject(now, 1, 5, Dest::Node(5), Bytes::new(999)), Some(now));
+            assert_eq!(
+                net.inject(now, 1, 5, Dest::Node(5), Bytes::new(999)),
+                Some(now)
+            );
             assert!(net.link_stats().iter().all(|s| s.messages == 0));
             // 0 bytes: pays the route latency only.
             let zero = run(&c, &[msg(0, 10, 0, 0)])[0];
             assert_eq!(zero, c.hop_latency.times(4), "{fidelity:?} {switching:?}");
             // Broadcast needs a bus.
-            let e = net.check_message(0, Dest::Broadcast).unwrap_err().to_string();
+            let e = net
+                .check_message(0, Dest::Broadcast)
+                .unwrap_err()
+                .to_string();
             assert!(e.contains("broadcast needs a bus"), "{e}");
-            let e = net.check_message(0, Dest::Node(16)).unwrap_err().to_string();
+            let e = net
+                .check_message(0, Dest::Node(16))
+                .unwrap_err()
+                .to_string();
             assert!(e.contains("valid nodes are 0..=15"), "{e}");
         }
     }
@@ -161,7 +185,12 @@ fn pathological_messages() {
 #[test]
 fn a_bus_broadcast_is_one_transmission() {
     for fidelity in Fidelity::ALL {
-        let c = cfg(TopologyKind::Bus, &[6], fidelity, Switching::StoreAndForward);
+        let c = cfg(
+            TopologyKind::Bus,
+            &[6],
+            fidelity,
+            Switching::StoreAndForward,
+        );
         let m = ParsedMessage {
             src: 2,
             dest: Dest::Broadcast,
@@ -170,7 +199,11 @@ fn a_bus_broadcast_is_one_transmission() {
         };
         let mut net = Network::new(&c).unwrap();
         let got = drive(&mut net, &[m])[0];
-        assert_eq!(got, net.timing().contention_free(1, Bytes::new(4096)), "{fidelity:?}");
+        assert_eq!(
+            got,
+            net.timing().contention_free(1, Bytes::new(4096)),
+            "{fidelity:?}"
+        );
         let stats = net.link_stats();
         assert_eq!((stats[0].messages, stats[0].bytes), (1, Bytes::new(4096)));
     }
@@ -179,21 +212,37 @@ fn a_bus_broadcast_is_one_transmission() {
 #[test]
 fn packet_queues_and_flow_concurrency_show_in_link_stats() {
     let messages: Vec<_> = (1..4).map(|s| msg(s, 0, 10 * PACKET, 0)).collect();
-    let c = cfg(TopologyKind::Crossbar, &[4], Fidelity::Flow, Switching::Wormhole);
+    let c = cfg(
+        TopologyKind::Crossbar,
+        &[4],
+        Fidelity::Flow,
+        Switching::Wormhole,
+    );
     let mut net = Network::new(&c).unwrap();
     drive(&mut net, &messages);
     let in0 = &net.link_stats()[4];
-    assert_eq!((in0.name.as_str(), in0.messages, in0.peak_queue), ("in0", 3, 3));
+    assert_eq!(
+        (in0.name.as_str(), in0.messages, in0.peak_queue),
+        ("in0", 3, 3)
+    );
     // Three flows share in0 for the whole transfer, each at floor(136e6 / 3) bit/s (the
     // floor leaves 1 bit/s unused), so busy = ceil(work(10 KiB) / floor(C / 3)) exactly.
     let rate = (c.link_bandwidth.bits_per_s() / 3) as u128;
     let work = Bandwidth::work_of(Bytes::new(10 * PACKET));
     assert_eq!(in0.busy.ps() as u128, work.div_ceil(rate));
-    let c = cfg(TopologyKind::Crossbar, &[4], Fidelity::Packet, Switching::Wormhole);
+    let c = cfg(
+        TopologyKind::Crossbar,
+        &[4],
+        Fidelity::Packet,
+        Switching::Wormhole,
+    );
     let mut net = Network::new(&c).unwrap();
     drive(&mut net, &messages);
     let in0 = &net.link_stats()[4];
     assert!(in0.peak_queue >= 2, "{in0:?}");
     // Busy = time transmitting = every packet's share, which telescopes to T(10 KiB) each.
-    assert_eq!(in0.busy, net.timing().serialization(Bytes::new(10 * PACKET)).times(3));
+    assert_eq!(
+        in0.busy,
+        net.timing().serialization(Bytes::new(10 * PACKET)).times(3)
+    );
 }

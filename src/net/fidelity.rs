@@ -24,9 +24,16 @@ pub struct FidelityRow {
 }
 
 /// Runs `pattern` at every level of [`Fidelity::ALL`] on `cfg` (its own fidelity ignored).
-pub fn fidelity_table(cfg: &NetworkConfig, pattern: &Pattern) -> Result<Vec<FidelityRow>, NetError> {
+pub fn fidelity_table(
+    cfg: &NetworkConfig,
+    pattern: &Pattern,
+) -> Result<Vec<FidelityRow>, NetError> {
     let parsed = parse_pattern(&Network::new(cfg)?, pattern)?;
-    let first_start = parsed.iter().map(|m| m.start).min().unwrap_or(SimTime::ZERO);
+    let first_start = parsed
+        .iter()
+        .map(|m| m.start)
+        .min()
+        .unwrap_or(SimTime::ZERO);
     Fidelity::ALL
         .iter()
         .map(|&fidelity| {

@@ -148,7 +148,11 @@ pub fn drive(net: &mut Network, messages: &[ParsedMessage]) -> Vec<SimTime> {
     let mut next = 0;
     loop {
         let next_start = order.get(next).map(|&i| messages[i].start);
-        let Some(now) = [next_start, net.next_event_time()].into_iter().flatten().min() else {
+        let Some(now) = [next_start, net.next_event_time()]
+            .into_iter()
+            .flatten()
+            .min()
+        else {
             break;
         };
         while let Some(&i) = order.get(next).filter(|&&i| messages[i].start == now) {
@@ -236,11 +240,17 @@ fn parse_message(net: &Network, i: usize, m: &PatternMessage) -> Result<ParsedMe
     let field = |name: &str, why: String| NetError::Pattern(format!("messages[{i}].{name}: {why}"));
     let last = net.nodes() - 1;
     if m.src > last {
-        return Err(field("src", format!("node {} does not exist; valid nodes are 0..={last}", m.src)));
+        return Err(field(
+            "src",
+            format!("node {} does not exist; valid nodes are 0..={last}", m.src),
+        ));
     }
     let dest = match (m.dst, m.broadcast) {
         (Some(_), true) => {
-            return Err(field("dst", "give either dst or broadcast: true, not both".to_string()))
+            return Err(field(
+                "dst",
+                "give either dst or broadcast: true, not both".to_string(),
+            ))
         }
         (None, false) => {
             return Err(field(
@@ -256,7 +266,10 @@ fn parse_message(net: &Network, i: usize, m: &PatternMessage) -> Result<ParsedMe
         }
         (None, true) => Dest::Broadcast,
         (Some(d), false) if d > last => {
-            return Err(field("dst", format!("node {d} does not exist; valid nodes are 0..={last}")))
+            return Err(field(
+                "dst",
+                format!("node {d} does not exist; valid nodes are 0..={last}"),
+            ))
         }
         (Some(d), false) if !net.can_route(m.src, d) => {
             return Err(field(
@@ -269,8 +282,14 @@ fn parse_message(net: &Network, i: usize, m: &PatternMessage) -> Result<ParsedMe
         }
         (Some(d), false) => Dest::Node(d),
     };
-    let bytes = m.bytes.parse::<Bytes>().map_err(|e| field("bytes", e.to_string()))?;
-    let start = m.start.parse::<SimTime>().map_err(|e| field("start", e.to_string()))?;
+    let bytes = m
+        .bytes
+        .parse::<Bytes>()
+        .map_err(|e| field("bytes", e.to_string()))?;
+    let start = m
+        .start
+        .parse::<SimTime>()
+        .map_err(|e| field("start", e.to_string()))?;
     Ok(ParsedMessage {
         src: m.src,
         dest,
@@ -301,7 +320,11 @@ fn report(
             latency_ps: (done - m.start).ps(),
         })
         .collect();
-    let first_start = parsed.iter().map(|m| m.start).min().unwrap_or(SimTime::ZERO);
+    let first_start = parsed
+        .iter()
+        .map(|m| m.start)
+        .min()
+        .unwrap_or(SimTime::ZERO);
     let last_done = completions.iter().copied().max().unwrap_or(SimTime::ZERO);
     let makespan = last_done.saturating_sub(first_start);
     let total: u128 = messages.iter().map(|m| m.latency_ps as u128).sum();

@@ -20,7 +20,10 @@ pub struct Grid {
 
 impl Grid {
     /// `neighbour(node, d, plus)` gives the far end of a link, or `None` where there is none.
-    pub fn new(dims: &[u32], neighbour: impl Fn(&Grid, NodeId, usize, bool) -> Option<NodeId>) -> Grid {
+    pub fn new(
+        dims: &[u32],
+        neighbour: impl Fn(&Grid, NodeId, usize, bool) -> Option<NodeId>,
+    ) -> Grid {
         let mut strides = Vec::with_capacity(dims.len());
         let mut stride = 1;
         for &k in dims {

@@ -114,10 +114,16 @@ fn validate_dims(kind: TopologyKind, dims: &[u32]) -> Result<u32, NetError> {
         ));
     };
     match kind {
-        TopologyKind::Ring | TopologyKind::Pipeline | TopologyKind::Bus | TopologyKind::Crossbar
+        TopologyKind::Ring
+        | TopologyKind::Pipeline
+        | TopologyKind::Bus
+        | TopologyKind::Crossbar
             if dims.len() != 1 =>
         {
-            err("a ring, pipeline, bus or crossbar takes exactly one dim, the node count, e.g. [8]".to_string())
+            err(
+                "a ring, pipeline, bus or crossbar takes exactly one dim, the node count, e.g. [8]"
+                    .to_string(),
+            )
         }
         TopologyKind::Hypercube if dims.len() != 1 || !nodes.is_power_of_two() => err(
             "a hypercube takes exactly one dim, the node count, which must be a power of two \
@@ -136,7 +142,10 @@ mod tests {
     use super::*;
 
     fn rejects(kind: TopologyKind, dims: &[u32], needle: &str) {
-        let e = build(kind, dims).err().expect("must be rejected").to_string();
+        let e = build(kind, dims)
+            .err()
+            .expect("must be rejected")
+            .to_string();
         assert!(e.contains(needle), "{kind:?} {dims:?}: {e}");
     }
 

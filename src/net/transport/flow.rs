@@ -43,6 +43,11 @@ pub struct Flow {
     dirty_flows: Vec<u32>,
     dirty_links: Vec<LinkId>,
     dirty_since: Option<SimTime>,
+    /// The lowest rate among flows that ended since the last recomputation (0 once a flow
+    /// started): flows below it keep their rates (see `recompute`).
+    dirty_floor: u64,
+    /// Test switch: recompute from level 0 every time (the reference for the shortcut).
+    always_full: bool,
     scratch: Scratch,
 }
 
@@ -78,8 +83,11 @@ struct Scratch {
     fixed: Vec<bool>,
     cap_left: Vec<u64>,
     unfixed: Vec<u32>,
-    key_version: Vec<u32>,
-    bottlenecks: BinaryHeap<Reverse<(u64, LinkId, u32)>>,
+    /// Rates of the component's flows before the recomputation, aligned with
+    /// `component_flows`.
+    old_rates: Vec<u64>,
+    /// (share lower bound, link): see `water_fill`.
+    bottlenecks: BinaryHeap<Reverse<(u64, LinkId)>>,
 }
 
 impl Flow {
@@ -88,7 +96,6 @@ impl Flow {
             link_epoch: vec![0; links],
             cap_left: vec![0; links],
             unfixed: vec![0; links],
-            key_version: vec![0; links],
             ..Scratch::default()
         };
         scratch.epoch = 0;
@@ -105,6 +112,8 @@ impl Flow {
             dirty_flows: Vec::new(),
             dirty_links: Vec::new(),
             dirty_since: None,
+            dirty_floor: u64::MAX,
+            always_full: false,
             scratch,
         }
     }
@@ -123,7 +132,14 @@ impl Flow {
         self.dirty_since = Some(self.dirty_since.map_or(now, |t| t.min(now)));
     }
 
-    fn start_flow(&mut self, now: SimTime, msg: MsgId, route: &[LinkId], tail: SimTime, bytes: Bytes) {
+    fn start_flow(
+        &mut self,
+        now: SimTime,
+        msg: MsgId,
+        route: &[LinkId],
+        tail: SimTime,
+        bytes: Bytes,
+    ) {
         let slot = match self.free_slots.pop() {
             Some(s) => s,
             None => {
@@ -160,6 +176,7 @@ impl Flow {
             link.peak = link.peak.max(link.flows.len() as u32);
         }
         self.dirty_flows.push(slot);
+        self.dirty_floor = 0;
         self.mark_dirty(now);
     }
 
@@ -167,15 +184,23 @@ impl Flow {
     fn finish_flow(&mut self, now: SimTime, slot: u32) {
         let f = &mut self.flows[slot as usize];
         let moved = f.rate as u128 * (now - f.since).ps() as u128;
-        debug_assert!(moved >= f.remaining, "flow completed before its work was done");
+        debug_assert!(
+            moved >= f.remaining,
+            "flow completed before its work was done"
+        );
         f.remaining = 0;
         f.active = false;
+        self.dirty_floor = self.dirty_floor.min(f.rate);
         f.version = f.version.wrapping_add(1);
         let (msg, at) = (f.msg, now + f.tail);
         let route = std::mem::take(&mut f.route);
         for &l in &route {
             let link = &mut self.links[l as usize];
-            let pos = link.flows.iter().position(|&x| x == slot).expect("flow on its link");
+            let pos = link
+                .flows
+                .iter()
+                .position(|&x| x == slot)
+                .expect("flow on its link");
             link.flows.swap_remove(pos);
             if link.flows.is_empty() {
                 link.busy += now - link.busy_since;
@@ -188,9 +213,9 @@ impl Flow {
         self.mark_dirty(now);
     }
 
-    /// Collects into the scratch lists every active flow and link connected to the dirty
-    /// flows and links.
-    fn collect_component(&mut self) {
+    /// Collects into the scratch lists every active flow of rate >= `floor` connected to the
+    /// dirty flows and links through such flows, and the links they cross.
+    fn collect_component(&mut self, floor: u64) {
         let s = &mut self.scratch;
         s.epoch = s.epoch.wrapping_add(1);
         s.component_flows.clear();
@@ -213,7 +238,9 @@ impl Flow {
                 s.link_epoch[l as usize] = epoch;
                 s.component_links.push(l);
                 for &slot in &self.links[l as usize].flows {
-                    if s.flow_epoch[slot as usize] != epoch {
+                    if s.flow_epoch[slot as usize] != epoch
+                        && self.flows[slot as usize].rate >= floor
+                    {
                         s.flow_epoch[slot as usize] = epoch;
                         s.component_flows.push(slot);
                     }
@@ -236,19 +263,39 @@ impl Flow {
     }
 
     /// New max-min fair rates for the dirty component at `now`, and new completions.
+    ///
+    /// A flow whose rate did not change keeps its completion entry: with the same rate,
+    /// `since + ceil(remaining / rate)` is the same instant whenever it is computed.
+    ///
+    /// When flows only ended (none started), the flows whose rate is below the lowest
+    /// ended rate `r` keep their rates: water-filling fixes them at levels below `r`, where
+    /// no link the ended flows crossed can be the bottleneck (such a link would have fixed
+    /// the ended flow below `r`), and removing a flow only raises those links' shares. So
+    /// the filling restarts at level `r` with their rates subtracted, and gives exactly the
+    /// full recomputation's result.
     fn recompute(&mut self, now: SimTime) {
-        self.collect_component();
+        let mut floor = std::mem::replace(&mut self.dirty_floor, u64::MAX);
+        if self.always_full {
+            floor = 0;
+        }
+        self.collect_component(floor);
         let comp = std::mem::take(&mut self.scratch.component_flows);
+        let mut old_rates = std::mem::take(&mut self.scratch.old_rates);
+        old_rates.clear();
         for &slot in &comp {
             let f = &mut self.flows[slot as usize];
             let moved = f.rate as u128 * (now - f.since).ps() as u128;
             f.remaining = f.remaining.saturating_sub(moved);
             f.since = now;
+            old_rates.push(f.rate);
             self.scratch.fixed[slot as usize] = false;
         }
-        self.water_fill();
-        for &slot in &comp {
+        self.water_fill(floor);
+        for (&slot, &old_rate) in comp.iter().zip(&old_rates) {
             let f = &mut self.flows[slot as usize];
+            if f.rate == old_rate {
+                continue;
+            }
             f.version = f.version.wrapping_add(1);
             let left = ceil_div(f.remaining, f.rate as u128);
             let (at, version) = (now + SimTime::from_ps(left), f.version);
@@ -256,29 +303,52 @@ impl Flow {
             self.completions.push(Reverse((at, seq, slot, version)));
         }
         self.scratch.component_flows = comp;
+        self.scratch.old_rates = old_rates;
+        self.compact_completions();
     }
 
     /// Progressive filling: repeatedly take the link whose remaining capacity gives its
     /// unfixed flows the smallest (floored) share, fix those flows at that share.
-    fn water_fill(&mut self) {
+    ///
+    /// Fixing flows at the current minimum share never lowers another link's share (it had
+    /// at least that much per flow), so the heap keys are lazy lower bounds: a popped link
+    /// whose real share has grown is pushed back with it, and no key is touched when a flow
+    /// is fixed. Ties go to the lowest link index.
+    fn water_fill(&mut self, floor: u64) {
         let s = &mut self.scratch;
         s.bottlenecks.clear();
         for &l in &s.component_links {
             let li = l as usize;
-            s.cap_left[li] = self.capacity;
-            s.unfixed[li] = self.links[li].flows.len() as u32;
-            s.key_version[li] = s.key_version[li].wrapping_add(1);
-            if s.unfixed[li] > 0 {
-                let share = s.cap_left[li] / s.unfixed[li] as u64;
-                s.bottlenecks.push(Reverse((share, l, s.key_version[li])));
+            let mut cap = self.capacity;
+            let mut unfixed = 0;
+            for &slot in &self.links[li].flows {
+                let rate = self.flows[slot as usize].rate;
+                let below = rate < floor;
+                s.fixed[slot as usize] = below;
+                if below {
+                    cap = cap.saturating_sub(rate);
+                } else {
+                    unfixed += 1;
+                }
+            }
+            s.cap_left[li] = cap;
+            s.unfixed[li] = unfixed;
+            if unfixed > 0 {
+                s.bottlenecks.push(Reverse((cap / unfixed as u64, l)));
             }
         }
-        while let Some(Reverse((share, l, version))) = s.bottlenecks.pop() {
-            if version != s.key_version[l as usize] || s.unfixed[l as usize] == 0 {
+        while let Some(Reverse((key, l))) = s.bottlenecks.pop() {
+            let li = l as usize;
+            if s.unfixed[li] == 0 {
+                continue;
+            }
+            let share = s.cap_left[li] / s.unfixed[li] as u64;
+            if share > key {
+                s.bottlenecks.push(Reverse((share, l)));
                 continue;
             }
             let rate = share.max(1);
-            for &slot in &self.links[l as usize].flows {
+            for &slot in &self.links[li].flows {
                 if s.fixed[slot as usize] {
                     continue;
                 }
@@ -289,14 +359,25 @@ impl Flow {
                     let i = l2 as usize;
                     s.cap_left[i] = s.cap_left[i].saturating_sub(rate);
                     s.unfixed[i] -= 1;
-                    s.key_version[i] = s.key_version[i].wrapping_add(1);
-                    if s.unfixed[i] > 0 && l2 != l {
-                        let share = s.cap_left[i] / s.unfixed[i] as u64;
-                        s.bottlenecks.push(Reverse((share, l2, s.key_version[i])));
-                    }
                 }
             }
         }
+    }
+
+    /// Rebuilds the completion heap when stale entries outnumber live ones, so it stays
+    /// proportional to the active flows.
+    fn compact_completions(&mut self) {
+        let live = self.flows.len() - self.free_slots.len();
+        if self.completions.len() <= 2 * live + 64 {
+            return;
+        }
+        let flows = &self.flows;
+        let mut entries = std::mem::take(&mut self.completions).into_vec();
+        entries.retain(|Reverse((_, _, slot, version))| {
+            let f = &flows[*slot as usize];
+            f.active && f.version == *version
+        });
+        self.completions = BinaryHeap::from(entries);
     }
 
     fn drop_stale_completions(&mut self) {
@@ -372,6 +453,65 @@ impl Transport for Flow {
         Usage {
             busy: l.busy + running,
             peak_queue: l.peak,
+        }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::net::Switching;
+    use rand::{Rng, SeedableRng};
+
+    fn timing() -> Timing {
+        Timing {
+            bandwidth: "17MB/s".parse().unwrap(),
+            hop_latency: SimTime::from_ns(300),
+            switching: Switching::Wormhole,
+            packet_size: Bytes::new(1024),
+        }
+    }
+
+    /// Runs random overlapping flows on 12 links; returns every delivery in order.
+    fn run(always_full: bool, seed: u64) -> Vec<Delivered> {
+        let mut rng = rand_chacha::ChaCha8Rng::seed_from_u64(seed);
+        let mut flow = Flow::new(timing(), 12);
+        flow.always_full = always_full;
+        let mut starts: Vec<(SimTime, Vec<LinkId>, Bytes)> = (0..300)
+            .map(|_| {
+                let first = rng.gen_range(0..12u32);
+                let len = rng.gen_range(1..5u32);
+                let route = (first..first + len).map(|l| l % 12).collect();
+                let at = SimTime::from_ps(rng.gen_range(0..50_000_000_000u64));
+                (at, route, Bytes::new(rng.gen_range(1..200_000)))
+            })
+            .collect();
+        starts.sort_by_key(|s| s.0);
+        let mut out = Vec::new();
+        let mut next = 0;
+        loop {
+            let start = starts.get(next).map(|s| s.0);
+            let Some(now) = [start, flow.next_event_time()].into_iter().flatten().min() else {
+                break;
+            };
+            while next < starts.len() && starts[next].0 == now {
+                let (at, route, bytes) = &starts[next];
+                flow.inject(*at, next as MsgId, route, route.len() as u32, *bytes);
+                next += 1;
+            }
+            if flow.next_event_time() == Some(now) {
+                flow.advance(now, &mut out);
+            }
+        }
+        out
+    }
+
+    #[test]
+    fn restarting_the_filling_at_the_ended_rate_equals_a_full_recomputation() {
+        for seed in 0..8 {
+            let full = run(true, seed);
+            assert_eq!(full.len(), 300);
+            assert_eq!(run(false, seed), full, "seed {seed}");
         }
     }
 }

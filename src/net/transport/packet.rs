@@ -295,7 +295,10 @@ impl Packet {
         let m = &mut self.messages[message as usize];
         m.packets_left -= 1;
         if m.packets_left == 0 {
-            delivered.push(Delivered { msg: m.msg, at: now });
+            delivered.push(Delivered {
+                msg: m.msg,
+                at: now,
+            });
             self.free_messages.push(message);
         }
     }
