@@ -28,7 +28,9 @@ fn phold(c: &mut Criterion) {
         group.bench_with_input(BenchmarkId::new("engine", in_flight), &cfg, |b, cfg| {
             b.iter(|| phold_engine(cfg).expect("PHOLD runs"))
         });
-        group.bench_with_input(BenchmarkId::new("baseline", in_flight), &cfg, |b, cfg| b.iter(|| phold_baseline(cfg)));
+        group.bench_with_input(BenchmarkId::new("baseline", in_flight), &cfg, |b, cfg| {
+            b.iter(|| phold_baseline(cfg))
+        });
     }
     group.finish();
 }

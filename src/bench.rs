@@ -4,8 +4,8 @@
 //! Owns workload definitions and wall-clock measurement. Wall-clock time is read here and in
 //! `report::cost` only, never inside a simulation.
 
-use std::collections::BinaryHeap;
 use std::cmp::Reverse;
+use std::collections::BinaryHeap;
 use std::time::Instant;
 
 use rand::Rng;
@@ -61,7 +61,9 @@ struct Draw {
 
 impl Draw {
     fn new(cfg: &PholdConfig, lp: u32) -> Draw {
-        Draw { rng: rng_stream(cfg.seed, &format!("phold/{lp}")) }
+        Draw {
+            rng: rng_stream(cfg.seed, &format!("phold/{lp}")),
+        }
     }
     /// (destination, delay) of the event an event at `lp` schedules. The exponential draw is
     /// f64, floored to whole picoseconds: deterministic on every IEEE-754 platform.
@@ -113,7 +115,11 @@ pub fn phold_engine(cfg: &PholdConfig) -> Result<PholdOutcome, SimError> {
     }
     sim.run_until(cfg.end)?;
     let (events, last, hash) = log.get();
-    Ok(PholdOutcome { events, last_event_ps: last, trace_hash: hash })
+    Ok(PholdOutcome {
+        events,
+        last_event_ps: last,
+        trace_hash: hash,
+    })
 }
 
 /// PHOLD as a bare loop over a `BinaryHeap` of (time, sequence, lp): the baseline the
@@ -143,7 +149,11 @@ pub fn phold_baseline(cfg: &PholdConfig) -> PholdOutcome {
         heap.push(Reverse(((now + delay).ps(), seq, dst)));
         seq += 1;
     }
-    PholdOutcome { events, last_event_ps: last, trace_hash: hash }
+    PholdOutcome {
+        events,
+        last_event_ps: last,
+        trace_hash: hash,
+    }
 }
 
 /// The deterministic part of a PHOLD run: the workload and what the engine computed.
@@ -184,7 +194,13 @@ pub fn phold_report(cfg: &PholdConfig) -> Result<(PholdSummary, PholdCost), SimE
     let t1 = Instant::now();
     let baseline = phold_baseline(cfg);
     let baseline_wall = t1.elapsed().as_secs_f64();
-    let rate = |events: u64, wall: f64| if wall > 0.0 { events as f64 / wall } else { 0.0 };
+    let rate = |events: u64, wall: f64| {
+        if wall > 0.0 {
+            events as f64 / wall
+        } else {
+            0.0
+        }
+    };
     let engine_rate = rate(engine.events, engine_wall);
     let baseline_rate = rate(baseline.events, baseline_wall);
     let summary = PholdSummary {
@@ -206,7 +222,11 @@ pub fn phold_report(cfg: &PholdConfig) -> Result<(PholdSummary, PholdCost), SimE
         engine_events_per_s: engine_rate,
         baseline_wall_s: baseline_wall,
         baseline_events_per_s: baseline_rate,
-        ratio_to_baseline: if baseline_rate > 0.0 { engine_rate / baseline_rate } else { 0.0 },
+        ratio_to_baseline: if baseline_rate > 0.0 {
+            engine_rate / baseline_rate
+        } else {
+            0.0
+        },
     };
     Ok((summary, cost))
 }
@@ -240,7 +260,13 @@ mod tests {
 
     #[test]
     fn seeds_change_the_trace_and_repeat_it() {
-        assert_eq!(phold_engine(&small(1)).unwrap(), phold_engine(&small(1)).unwrap());
-        assert_ne!(phold_engine(&small(1)).unwrap().trace_hash, phold_engine(&small(2)).unwrap().trace_hash);
+        assert_eq!(
+            phold_engine(&small(1)).unwrap(),
+            phold_engine(&small(1)).unwrap()
+        );
+        assert_ne!(
+            phold_engine(&small(1)).unwrap().trace_hash,
+            phold_engine(&small(2)).unwrap().trace_hash
+        );
     }
 }

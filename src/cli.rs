@@ -30,7 +30,9 @@ pub enum Command {
         files: Vec<PathBuf>,
     },
     /// Simulate a list of messages on a machine's network and print each completion time.
-    #[command(after_help = "Example:\n  sortsim netsim machines/multicluster-torus.json tests/patterns/hot-spot-4x4.json --fidelity flow\n  sortsim netsim machines/delta.json tests/patterns/complement-16x32.json --compare")]
+    #[command(
+        after_help = "Example:\n  sortsim netsim machines/multicluster-torus.json tests/patterns/hot-spot-4x4.json --fidelity flow\n  sortsim netsim machines/delta.json tests/patterns/complement-16x32.json --compare"
+    )]
     Netsim(NetsimArgs),
     /// Benchmarks of the simulator itself.
     #[command(subcommand)]
@@ -65,7 +67,9 @@ pub enum FidelityArg {
 #[derive(Subcommand, Debug)]
 pub enum BenchCommand {
     /// PHOLD on the engine against a bare binary-heap loop, in the same run.
-    #[command(after_help = "Example:\n  sortsim bench phold --lps 1024 --events-per-lp 16 --end 2ms")]
+    #[command(
+        after_help = "Example:\n  sortsim bench phold --lps 1024 --events-per-lp 16 --end 2ms"
+    )]
     Phold(PholdArgs),
 }
 
@@ -97,10 +101,14 @@ pub struct PholdArgs {
 }
 
 fn probability(s: &str) -> Result<f64, String> {
-    let p: f64 = s.parse().map_err(|_| format!("'{s}' is not a number; expected a probability in 0..=1"))?;
+    let p: f64 = s
+        .parse()
+        .map_err(|_| format!("'{s}' is not a number; expected a probability in 0..=1"))?;
     if (0.0..=1.0).contains(&p) {
         Ok(p)
     } else {
-        Err(format!("{p} is not a probability; expected a number in 0..=1"))
+        Err(format!(
+            "{p} is not a probability; expected a number in 0..=1"
+        ))
     }
 }

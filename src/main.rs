@@ -73,7 +73,8 @@ fn check_files(files: &[PathBuf]) -> Result<(), Failure> {
 fn netsim(args: &NetsimArgs) -> Result<(), Failure> {
     let machine = load_machine(&args.machine)?;
     let pattern: Pattern = load_json(&args.pattern)?;
-    let in_pattern = |e: sortsim::net::NetError| Failure::BadInput(format!("{}: {e}", args.pattern.display()));
+    let in_pattern =
+        |e: sortsim::net::NetError| Failure::BadInput(format!("{}: {e}", args.pattern.display()));
     let mut network = machine.network.clone();
     if args.compare {
         let rows = fidelity_table(&network, &pattern).map_err(in_pattern)?;
@@ -102,7 +103,8 @@ fn netsim(args: &NetsimArgs) -> Result<(), Failure> {
 
 fn write_file(dir: &Path, name: &str, text: &str) -> Result<(), Failure> {
     let path = dir.join(name);
-    write_atomic(&path, text.as_bytes()).map_err(|e| Failure::BadInput(format!("{}: cannot write: {e}", path.display())))
+    write_atomic(&path, text.as_bytes())
+        .map_err(|e| Failure::BadInput(format!("{}: cannot write: {e}", path.display())))
 }
 
 fn bench_phold(args: &PholdArgs) -> Result<(), Failure> {
@@ -149,10 +151,13 @@ fn default_job() -> Result<(), Failure> {
         seed: 1,
         out: Some(out.join("phold")),
     })?;
-    println!("\nThe Delta's 16x32 mesh, every node sends 64 KiB to its mirror node (bit complement):");
+    println!(
+        "\nThe Delta's 16x32 mesh, every node sends 64 KiB to its mirror node (bit complement):"
+    );
     let delta = load_machine(&machines.join("delta.json"))?;
     let pattern: Pattern = load_json(&root.join("tests/patterns/complement-16x32.json"))?;
-    let rows = fidelity_table(&delta.network, &pattern).map_err(|e| Failure::Internal(e.to_string()))?;
+    let rows =
+        fidelity_table(&delta.network, &pattern).map_err(|e| Failure::Internal(e.to_string()))?;
     let table = format_table(&rows);
     print!("{table}");
     write_file(&out, "fidelity.txt", &table)?;

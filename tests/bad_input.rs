@@ -15,13 +15,17 @@ fn sortsim(args: &[&str]) -> Output {
 
 /// (file, expected fragment) pairs of one corpus folder; every .json file must be listed.
 fn corpus(kind: &str) -> Vec<(PathBuf, String)> {
-    let dir = Path::new(env!("CARGO_MANIFEST_DIR")).join("tests/bad_input").join(kind);
+    let dir = Path::new(env!("CARGO_MANIFEST_DIR"))
+        .join("tests/bad_input")
+        .join(kind);
     let expected = std::fs::read_to_string(dir.join("EXPECTED.txt")).expect("EXPECTED.txt exists");
     let cases: Vec<(PathBuf, String)> = expected
         .lines()
         .filter(|l| !l.starts_with('#') && !l.trim().is_empty())
         .map(|l| {
-            let (file, fragment) = l.split_once(": ").expect("EXPECTED.txt lines are `file: fragment`");
+            let (file, fragment) = l
+                .split_once(": ")
+                .expect("EXPECTED.txt lines are `file: fragment`");
             (dir.join(file), fragment.to_string())
         })
         .collect();
@@ -33,17 +37,36 @@ fn corpus(kind: &str) -> Vec<(PathBuf, String)> {
         .collect();
     listed.sort();
     present.sort();
-    assert_eq!(listed, present, "every corpus file has an expectation and every expectation a file");
+    assert_eq!(
+        listed, present,
+        "every corpus file has an expectation and every expectation a file"
+    );
     cases
 }
 
 fn check_refusal(out: &Output, file: &Path, fragment: &str) {
     let stderr = String::from_utf8_lossy(&out.stderr);
-    assert_eq!(out.status.code(), Some(2), "{}: exit code; stderr: {stderr}", file.display());
-    assert!(stderr.contains(fragment), "{}: expected {fragment:?} in: {stderr}", file.display());
-    assert!(stderr.contains(&*file.file_name().unwrap().to_string_lossy()), "the message names the file: {stderr}");
+    assert_eq!(
+        out.status.code(),
+        Some(2),
+        "{}: exit code; stderr: {stderr}",
+        file.display()
+    );
+    assert!(
+        stderr.contains(fragment),
+        "{}: expected {fragment:?} in: {stderr}",
+        file.display()
+    );
+    assert!(
+        stderr.contains(&*file.file_name().unwrap().to_string_lossy()),
+        "the message names the file: {stderr}"
+    );
     assert!(!stderr.contains("panicked"), "{stderr}");
-    assert_eq!(stderr.lines().filter(|l| l.starts_with("error")).count(), 1, "one message: {stderr}");
+    assert_eq!(
+        stderr.lines().filter(|l| l.starts_with("error")).count(),
+        1,
+        "one message: {stderr}"
+    );
 }
 
 #[test]
@@ -66,7 +89,11 @@ fn every_bad_pattern_is_refused_and_writes_nothing() {
             out_dir.to_str().unwrap(),
         ]);
         check_refusal(&out, &file, &fragment);
-        assert!(!out_dir.exists(), "{}: a refused run wrote output", file.display());
+        assert!(
+            !out_dir.exists(),
+            "{}: a refused run wrote output",
+            file.display()
+        );
     }
 }
 
@@ -76,15 +103,30 @@ fn bad_flags_are_refused_with_exit_code_2() {
         (&["bench", "phold", "--remote", "1.5"], "not a probability"),
         (&["bench", "phold", "--lps", "0"], "--lps"),
         (&["bench", "phold", "--end", "5 fortnights"], "unknown unit"),
-        (&["netsim", "machines/delta.json", "tests/patterns/complement-16x32.json", "--fidelity", "warp"], "warp"),
-        (&["check", "tests/bad_input/does-not-exist.json"], "does-not-exist.json: cannot read"),
+        (
+            &[
+                "netsim",
+                "machines/delta.json",
+                "tests/patterns/complement-16x32.json",
+                "--fidelity",
+                "warp",
+            ],
+            "warp",
+        ),
+        (
+            &["check", "tests/bad_input/does-not-exist.json"],
+            "does-not-exist.json: cannot read",
+        ),
         (&["frobnicate"], "unrecognized subcommand"),
     ];
     for (args, fragment) in cases {
         let out = sortsim(args);
         let stderr = String::from_utf8_lossy(&out.stderr);
         assert_eq!(out.status.code(), Some(2), "{args:?}: {stderr}");
-        assert!(stderr.contains(fragment), "{args:?}: expected {fragment:?} in {stderr}");
+        assert!(
+            stderr.contains(fragment),
+            "{args:?}: expected {fragment:?} in {stderr}"
+        );
         assert!(!stderr.contains("panicked"), "{stderr}");
     }
 }

@@ -10,7 +10,11 @@ fn sortsim(args: &[&str]) -> Output {
         .current_dir(env!("CARGO_MANIFEST_DIR"))
         .output()
         .expect("sortsim runs");
-    assert!(out.status.success(), "{args:?} failed: {}", String::from_utf8_lossy(&out.stderr));
+    assert!(
+        out.status.success(),
+        "{args:?} failed: {}",
+        String::from_utf8_lossy(&out.stderr)
+    );
     out
 }
 
@@ -22,20 +26,38 @@ fn temp_dir(name: &str) -> PathBuf {
 
 #[test]
 fn every_bundled_machine_checks_ok() {
-    let machines: Vec<String> = ["delta", "multicluster-torus", "multicluster-pipeline", "power-challenge", "snooping-bus"]
-        .iter()
-        .map(|m| format!("machines/{m}.json"))
+    let machines: Vec<String> = [
+        "delta",
+        "multicluster-torus",
+        "multicluster-pipeline",
+        "power-challenge",
+        "snooping-bus",
+    ]
+    .iter()
+    .map(|m| format!("machines/{m}.json"))
+    .collect();
+    let args: Vec<&str> = std::iter::once("check")
+        .chain(machines.iter().map(String::as_str))
         .collect();
-    let args: Vec<&str> = std::iter::once("check").chain(machines.iter().map(String::as_str)).collect();
     let stdout = String::from_utf8(sortsim(&args).stdout).unwrap();
-    assert_eq!(stdout.lines().filter(|l| l.starts_with("OK ")).count(), 5, "{stdout}");
-    assert!(stdout.contains("machine 'delta': 512 nodes, Mesh [16, 32]"), "{stdout}");
+    assert_eq!(
+        stdout.lines().filter(|l| l.starts_with("OK ")).count(),
+        5,
+        "{stdout}"
+    );
+    assert!(
+        stdout.contains("machine 'delta': 512 nodes, Mesh [16, 32]"),
+        "{stdout}"
+    );
 }
 
 #[test]
 fn netsim_twice_gives_byte_identical_json_at_every_fidelity() {
     for fidelity in ["ideal", "hops", "flow", "packet"] {
-        let (a, b) = (temp_dir(&format!("netsim-a-{fidelity}")), temp_dir(&format!("netsim-b-{fidelity}")));
+        let (a, b) = (
+            temp_dir(&format!("netsim-a-{fidelity}")),
+            temp_dir(&format!("netsim-b-{fidelity}")),
+        );
         let run = |dir: &PathBuf| {
             sortsim(&[
                 "netsim",
@@ -64,10 +86,26 @@ fn netsim_twice_gives_byte_identical_json_at_every_fidelity() {
 fn phold_twice_gives_byte_identical_summary() {
     let (a, b) = (temp_dir("phold-a"), temp_dir("phold-b"));
     for dir in [&a, &b] {
-        sortsim(&["bench", "phold", "--lps", "64", "--events-per-lp", "8", "--end", "200us", "--seed", "9", "-o", dir.to_str().unwrap()]);
+        sortsim(&[
+            "bench",
+            "phold",
+            "--lps",
+            "64",
+            "--events-per-lp",
+            "8",
+            "--end",
+            "200us",
+            "--seed",
+            "9",
+            "-o",
+            dir.to_str().unwrap(),
+        ]);
     }
     let summary = std::fs::read_to_string(a.join("summary.json")).unwrap();
-    assert_eq!(summary, std::fs::read_to_string(b.join("summary.json")).unwrap());
+    assert_eq!(
+        summary,
+        std::fs::read_to_string(b.join("summary.json")).unwrap()
+    );
     let v: serde_json::Value = serde_json::from_str(&summary).unwrap();
     assert_eq!(v["baseline_agrees"], true);
     assert_eq!(v["in_flight"], 512);
@@ -78,8 +116,17 @@ fn phold_twice_gives_byte_identical_summary() {
 
 #[test]
 fn compare_prints_one_row_per_fidelity() {
-    let out = sortsim(&["netsim", "machines/snooping-bus.json", "tests/patterns/bus-broadcasts-8.json", "--compare"]);
+    let out = sortsim(&[
+        "netsim",
+        "machines/snooping-bus.json",
+        "tests/patterns/bus-broadcasts-8.json",
+        "--compare",
+    ]);
     let stdout = String::from_utf8(out.stdout).unwrap();
-    let rows: Vec<&str> = stdout.lines().skip(1).map(|l| l.split_whitespace().next().unwrap()).collect();
+    let rows: Vec<&str> = stdout
+        .lines()
+        .skip(1)
+        .map(|l| l.split_whitespace().next().unwrap())
+        .collect();
     assert_eq!(rows, ["ideal", "hops", "flow", "packet"], "{stdout}");
 }

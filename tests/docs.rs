@@ -23,7 +23,12 @@ fn every_source_file_starts_with_a_module_doc() {
     }
     let missing: Vec<_> = files
         .iter()
-        .filter(|f| !std::fs::read_to_string(f).unwrap().trim_start().starts_with("//!"))
+        .filter(|f| {
+            !std::fs::read_to_string(f)
+                .unwrap()
+                .trim_start()
+                .starts_with("//!")
+        })
         .collect();
     assert!(missing.is_empty(), "files without a //! doc: {missing:?}");
 }
@@ -36,7 +41,10 @@ fn architecture_names_every_module_folder() {
         let path = entry.unwrap().path();
         if path.is_dir() {
             let name = format!("src/{}/", path.file_name().unwrap().to_string_lossy());
-            assert!(arch.contains(&name), "ARCHITECTURE.md does not mention {name}");
+            assert!(
+                arch.contains(&name),
+                "ARCHITECTURE.md does not mention {name}"
+            );
         }
     }
 }

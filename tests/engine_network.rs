@@ -49,10 +49,18 @@ fn a_lone_message_costs_overheads_plus_the_formula_at_every_fidelity() {
         let saf = wormhole + bw.transfer_time(Bytes::new(bytes.min(1024))).times(h - 1);
         let overheads = SimTime::from_us(3 + 2);
         for fidelity in ["ideal", "hops", "flow", "packet"] {
-            assert_eq!(lone_message(&torus(fidelity, "wormhole"), 0, 10, bytes), overheads + wormhole, "{fidelity} {bytes}B");
+            assert_eq!(
+                lone_message(&torus(fidelity, "wormhole"), 0, 10, bytes),
+                overheads + wormhole,
+                "{fidelity} {bytes}B"
+            );
             // `ideal` ignores switching: the store-and-forward pipeline term is the price of `hops` and above.
             let expect = if fidelity == "ideal" { wormhole } else { saf };
-            assert_eq!(lone_message(&torus(fidelity, "store-and-forward"), 0, 10, bytes), overheads + expect, "{fidelity} SAF {bytes}B");
+            assert_eq!(
+                lone_message(&torus(fidelity, "store-and-forward"), 0, 10, bytes),
+                overheads + expect,
+                "{fidelity} SAF {bytes}B"
+            );
         }
     }
 }
@@ -88,12 +96,19 @@ fn sharing_a_link_under_flow_doubles_the_transfer() {
     // 17,000 B at 1.7 MB/s = 10ms alone; shared fairly on link 1->2 while both are active.
     let ideal = shared_link("ideal");
     let flow = shared_link("flow");
-    assert_eq!(ideal[1] - SimTime::from_us(3 + 5 + 5), SimTime::from_ms(10), "no contention modelled");
+    assert_eq!(
+        ideal[1] - SimTime::from_us(3 + 5 + 5),
+        SimTime::from_ms(10),
+        "no contention modelled"
+    );
     assert!(flow[1] > ideal[1]);
     // Both transfers start together (same overhead): each gets half the link for 20ms.
     let transfer_part = flow[1] - SimTime::from_us(3);
     assert!(transfer_part >= SimTime::from_ms(20), "{transfer_part}");
-    assert!(transfer_part <= SimTime::from_ms(20) + SimTime::from_us(10) + SimTime::from_ps(2), "{transfer_part}");
+    assert!(
+        transfer_part <= SimTime::from_ms(20) + SimTime::from_us(10) + SimTime::from_ps(2),
+        "{transfer_part}"
+    );
 }
 
 #[test]
@@ -106,7 +121,8 @@ fn the_summary_of_a_run_is_byte_identical_across_runs() {
             sim.spawn(id, "all-to-all", async move {
                 n.phase("exchange");
                 for k in 1..16 {
-                    n.send((id + k) % 16, Bytes::new(2048 + 100 * k as u64), k).await;
+                    n.send((id + k) % 16, Bytes::new(2048 + 100 * k as u64), k)
+                        .await;
                 }
                 n.phase("drain");
                 for _ in 1..16 {
@@ -122,6 +138,13 @@ fn the_summary_of_a_run_is_byte_identical_across_runs() {
     assert_eq!(a, summary());
     let v: serde_json::Value = serde_json::from_str(&a).unwrap();
     assert_eq!(v["totals"]["sent_messages"], 240);
-    assert_eq!(v["nodes"][0]["memory_high_water_by_tag_bytes"]["inbox"], 61440);
-    assert!(v["links"].as_array().unwrap().iter().any(|l| l["peak_queue"].as_u64().unwrap() >= 2));
+    assert_eq!(
+        v["nodes"][0]["memory_high_water_by_tag_bytes"]["inbox"],
+        61440
+    );
+    assert!(v["links"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .any(|l| l["peak_queue"].as_u64().unwrap() >= 2));
 }

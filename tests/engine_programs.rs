@@ -41,15 +41,25 @@ fn one_cpu_serves_compute_requests_first_come_first_served() {
         sim.spawn(0, name, async move {
             node.phase(if name == "a" { "raster" } else { "transform" });
             // 1000 pixel writes at 10ns + 2 setups at 1us = 12us.
-            node.compute(Counts::of(Op::PixelWrite, 1000).add(Op::SetupTriangle, 2)).await;
+            node.compute(Counts::of(Op::PixelWrite, 1000).add(Op::SetupTriangle, 2))
+                .await;
             log(&l, node.now(), name);
             Ok(())
         });
     }
     let stats = sim.run().unwrap();
-    assert_eq!(*l.borrow(), vec![(12_000_000, "a".into()), (24_000_000, "b".into())]);
+    assert_eq!(
+        *l.borrow(),
+        vec![(12_000_000, "a".into()), (24_000_000, "b".into())]
+    );
     assert_eq!(stats.nodes[0].busy(), SimTime::from_us(24));
-    assert_eq!(stats.nodes[0].busy_by_phase, vec![("raster", SimTime::from_us(12)), ("transform", SimTime::from_us(12))]);
+    assert_eq!(
+        stats.nodes[0].busy_by_phase,
+        vec![
+            ("raster", SimTime::from_us(12)),
+            ("transform", SimTime::from_us(12))
+        ]
+    );
     assert_eq!(stats.idle(1), SimTime::from_us(24));
     assert_eq!(stats.end, SimTime::from_us(24));
 }
@@ -69,17 +79,35 @@ fn a_message_costs_send_overhead_transfer_and_receive_overhead() {
     let (n1, l1) = (sim.node(1), l.clone());
     sim.spawn(1, "receiver", async move {
         let env = n1.recv(Filter::ANY).await;
-        assert_eq!((env.src, env.payload, env.bytes), (0, Msg::Data(9), Bytes::new(1000)));
+        assert_eq!(
+            (env.src, env.payload, env.bytes),
+            (0, Msg::Data(9), Bytes::new(1000))
+        );
         assert_eq!(env.arrived, SimTime::from_us(5 + 1 + 1000));
         log(&l1, n1.now(), "received");
         Ok(())
     });
     let stats = sim.run().unwrap();
-    assert_eq!(*l.borrow(), vec![(5_000_000, "sent".into()), (1_013_000_000, "received".into())]);
+    assert_eq!(
+        *l.borrow(),
+        vec![
+            (5_000_000, "sent".into()),
+            (1_013_000_000, "received".into())
+        ]
+    );
     assert_eq!(stats.nodes[0].comm, SimTime::from_us(5));
     assert_eq!(stats.nodes[1].comm, SimTime::from_us(7));
-    assert_eq!((stats.nodes[0].bytes_sent, stats.nodes[0].messages_sent), (Bytes::new(1000), 1));
-    assert_eq!((stats.nodes[1].bytes_received, stats.nodes[1].messages_received), (Bytes::new(1000), 1));
+    assert_eq!(
+        (stats.nodes[0].bytes_sent, stats.nodes[0].messages_sent),
+        (Bytes::new(1000), 1)
+    );
+    assert_eq!(
+        (
+            stats.nodes[1].bytes_received,
+            stats.nodes[1].messages_received
+        ),
+        (Bytes::new(1000), 1)
+    );
 }
 
 #[test]
@@ -100,7 +128,11 @@ fn without_overlap_the_sender_waits_for_delivery() {
     });
     let stats = sim.run().unwrap();
     assert_eq!(*l.borrow(), vec![(1_006_000_000, "sent".into())]);
-    assert_eq!(stats.nodes[0].comm, SimTime::from_us(1006), "overhead plus the blocked transfer");
+    assert_eq!(
+        stats.nodes[0].comm,
+        SimTime::from_us(1006),
+        "overhead plus the blocked transfer"
+    );
 }
 
 #[test]
@@ -120,14 +152,27 @@ fn receive_matches_tag_and_source_in_arrival_order() {
     let (n0, g) = (sim.node(0), got.clone());
     sim.spawn(0, "receiver", async move {
         n0.sleep(SimTime::from_ms(5)).await; // everything has arrived by now
-        for filter in [Filter::tag(2).and_source(2), Filter::tag(1), Filter::source(1), Filter::ANY] {
+        for filter in [
+            Filter::tag(2).and_source(2),
+            Filter::tag(1),
+            Filter::source(1),
+            Filter::ANY,
+        ] {
             let env = n0.recv(filter).await;
             g.borrow_mut().push((env.src, env.payload));
         }
         Ok(())
     });
     sim.run().unwrap();
-    assert_eq!(*got.borrow(), vec![(2, Msg::Ack), (1, Msg::Data(1)), (1, Msg::Ack), (2, Msg::Data(2))]);
+    assert_eq!(
+        *got.borrow(),
+        vec![
+            (2, Msg::Ack),
+            (1, Msg::Data(1)),
+            (1, Msg::Ack),
+            (2, Msg::Data(2))
+        ]
+    );
 }
 
 #[test]
@@ -151,9 +196,14 @@ fn a_deadlock_names_every_waiting_program_and_what_it_waits_for() {
         }
     });
     let err = sim.run().unwrap_err();
-    let SimError::Deadlock { waiting, seed, .. } = &err else { panic!("expected a deadlock, got {err}") };
+    let SimError::Deadlock { waiting, seed, .. } = &err else {
+        panic!("expected a deadlock, got {err}")
+    };
     assert_eq!(*seed, 77);
-    let names: Vec<_> = waiting.iter().map(|w| (w.name.as_str(), w.node, w.waits_for.as_str())).collect();
+    let names: Vec<_> = waiting
+        .iter()
+        .map(|w| (w.name.as_str(), w.node, w.waits_for.as_str()))
+        .collect();
     assert_eq!(
         names,
         vec![
@@ -162,7 +212,9 @@ fn a_deadlock_names_every_waiting_program_and_what_it_waits_for() {
         ],
         "the daemon handler is not reported"
     );
-    assert!(err.to_string().contains("'collector' on node 0 waits for a message with tag 2 from node 1"));
+    assert!(err
+        .to_string()
+        .contains("'collector' on node 0 waits for a message with tag 2 from node 1"));
 }
 
 #[test]
@@ -177,8 +229,16 @@ fn memory_over_capacity_stops_the_run_naming_node_tag_and_bytes() {
         Ok(())
     });
     let err = sim.run().unwrap_err().to_string();
-    assert!(err.contains("program 'renderer' on node 1 failed at 3us"), "{err}");
-    assert!(err.contains("allocating 500000B for 'zbuffer' exceeds its memory: 400000B of 1000000B available"), "{err}");
+    assert!(
+        err.contains("program 'renderer' on node 1 failed at 3us"),
+        "{err}"
+    );
+    assert!(
+        err.contains(
+            "allocating 500000B for 'zbuffer' exceeds its memory: 400000B of 1000000B available"
+        ),
+        "{err}"
+    );
 }
 
 #[test]
@@ -186,7 +246,9 @@ fn broadcast_needs_a_bus() {
     let m = common::ring(2, "0us", "0us", true);
     let mut sim: Sim<Msg> = Sim::new(&m, 1).unwrap();
     let n = sim.node(0);
-    sim.spawn(0, "talker", async move { n.broadcast(Bytes::new(4), Msg::Ack).await });
+    sim.spawn(0, "talker", async move {
+        n.broadcast(Bytes::new(4), Msg::Ack).await
+    });
     let err = sim.run().unwrap_err().to_string();
     assert!(err.contains("broadcast needs a bus network"), "{err}");
 }
@@ -203,7 +265,8 @@ fn timers_and_posts_cost_nothing_and_keep_fifo_order_on_ties() {
         }
         n.post(0, SimTime::from_us(5), 99);
         for _ in 0..6 {
-            g.borrow_mut().push(n.recv(Filter::ANY).await.payload);
+            let payload = n.recv(Filter::ANY).await.payload;
+            g.borrow_mut().push(payload);
         }
         assert_eq!(n.now(), SimTime::from_us(10));
         Ok(())
@@ -225,8 +288,10 @@ fn chatty_run(seed: u64) -> Vec<(u64, String)> {
             let mut rng = n.rng(&format!("chatty/{id}"));
             for round in 0..20 {
                 let dst = rng.gen_range(0..8);
-                n.send(dst, Bytes::new(rng.gen_range(1..5000)), Msg::Data(round)).await;
-                n.compute_for(SimTime::from_ns(rng.gen_range(0..5000))).await;
+                n.send(dst, Bytes::new(rng.gen_range(1..5000)), Msg::Data(round))
+                    .await;
+                n.compute_for(SimTime::from_ns(rng.gen_range(0..5000)))
+                    .await;
                 log(&lp, n.now(), format!("{id} sent {round} to {dst}"));
             }
             Ok(())
@@ -235,7 +300,11 @@ fn chatty_run(seed: u64) -> Vec<(u64, String)> {
         sim.node(id).spawn_daemon(format!("inbox{id}"), async move {
             loop {
                 let env = n.recv(Filter::ANY).await;
-                log(&li, n.now(), format!("{id} got {:?} from {}", env.payload, env.src));
+                log(
+                    &li,
+                    n.now(),
+                    format!("{id} got {:?} from {}", env.payload, env.src),
+                );
             }
         });
     }

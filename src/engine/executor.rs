@@ -20,7 +20,6 @@ use crate::machine::{CpuConfig, MachineConfig, MemError, MemoryPool};
 use crate::net::{Delivered, Dest, MsgId, Network, NodeId};
 use crate::units::{Bytes, SimTime};
 
-
 /// A program's index in the simulation, in spawn order.
 pub type ProgramId = u32;
 
@@ -30,11 +29,27 @@ type Program = Pin<Box<dyn Future<Output = Result<(), SimError>>>>;
 #[derive(Debug, thiserror::Error)]
 pub enum SimError {
     #[error("deadlock at {at} (seed {seed}): the event queue is empty but {} program(s) still wait:\n{}", waiting.len(), list(waiting))]
-    Deadlock { at: SimTime, seed: u64, waiting: Vec<WaitingProgram> },
+    Deadlock {
+        at: SimTime,
+        seed: u64,
+        waiting: Vec<WaitingProgram>,
+    },
     #[error("program '{program}' on node {node} failed at {at} (seed {seed}): {source}")]
-    Memory { program: String, node: NodeId, at: SimTime, seed: u64, source: MemError },
+    Memory {
+        program: String,
+        node: NodeId,
+        at: SimTime,
+        seed: u64,
+        source: MemError,
+    },
     #[error("program '{program}' on node {node} failed at {at} (seed {seed}): {message}")]
-    Program { program: String, node: NodeId, at: SimTime, seed: u64, message: String },
+    Program {
+        program: String,
+        node: NodeId,
+        at: SimTime,
+        seed: u64,
+        message: String,
+    },
 }
 
 /// A program left waiting when the queue emptied.
@@ -46,7 +61,16 @@ pub struct WaitingProgram {
 }
 
 fn list(waiting: &[WaitingProgram]) -> String {
-    waiting.iter().map(|w| format!("  - '{}' on node {} waits for {}", w.name, w.node, w.waits_for)).collect::<Vec<_>>().join("\n")
+    waiting
+        .iter()
+        .map(|w| {
+            format!(
+                "  - '{}' on node {} waits for {}",
+                w.name, w.node, w.waits_for
+            )
+        })
+        .collect::<Vec<_>>()
+        .join("\n")
 }
 
 /// What a program is blocked on, for deadlock reports.
@@ -77,7 +101,11 @@ pub(super) enum Event<M> {
     NetWake,
     /// A message posted directly into a mailbox, bypassing network and cpu (timers, PHOLD).
     /// Kept small: heap entries are moved on every push and pop.
-    Post { src: NodeId, dst: NodeId, payload: M },
+    Post {
+        src: NodeId,
+        dst: NodeId,
+        payload: M,
+    },
 }
 
 pub(super) struct ProgramMeta<M> {
@@ -179,11 +207,22 @@ impl<M: Payload> State<M> {
                 self.in_flight.len() - 1
             }
         };
-        self.in_flight[slot] = Some(InFlight { env, broadcast, notify });
+        self.in_flight[slot] = Some(InFlight {
+            env,
+            broadcast,
+            notify,
+        });
         let id = slot as MsgId;
         let now = self.now;
-        let dest = if broadcast { Dest::Broadcast } else { Dest::Node(dst) };
-        let net = self.net.as_mut().expect("this simulation was built without a network; use Node::post");
+        let dest = if broadcast {
+            Dest::Broadcast
+        } else {
+            Dest::Node(dst)
+        };
+        let net = self
+            .net
+            .as_mut()
+            .expect("this simulation was built without a network; use Node::post");
         match net.inject(now, id, src, dest, bytes) {
             Some(at) => self.schedule(at, Event::Arrive(id)),
             None => self.arm_net_wake(),
@@ -206,9 +245,15 @@ impl<M: Payload> State<M> {
         }
         self.net_wake_at = None;
         let mut delivered = std::mem::take(&mut self.delivered);
-        self.net.as_mut().expect("network wake-up without a network").advance(self.now, &mut delivered);
+        self.net
+            .as_mut()
+            .expect("network wake-up without a network")
+            .advance(self.now, &mut delivered);
         for d in delivered.drain(..) {
-            debug_assert_eq!(d.at, self.now, "the network delivered at another instant than asked");
+            debug_assert_eq!(
+                d.at, self.now,
+                "the network delivered at another instant than asked"
+            );
             self.arrive(d.msg);
         }
         self.delivered = delivered;
@@ -216,7 +261,9 @@ impl<M: Payload> State<M> {
     }
 
     fn arrive(&mut self, id: MsgId) {
-        let flight = self.in_flight[id as usize].take().expect("a message arrived twice");
+        let flight = self.in_flight[id as usize]
+            .take()
+            .expect("a message arrived twice");
         self.free_slots.push(id as usize);
         if let Some(p) = flight.notify {
             self.programs[p as usize].delivered = true;
@@ -264,13 +311,25 @@ impl<M: Payload> Sim<M> {
     /// A simulation of `machine`, with random streams derived from `seed`.
     pub fn new(machine: &MachineConfig, seed: u64) -> Result<Sim<M>, crate::net::NetError> {
         let net = Network::new(&machine.network)?;
-        Ok(Sim::build(machine.nodes, machine.cpu.clone(), machine.memory_per_node, Some(net), seed))
+        Ok(Sim::build(
+            machine.nodes,
+            machine.cpu.clone(),
+            machine.memory_per_node,
+            Some(net),
+            seed,
+        ))
     }
 
     /// A simulation without a network or cpu costs: programs exchange only `Node::post`
     /// messages (used by PHOLD and by engine tests).
     pub fn bare(nodes: u32, seed: u64) -> Sim<M> {
-        Sim::build(nodes, CpuConfig::default(), Bytes::new(u64::MAX), None, seed)
+        Sim::build(
+            nodes,
+            CpuConfig::default(),
+            Bytes::new(u64::MAX),
+            None,
+            seed,
+        )
     }
 
     fn build(nodes: u32, cpu: CpuConfig, memory: Bytes, net: Option<Network>, seed: u64) -> Sim<M> {
@@ -300,7 +359,10 @@ impl<M: Payload> Sim<M> {
             delivered: Vec::new(),
             events: 0,
         };
-        Sim { state: Rc::new(RefCell::new(state)), programs: Vec::new() }
+        Sim {
+            state: Rc::new(RefCell::new(state)),
+            programs: Vec::new(),
+        }
     }
 
     pub fn nodes(&self) -> u32 {
@@ -318,7 +380,9 @@ impl<M: Payload> Sim<M> {
     where
         F: Future<Output = Result<(), SimError>> + 'static,
     {
-        self.state.borrow_mut().register_program(id, name.into(), false, Box::pin(program));
+        self.state
+            .borrow_mut()
+            .register_program(id, name.into(), false, Box::pin(program));
     }
 
     /// Runs until no event is left. Fails if a program fails, or with a deadlock report if
@@ -330,10 +394,18 @@ impl<M: Payload> Sim<M> {
             .programs
             .iter()
             .filter(|p| !p.done && !p.daemon)
-            .map(|p| WaitingProgram { name: p.name.clone(), node: p.node, waits_for: p.wait.to_string() })
+            .map(|p| WaitingProgram {
+                name: p.name.clone(),
+                node: p.node,
+                waits_for: p.wait.to_string(),
+            })
             .collect();
         if !waiting.is_empty() {
-            return Err(SimError::Deadlock { at: st.now, seed: st.seed, waiting });
+            return Err(SimError::Deadlock {
+                at: st.now,
+                seed: st.seed,
+                waiting,
+            });
         }
         drop(st);
         Ok(self.stats())
@@ -359,7 +431,14 @@ impl<M: Payload> Sim<M> {
                 Event::NetWake => st.net_wake(),
                 Event::Post { src, dst, payload } => {
                     let tag = payload.tag();
-                    st.deliver(Envelope { src, dst, tag, bytes: Bytes::ZERO, payload, arrived: at })
+                    st.deliver(Envelope {
+                        src,
+                        dst,
+                        tag,
+                        bytes: Bytes::ZERO,
+                        payload,
+                        arrived: at,
+                    })
                 }
             }
             drop(st);
@@ -382,7 +461,9 @@ impl<M: Payload> Sim<M> {
         loop {
             let next = self.state.borrow_mut().ready.pop_front();
             let Some(p) = next else { return Ok(()) };
-            let Some(program) = self.programs[p as usize].as_mut() else { continue };
+            let Some(program) = self.programs[p as usize].as_mut() else {
+                continue;
+            };
             self.state.borrow_mut().current = p;
             let outcome = program.as_mut().poll(&mut cx);
             match outcome {
@@ -443,11 +524,23 @@ impl<M: Payload> State<M> {
 
     pub fn fail(&self, message: String) -> SimError {
         let meta = &self.programs[self.current as usize];
-        SimError::Program { program: meta.name.clone(), node: meta.node, at: self.now, seed: self.seed, message }
+        SimError::Program {
+            program: meta.name.clone(),
+            node: meta.node,
+            at: self.now,
+            seed: self.seed,
+            message,
+        }
     }
 
     pub fn memory_error(&self, source: MemError) -> SimError {
         let meta = &self.programs[self.current as usize];
-        SimError::Memory { program: meta.name.clone(), node: meta.node, at: self.now, seed: self.seed, source }
+        SimError::Memory {
+            program: meta.name.clone(),
+            node: meta.node,
+            at: self.now,
+            seed: self.seed,
+            source,
+        }
     }
 }

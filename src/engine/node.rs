@@ -57,16 +57,28 @@ pub struct Filter {
 }
 
 impl Filter {
-    pub const ANY: Filter = Filter { tag: None, src: None };
+    pub const ANY: Filter = Filter {
+        tag: None,
+        src: None,
+    };
 
     pub fn tag(tag: u32) -> Filter {
-        Filter { tag: Some(tag), src: None }
+        Filter {
+            tag: Some(tag),
+            src: None,
+        }
     }
     pub fn source(src: NodeId) -> Filter {
-        Filter { tag: None, src: Some(src) }
+        Filter {
+            tag: None,
+            src: Some(src),
+        }
     }
     pub fn and_source(self, src: NodeId) -> Filter {
-        Filter { src: Some(src), ..self }
+        Filter {
+            src: Some(src),
+            ..self
+        }
     }
     pub fn matches<M>(&self, env: &Envelope<M>) -> bool {
         self.tag.is_none_or(|t| t == env.tag) && self.src.is_none_or(|s| s == env.src)
@@ -122,13 +134,21 @@ impl<M: Payload> Node<M> {
     /// Occupies this node's cpu for `t` (queued behind work already on it).
     pub fn compute_for(&self, t: SimTime) -> Until<'_, M> {
         let end = self.st.borrow_mut().reserve_cpu(self.id, t, false);
-        Until { node: self, at: end, armed: false }
+        Until {
+            node: self,
+            at: end,
+            armed: false,
+        }
     }
 
     /// Waits `t` without using the cpu.
     pub fn sleep(&self, t: SimTime) -> Until<'_, M> {
         let at = self.now() + t;
-        Until { node: self, at, armed: false }
+        Until {
+            node: self,
+            at,
+            armed: false,
+        }
     }
 
     /// Sends `bytes` to `dst` through the network: the cpu pays the send overhead first; then
@@ -139,9 +159,16 @@ impl<M: Payload> Node<M> {
 
     /// One transmission that reaches every other node (a bus's broadcast).
     pub async fn broadcast(&self, bytes: Bytes, payload: M) -> Result<(), SimError> {
-        let supports = self.st.borrow().net().is_some_and(|n| n.supports_broadcast());
+        let supports = self
+            .st
+            .borrow()
+            .net()
+            .is_some_and(|n| n.supports_broadcast());
         if !supports {
-            return Err(self.st.borrow().fail("broadcast needs a bus network".into()));
+            return Err(self
+                .st
+                .borrow()
+                .fail("broadcast needs a bus network".into()));
         }
         self.transmit(self.id, true, bytes, payload).await;
         Ok(())
@@ -151,14 +178,26 @@ impl<M: Payload> Node<M> {
         let overhead = self.st.borrow().cpu.send_cost(bytes);
         if overhead > SimTime::ZERO {
             let end = self.st.borrow_mut().reserve_cpu(self.id, overhead, true);
-            Until { node: self, at: end, armed: false }.await;
+            Until {
+                node: self,
+                at: end,
+                armed: false,
+            }
+            .await;
         }
         let blocking = !self.st.borrow().cpu.overlap;
         let injected = {
             let mut st = self.st.borrow_mut();
             let now = st.now;
             let tag = payload.tag();
-            let env = Envelope { src: self.id, dst, tag, bytes, payload, arrived: now };
+            let env = Envelope {
+                src: self.id,
+                dst,
+                tag,
+                bytes,
+                payload,
+                arrived: now,
+            };
             let notify = blocking.then_some(st.current);
             st.meta().delivered = false;
             st.inject(env, broadcast, notify);
@@ -178,11 +217,21 @@ impl<M: Payload> Node<M> {
     /// Takes the first message in this node's mailbox that `filter` accepts (in arrival
     /// order), waiting for one if none is there, then pays the receive overhead.
     pub async fn recv(&self, filter: Filter) -> Envelope<M> {
-        let env = Receive { node: self, filter, registered: false }.await;
+        let env = Receive {
+            node: self,
+            filter,
+            registered: false,
+        }
+        .await;
         let cost = self.st.borrow().cpu.recv_cost(env.bytes);
         if cost > SimTime::ZERO {
             let end = self.st.borrow_mut().reserve_cpu(self.id, cost, true);
-            Until { node: self, at: end, armed: false }.await;
+            Until {
+                node: self,
+                at: end,
+                armed: false,
+            }
+            .await;
         }
         env
     }
@@ -192,7 +241,14 @@ impl<M: Payload> Node<M> {
     pub fn post(&self, dst: NodeId, delay: SimTime, payload: M) {
         let mut st = self.st.borrow_mut();
         let at = st.now + delay;
-        st.schedule(at, Event::Post { src: self.id, dst, payload });
+        st.schedule(
+            at,
+            Event::Post {
+                src: self.id,
+                dst,
+                payload,
+            },
+        );
     }
 
     /// Starts a helper program on this node that must finish before the run ends.
@@ -200,7 +256,9 @@ impl<M: Payload> Node<M> {
     where
         F: Future<Output = Result<(), SimError>> + 'static,
     {
-        self.st.borrow_mut().register_program(self.id, name.into(), false, Box::pin(program));
+        self.st
+            .borrow_mut()
+            .register_program(self.id, name.into(), false, Box::pin(program));
     }
 
     /// Starts a helper program (a message handler) that may still be waiting when the run
@@ -209,7 +267,9 @@ impl<M: Payload> Node<M> {
     where
         F: Future<Output = Result<(), SimError>> + 'static,
     {
-        self.st.borrow_mut().register_program(self.id, name.into(), true, Box::pin(program));
+        self.st
+            .borrow_mut()
+            .register_program(self.id, name.into(), true, Box::pin(program));
     }
 
     /// Allocates from this node's memory pool; over capacity is an error naming node, tag,

@@ -6,8 +6,8 @@
 //! put in the slab, whose freed slots are reused first (they are warm in cache).
 //! Owns ordering only; must never look at what an event means.
 
-use std::cmp::Reverse;
 use dary_heap::QuaternaryHeap;
+use std::cmp::Reverse;
 
 use crate::units::SimTime;
 
@@ -24,13 +24,23 @@ pub struct EventQueue<E> {
 
 impl<E> Default for EventQueue<E> {
     fn default() -> Self {
-        EventQueue { heap: QuaternaryHeap::new(), slots: Vec::new(), free: Vec::new(), next_seq: 0 }
+        EventQueue {
+            heap: QuaternaryHeap::new(),
+            slots: Vec::new(),
+            free: Vec::new(),
+            next_seq: 0,
+        }
     }
 }
 
 impl<E> EventQueue<E> {
     pub fn with_capacity(n: usize) -> Self {
-        EventQueue { heap: QuaternaryHeap::with_capacity(n), slots: Vec::with_capacity(n), free: Vec::new(), next_seq: 0 }
+        EventQueue {
+            heap: QuaternaryHeap::with_capacity(n),
+            slots: Vec::with_capacity(n),
+            free: Vec::new(),
+            next_seq: 0,
+        }
     }
 
     /// Schedules `event` at `at`, after every event already scheduled at `at`.
@@ -47,22 +57,30 @@ impl<E> EventQueue<E> {
                 s
             }
         };
-        assert!(self.next_seq < 1 << SEQ_BITS, "a run scheduled more than 2^40 events");
+        assert!(
+            self.next_seq < 1 << SEQ_BITS,
+            "a run scheduled more than 2^40 events"
+        );
         let low = (self.next_seq << SLOT_BITS) | slot as u64;
         self.next_seq += 1;
-        self.heap.push(Reverse(((at.ps() as u128) << 64) | low as u128));
+        self.heap
+            .push(Reverse(((at.ps() as u128) << 64) | low as u128));
     }
 
     pub fn pop(&mut self) -> Option<(SimTime, E)> {
         let Reverse(key) = self.heap.pop()?;
         let slot = (key as u64 & ((1 << SLOT_BITS) - 1)) as u32;
-        let event = self.slots[slot as usize].take().expect("a queued slot holds its event");
+        let event = self.slots[slot as usize]
+            .take()
+            .expect("a queued slot holds its event");
         self.free.push(slot);
         Some((SimTime::from_ps((key >> 64) as u64), event))
     }
 
     pub fn peek_time(&self) -> Option<SimTime> {
-        self.heap.peek().map(|Reverse(key)| SimTime::from_ps((key >> 64) as u64))
+        self.heap
+            .peek()
+            .map(|Reverse(key)| SimTime::from_ps((key >> 64) as u64))
     }
 
     pub fn len(&self) -> usize {

@@ -29,7 +29,11 @@ impl Stopwatch {
         Cost {
             wall_s: wall,
             events,
-            events_per_s: if wall > 0.0 { events as f64 / wall } else { 0.0 },
+            events_per_s: if wall > 0.0 {
+                events as f64 / wall
+            } else {
+                0.0
+            },
             peak_host_memory_bytes: peak_host_memory(),
         }
     }

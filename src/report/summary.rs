@@ -86,14 +86,22 @@ impl Summary {
                 busy_pct: pct(n.busy().as_secs_f64(), end),
                 comm_s: n.comm.as_secs_f64(),
                 finish_s: n.finish.as_secs_f64(),
-                busy_by_phase_s: n.busy_by_phase.iter().map(|&(p, t)| (p.to_string(), t.as_secs_f64())).collect(),
+                busy_by_phase_s: n
+                    .busy_by_phase
+                    .iter()
+                    .map(|&(p, t)| (p.to_string(), t.as_secs_f64()))
+                    .collect(),
                 sent_bytes: n.bytes_sent.get(),
                 sent_messages: n.messages_sent,
                 received_bytes: n.bytes_received.get(),
                 received_messages: n.messages_received,
                 memory_capacity_bytes: mem.capacity.get(),
                 memory_high_water_bytes: mem.high_water.get(),
-                memory_high_water_by_tag_bytes: mem.high_water_by_tag.iter().map(|(t, b)| (t.to_string(), b.get())).collect(),
+                memory_high_water_by_tag_bytes: mem
+                    .high_water_by_tag
+                    .iter()
+                    .map(|(t, b)| (t.to_string(), b.get()))
+                    .collect(),
             })
             .collect();
         let links = stats
@@ -120,8 +128,21 @@ impl Summary {
             busy_s: stats.nodes.iter().map(|n| n.busy().as_secs_f64()).sum(),
             comm_s: stats.nodes.iter().map(|n| n.comm.as_secs_f64()).sum(),
             load_imbalance_pct: pct(longest - mean, longest),
-            memory_high_water_max_bytes: stats.memory.iter().map(|m| m.high_water.get()).max().unwrap_or(0),
+            memory_high_water_max_bytes: stats
+                .memory
+                .iter()
+                .map(|m| m.high_water.get())
+                .max()
+                .unwrap_or(0),
         };
-        Summary { seed: stats.seed, end_s: end, end_ps: stats.end.ps(), events: stats.events, nodes, links, totals }
+        Summary {
+            seed: stats.seed,
+            end_s: end,
+            end_ps: stats.end.ps(),
+            events: stats.events,
+            nodes,
+            links,
+            totals,
+        }
     }
 }

@@ -23,7 +23,15 @@ pub fn check(path: &Path) -> Result<String, SpecError> {
                 m.network.fidelity.name()
             ))
         }
-        SpecKind::Scene => Err(SpecError::invalid(path, "", "scene specs are checked once scenes are supported")),
-        SpecKind::Pattern => Err(SpecError::invalid(path, "", "network patterns are checked by `sortsim netsim`")),
+        SpecKind::Scene => Err(SpecError::invalid(
+            path,
+            "",
+            "scene specs are checked once scenes are supported",
+        )),
+        SpecKind::Pattern => Err(SpecError::invalid(
+            path,
+            "",
+            "network patterns are checked by `sortsim netsim`",
+        )),
     }
 }

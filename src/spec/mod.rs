@@ -17,13 +17,31 @@ use serde::de::DeserializeOwned;
 #[derive(Debug, thiserror::Error)]
 pub enum SpecError {
     #[error("{}: cannot read: {source}", file.display())]
-    Io { file: PathBuf, source: std::io::Error },
+    Io {
+        file: PathBuf,
+        source: std::io::Error,
+    },
     #[error("{}:{line}:{column}: malformed JSON: {message}", file.display())]
-    Syntax { file: PathBuf, line: usize, column: usize, message: String },
+    Syntax {
+        file: PathBuf,
+        line: usize,
+        column: usize,
+        message: String,
+    },
     #[error("{}:{line}:{column}: at `{field}`: {message}", file.display())]
-    Field { file: PathBuf, field: String, line: usize, column: usize, message: String },
+    Field {
+        file: PathBuf,
+        field: String,
+        line: usize,
+        column: usize,
+        message: String,
+    },
     #[error("{}: {}{message}", file.display(), at(field))]
-    Invalid { file: PathBuf, field: String, message: String },
+    Invalid {
+        file: PathBuf,
+        field: String,
+        message: String,
+    },
 }
 
 /// "at `path`: " for a field, nothing for the document as a whole.
@@ -38,7 +56,11 @@ fn at(field: &str) -> String {
 impl SpecError {
     /// A value that parsed but is not allowed; `field` is a path such as `network.dims[1]`.
     pub fn invalid(file: &Path, field: impl Into<String>, message: impl Into<String>) -> SpecError {
-        SpecError::Invalid { file: file.to_path_buf(), field: field.into(), message: message.into() }
+        SpecError::Invalid {
+            file: file.to_path_buf(),
+            field: field.into(),
+            message: message.into(),
+        }
     }
 
     /// The field path the error points at, if any.
@@ -54,7 +76,10 @@ impl SpecError {
 /// unknown field, a missing field or a bad value as its path (serde's message lists the valid
 /// fields or variants).
 pub fn load_json<T: DeserializeOwned>(path: &Path) -> Result<T, SpecError> {
-    let text = std::fs::read_to_string(path).map_err(|source| SpecError::Io { file: path.to_path_buf(), source })?;
+    let text = std::fs::read_to_string(path).map_err(|source| SpecError::Io {
+        file: path.to_path_buf(),
+        source,
+    })?;
     parse_json(path, &text)
 }
 

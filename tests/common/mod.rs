@@ -10,7 +10,8 @@ use sortsim::spec::parse_json;
 
 /// A machine from spec text (validated exactly as a file would be).
 pub fn machine(json: &str) -> MachineConfig {
-    let spec: MachineSpec = parse_json(Path::new("test-machine.json"), json).expect("test machine parses");
+    let spec: MachineSpec =
+        parse_json(Path::new("test-machine.json"), json).expect("test machine parses");
     validate(Path::new("test-machine.json"), spec).expect("test machine is valid")
 }
 
