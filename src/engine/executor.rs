@@ -414,35 +414,62 @@ impl<M: Payload> Sim<M> {
     /// Processes every event up to and including `horizon`; programs may still be waiting
     /// afterwards (a time-bounded run such as PHOLD).
     pub fn run_until(&mut self, horizon: SimTime) -> Result<(), SimError> {
-        self.adopt_spawned();
-        self.poll_ready()?;
+        let mut cx = Context::from_waker(Waker::noop());
         loop {
-            let mut st = self.state.borrow_mut();
-            match st.queue.peek_time() {
-                Some(t) if t <= horizon => {}
-                _ => return Ok(()),
-            }
-            let (at, event) = st.queue.pop().expect("peeked");
-            st.now = at;
-            st.events += 1;
-            match event {
-                Event::Wake(p) => st.ready.push_back(p),
-                Event::Arrive(id) => st.arrive(id),
-                Event::NetWake => st.net_wake(),
-                Event::Post { src, dst, payload } => {
-                    let tag = payload.tag();
-                    st.deliver(Envelope {
-                        src,
-                        dst,
-                        tag,
-                        bytes: Bytes::ZERO,
-                        payload,
-                        arrived: at,
-                    })
+            // One borrow per step: either the next ready program, or the next event.
+            let p = {
+                let mut st = self.state.borrow_mut();
+                if !st.spawned.is_empty() {
+                    drop(st);
+                    self.adopt_spawned();
+                    continue;
                 }
+                match st.ready.pop_front() {
+                    Some(p) => {
+                        st.current = p;
+                        p
+                    }
+                    None => {
+                        match st.queue.peek_time() {
+                            Some(t) if t <= horizon => {}
+                            _ => return Ok(()),
+                        }
+                        let (at, event) = st.queue.pop().expect("peeked");
+                        st.now = at;
+                        st.events += 1;
+                        match event {
+                            Event::Wake(p) => st.ready.push_back(p),
+                            Event::Arrive(id) => st.arrive(id),
+                            Event::NetWake => st.net_wake(),
+                            Event::Post { src, dst, payload } => {
+                                let tag = payload.tag();
+                                st.deliver(Envelope { src, dst, tag, bytes: Bytes::ZERO, payload, arrived: at })
+                            }
+                        }
+                        continue;
+                    }
+                }
+            };
+            let Some(program) = self.programs[p as usize].as_mut() else {
+                continue;
+            };
+            if let Poll::Ready(result) = program.as_mut().poll(&mut cx) {
+                self.programs[p as usize] = None;
+                self.finished(p);
+                result?;
             }
-            drop(st);
-            self.poll_ready()?;
+        }
+    }
+
+    fn finished(&mut self, p: ProgramId) {
+        let mut st = self.state.borrow_mut();
+        let now = st.now;
+        let meta = &mut st.programs[p as usize];
+        meta.done = true;
+        let (node, daemon) = (meta.node, meta.daemon);
+        if !daemon {
+            let stats = &mut st.nodes[node as usize].stats;
+            stats.finish = stats.finish.max(now);
         }
     }
 
@@ -453,39 +480,6 @@ impl<M: Payload> Sim<M> {
         for (i, p) in spawned.into_iter().enumerate() {
             self.programs.push(Some(p));
             st.ready.push_back(first + i as ProgramId);
-        }
-    }
-
-    fn poll_ready(&mut self) -> Result<(), SimError> {
-        let mut cx = Context::from_waker(Waker::noop());
-        loop {
-            let next = self.state.borrow_mut().ready.pop_front();
-            let Some(p) = next else { return Ok(()) };
-            let Some(program) = self.programs[p as usize].as_mut() else {
-                continue;
-            };
-            self.state.borrow_mut().current = p;
-            let outcome = program.as_mut().poll(&mut cx);
-            match outcome {
-                Poll::Pending => {}
-                Poll::Ready(result) => {
-                    self.programs[p as usize] = None;
-                    let mut st = self.state.borrow_mut();
-                    let now = st.now;
-                    let meta = &mut st.programs[p as usize];
-                    meta.done = true;
-                    let (node, daemon) = (meta.node, meta.daemon);
-                    if !daemon {
-                        let stats = &mut st.nodes[node as usize].stats;
-                        stats.finish = stats.finish.max(now);
-                    }
-                    drop(st);
-                    result?;
-                }
-            }
-            if !self.state.borrow().spawned.is_empty() {
-                self.adopt_spawned();
-            }
         }
     }
 

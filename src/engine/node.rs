@@ -216,24 +216,8 @@ impl<M: Payload> Node<M> {
 
     /// Takes the first message in this node's mailbox that `filter` accepts (in arrival
     /// order), waiting for one if none is there, then pays the receive overhead.
-    pub async fn recv(&self, filter: Filter) -> Envelope<M> {
-        let env = Receive {
-            node: self,
-            filter,
-            registered: false,
-        }
-        .await;
-        let cost = self.st.borrow().cpu.recv_cost(env.bytes);
-        if cost > SimTime::ZERO {
-            let end = self.st.borrow_mut().reserve_cpu(self.id, cost, true);
-            Until {
-                node: self,
-                at: end,
-                armed: false,
-            }
-            .await;
-        }
-        env
+    pub fn recv(&self, filter: Filter) -> Receive<'_, M> {
+        Receive { node: self, filter, registered: false, paying: None }
     }
 
     /// Delivers `payload` to `dst`'s mailbox after `delay`, with no network or cpu cost: a
@@ -326,33 +310,60 @@ impl<M: Payload> Future for Until<'_, M> {
     }
 }
 
-struct Receive<'a, M: Payload> {
+/// Resolves to a message once one that the filter accepts has arrived and the cpu has paid
+/// the receive overhead for it.
+pub struct Receive<'a, M: Payload> {
     node: &'a Node<M>,
     filter: Filter,
     registered: bool,
+    /// The message taken, and when its receive overhead will have been paid.
+    paying: Option<(Envelope<M>, SimTime)>,
 }
+
+// Nothing in a `Receive` is ever pinned in place: the envelope is moved out by value.
+impl<M: Payload> Unpin for Receive<'_, M> {}
 
 impl<M: Payload> Future for Receive<'_, M> {
     type Output = Envelope<M>;
     fn poll(mut self: Pin<&mut Self>, _cx: &mut Context<'_>) -> Poll<Envelope<M>> {
-        let filter = self.filter;
-        let mut st = self.node.st.borrow_mut();
-        if let Some(env) = st.meta().handoff.take() {
+        let this = &mut *self;
+        let mut st = this.node.st.borrow_mut();
+        if let Some((_, until)) = &this.paying {
+            return if st.now >= *until {
+                Poll::Ready(this.paying.take().expect("checked").0)
+            } else {
+                Poll::Pending
+            };
+        }
+        let env = match st.meta().handoff.take() {
+            Some(env) => env,
+            None => {
+                let p = st.current;
+                let filter = this.filter;
+                let node = &mut st.nodes[this.node.id as usize];
+                match node.mailbox.iter().position(|e| filter.matches(e)) {
+                    Some(i) => node.mailbox.remove(i).expect("position is in range"),
+                    None => {
+                        // Not registered yet, or woken for a message another program took.
+                        if !this.registered || !node.waiters.iter().any(|&(w, _)| w == p) {
+                            node.waiters.push((p, filter));
+                            st.meta().wait = Wait::Message(filter);
+                            this.registered = true;
+                        }
+                        return Poll::Pending;
+                    }
+                }
+            }
+        };
+        let cost = st.cpu.recv_cost(env.bytes);
+        if cost == SimTime::ZERO {
             return Poll::Ready(env);
         }
+        let until = st.reserve_cpu(this.node.id, cost, true);
         let p = st.current;
-        let node = &mut st.nodes[self.node.id as usize];
-        if let Some(i) = node.mailbox.iter().position(|e| filter.matches(e)) {
-            let env = node.mailbox.remove(i).expect("position is in range");
-            return Poll::Ready(env);
-        }
-        // Woken but another program took the message first: wait again.
-        if !self.registered || !node.waiters.iter().any(|&(w, _)| w == p) {
-            node.waiters.push((p, filter));
-            st.meta().wait = Wait::Message(filter);
-            drop(st);
-            self.registered = true;
-        }
+        st.schedule(until, Event::Wake(p));
+        st.meta().wait = Wait::Time(until);
+        this.paying = Some((env, until));
         Poll::Pending
     }
 }
