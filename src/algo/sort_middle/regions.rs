@@ -1,0 +1,70 @@
+//! The screen cut into regions: a grid of `cols x rows` rectangles, as square as the count
+//! allows (square regions give the smallest overlap factor, paper 002), and the regions a
+//! screen triangle's bounding box touches.
+//!
+//! Owns region geometry only. Must never decide which processor owns a region.
+
+use crate::raster::{ScreenRect, ScreenTriangle, Viewport};
+
+/// A grid of regions over the viewport, indexed row-major (`r = row * cols + col`).
+#[derive(Clone, Debug, PartialEq, Eq)]
+pub struct RegionGrid {
+    viewport: Viewport,
+    cols: u32,
+    rows: u32,
+}
+
+impl RegionGrid {
+    /// Regions of `size x size` pixels (the last row and column may be smaller), as paper
+    /// 000's renderer uses with 64.
+    pub fn of_size(viewport: Viewport, size: u32) -> RegionGrid {
+        let size = size.max(1);
+        RegionGrid { viewport, cols: viewport.width().div_ceil(size), rows: viewport.height().div_ceil(size) }
+    }
+
+    /// Exactly `count` regions: the factorization `cols x rows = count` whose regions are
+    /// closest to square, never more columns than pixels across nor rows than pixels down.
+    pub fn with_count(viewport: Viewport, count: u32) -> Option<RegionGrid> {
+        let (w, h) = (viewport.width(), viewport.height());
+        (1..=count)
+            .filter(|c| count % c == 0 && *c <= w && count / c <= h)
+            .map(|cols| (cols, count / cols))
+            .min_by(|&(c1, r1), &(c2, r2)| {
+                let skew = |c: u32, r: u32| ((w as f64 / c as f64) / (h as f64 / r as f64)).ln().abs();
+                skew(c1, r1).total_cmp(&skew(c2, r2)).then(c1.cmp(&c2))
+            })
+            .map(|(cols, rows)| RegionGrid { viewport, cols, rows })
+    }
+
+    pub fn count(&self) -> u32 {
+        self.cols * self.rows
+    }
+
+    pub fn cols(&self) -> u32 {
+        self.cols
+    }
+
+    pub fn rows(&self) -> u32 {
+        self.rows
+    }
+
+    /// The pixels of region `r`.
+    pub fn rect(&self, r: u32) -> ScreenRect {
+        let (col, row) = (r % self.cols, r / self.cols);
+        let x = |c: u32| (c as u64 * self.viewport.width() as u64 / self.cols as u64) as u32;
+        let y = |r: u32| (r as u64 * self.viewport.height() as u64 / self.rows as u64) as u32;
+        ScreenRect::new(x(col), y(row), x(col + 1), y(row + 1)).expect("grid cells are non-empty")
+    }
+
+    /// Appends the regions that `tri`'s pixel bounding box touches, in index order.
+    pub fn touched_by(&self, tri: &ScreenTriangle, out: &mut Vec<u32>) {
+        let Some((x0, y0, x1, y1)) = tri.pixel_bounds(self.viewport) else { return };
+        let col = |x: u32| (x as u64 * self.cols as u64 / self.viewport.width() as u64) as u32;
+        let row = |y: u32| (y as u64 * self.rows as u64 / self.viewport.height() as u64) as u32;
+        for r in row(y0)..=row(y1) {
+            for c in col(x0)..=col(x1) {
+                out.push(r * self.cols + c);
+            }
+        }
+    }
+}
