@@ -1,0 +1,124 @@
+//! Rasterizer throughput, single-threaded: large triangles (pixels written per second) and
+//! 4-7 px triangles (triangles set up and drawn per second), through the whole front end
+//! (clip space in) and through the back end alone (screen triangles in).
+//!
+//! Must never feed timings back into the simulator: these are host wall-clock numbers.
+
+use criterion::{criterion_group, criterion_main, BatchSize, Criterion, Throughput};
+use glam::{Vec3, Vec4};
+use rand::{Rng, SeedableRng};
+use rand_chacha::ChaCha8Rng;
+use sortsim::raster::*;
+
+const W: u32 = 1024;
+const H: u32 = 1024;
+
+fn viewport() -> Viewport {
+    Viewport::new(W, H).unwrap()
+}
+
+/// Clip-space vertex at pixel (x, y) with depth z, w = 1.
+fn at(x: f32, y: f32, z: f32, rgb: Vec3) -> Vertex {
+    Vertex {
+        clip: Vec4::new(2.0 * x / W as f32 - 1.0, 1.0 - 2.0 * y / H as f32, z, 1.0),
+        color: rgb,
+    }
+}
+
+/// Two Gouraud triangles covering the whole 1024x1024 viewport, with sloped depth.
+fn large() -> (Vec<Vertex>, Vec<[u32; 3]>) {
+    let v = vec![
+        at(0.0, 0.0, 0.2, Vec3::new(1.0, 0.0, 0.0)),
+        at(W as f32, 0.0, 0.4, Vec3::new(0.0, 1.0, 0.0)),
+        at(W as f32, H as f32, 0.6, Vec3::new(0.0, 0.0, 1.0)),
+        at(0.0, H as f32, 0.3, Vec3::new(1.0, 1.0, 0.0)),
+    ];
+    (v, vec![[0, 2, 1], [0, 3, 2]])
+}
+
+/// `n` random Gouraud triangles of 4 to 7 px area.
+fn small(n: usize) -> (Vec<Vertex>, Vec<[u32; 3]>) {
+    let mut r = ChaCha8Rng::seed_from_u64(1);
+    let mut verts = Vec::with_capacity(3 * n);
+    let mut tris = Vec::with_capacity(n);
+    for i in 0..n {
+        let (x, y): (f32, f32) = (r.gen_range(4.0..W as f32 - 8.0), r.gen_range(4.0..H as f32 - 8.0));
+        let area: f32 = r.gen_range(4.0..7.0);
+        // A right triangle with legs a, b and a*b/2 = area, randomly rotated.
+        let a: f32 = r.gen_range(2.0..4.0);
+        let b = 2.0 * area / a;
+        let t: f32 = r.gen_range(0.0..std::f32::consts::TAU);
+        let (s, c) = t.sin_cos();
+        let z: f32 = r.gen_range(0.0..1.0);
+        let col = || Vec3::new(0.3, 0.5, 0.7);
+        verts.push(at(x, y, z, col()));
+        verts.push(at(x + a * c, y + a * s, z, col() * 0.5));
+        verts.push(at(x - b * s, y + b * c, z, col() * 0.8));
+        let k = 3 * i as u32;
+        tris.push([k, k + 1, k + 2]);
+    }
+    (verts, tris)
+}
+
+fn bench_large(c: &mut Criterion) {
+    let (verts, tris) = large();
+    let vp = viewport();
+    let mut g = c.benchmark_group("large_triangles");
+    g.sample_size(20);
+    g.throughput(Throughput::Elements(u64::from(W * H)));
+    g.bench_function("fullscreen_1024x1024_pixels", |b| {
+        b.iter_batched_ref(
+            || Framebuffer::new(vp),
+            |fb| {
+                let c = draw_mesh(&verts, &tris, vp, &RasterOptions::default(), fb);
+                assert_eq!(c.pixels_written, u64::from(W * H));
+            },
+            BatchSize::LargeInput,
+        )
+    });
+    g.finish();
+}
+
+fn bench_small(c: &mut Criterion) {
+    let n = 100_000;
+    let (verts, tris) = small(n);
+    let vp = viewport();
+    let mut screen = Vec::new();
+    setup_mesh(&verts, &tris, vp, &RasterOptions::default(), &mut screen);
+    let mut g = c.benchmark_group("small_triangles");
+    g.sample_size(20);
+    g.throughput(Throughput::Elements(n as u64));
+    g.bench_function("draw_mesh_4to7px_triangles", |b| {
+        b.iter_batched_ref(
+            || Framebuffer::new(vp),
+            |fb| draw_mesh(&verts, &tris, vp, &RasterOptions::default(), fb),
+            BatchSize::LargeInput,
+        )
+    });
+    g.bench_function("setup_only_4to7px_triangles", |b| {
+        b.iter_batched_ref(
+            || Vec::with_capacity(n),
+            |out| setup_mesh(&verts, &tris, vp, &RasterOptions::default(), out),
+            BatchSize::LargeInput,
+        )
+    });
+    g.throughput(Throughput::Elements(screen.len() as u64));
+    g.bench_function("scan_screen_triangles_4to7px", |b| {
+        b.iter_batched_ref(
+            || Framebuffer::new(vp),
+            |fb| draw_screen_triangles(&screen, fb),
+            BatchSize::LargeInput,
+        )
+    });
+    g.bench_function("scanline_renderer_4to7px", |b| {
+        b.iter_batched_ref(
+            || Framebuffer::new(vp),
+            |fb| render_scanlines_into(&screen, fb, [0; 3]),
+            BatchSize::LargeInput,
+        )
+    });
+    g.finish();
+}
+
+criterion_group!(benches, bench_large, bench_small);
+criterion_main!(benches);
