@@ -36,7 +36,34 @@ fn large() -> (Vec<Vertex>, Vec<[u32; 3]>) {
     (v, vec![[0, 2, 1], [0, 3, 2]])
 }
 
-/// `n` random Gouraud triangles of 4 to 7 px area.
+/// A jittered grid mesh of Gouraud triangles of 4 to 7 px area (cells of 3.3 px, two
+/// triangles each), in row order as a tessellated surface would arrive.
+fn grid() -> (Vec<Vertex>, Vec<[u32; 3]>) {
+    let mut r = ChaCha8Rng::seed_from_u64(2);
+    let cell = 3.3f32;
+    let n = (W as f32 / cell) as u32 - 1;
+    let mut verts = Vec::new();
+    for j in 0..=n {
+        for i in 0..=n {
+            let x = (i as f32 + 0.5) * cell + r.gen_range(-0.25..0.25);
+            let y = (j as f32 + 0.5) * cell + r.gen_range(-0.25..0.25);
+            let rgb = Vec3::new(i as f32 / n as f32, j as f32 / n as f32, 0.5);
+            verts.push(at(x, y, r.gen_range(0.2..0.8), rgb));
+        }
+    }
+    let id = |i: u32, j: u32| j * (n + 1) + i;
+    let mut tris = Vec::new();
+    for j in 0..n {
+        for i in 0..n {
+            tris.push([id(i, j), id(i, j + 1), id(i + 1, j + 1)]);
+            tris.push([id(i, j), id(i + 1, j + 1), id(i + 1, j)]);
+        }
+    }
+    (verts, tris)
+}
+
+/// `n` random Gouraud triangles of 4 to 7 px area scattered over the screen (every
+/// triangle touches cold framebuffer memory: a cache-hostile worst case).
 fn small(n: usize) -> (Vec<Vertex>, Vec<[u32; 3]>) {
     let mut r = ChaCha8Rng::seed_from_u64(1);
     let mut verts = Vec::with_capacity(3 * n);
@@ -79,38 +106,29 @@ fn bench_large(c: &mut Criterion) {
     g.finish();
 }
 
-fn bench_small(c: &mut Criterion) {
-    let n = 100_000;
-    let (verts, tris) = small(n);
+fn bench_small_group(c: &mut Criterion, name: &str, verts: &[Vertex], tris: &[[u32; 3]]) {
     let vp = viewport();
+    let opts = RasterOptions::default();
     let mut screen = Vec::new();
-    setup_mesh(&verts, &tris, vp, &RasterOptions::default(), &mut screen);
-    let mut g = c.benchmark_group("small_triangles");
+    setup_mesh(verts, tris, vp, &opts, &mut screen);
+    let mut g = c.benchmark_group(name);
     g.sample_size(20);
-    g.throughput(Throughput::Elements(n as u64));
-    g.bench_function("draw_mesh_4to7px_triangles", |b| {
-        b.iter_batched_ref(
-            || Framebuffer::new(vp),
-            |fb| draw_mesh(&verts, &tris, vp, &RasterOptions::default(), fb),
-            BatchSize::LargeInput,
-        )
+    g.throughput(Throughput::Elements(tris.len() as u64));
+    g.bench_function("draw_mesh", |b| {
+        b.iter_batched_ref(|| Framebuffer::new(vp), |fb| draw_mesh(verts, tris, vp, &opts, fb), BatchSize::LargeInput)
     });
-    g.bench_function("setup_only_4to7px_triangles", |b| {
+    g.bench_function("setup_only", |b| {
         b.iter_batched_ref(
-            || Vec::with_capacity(n),
-            |out| setup_mesh(&verts, &tris, vp, &RasterOptions::default(), out),
+            || Vec::with_capacity(tris.len()),
+            |out| setup_mesh(verts, tris, vp, &opts, out),
             BatchSize::LargeInput,
         )
     });
     g.throughput(Throughput::Elements(screen.len() as u64));
-    g.bench_function("scan_screen_triangles_4to7px", |b| {
-        b.iter_batched_ref(
-            || Framebuffer::new(vp),
-            |fb| draw_screen_triangles(&screen, fb),
-            BatchSize::LargeInput,
-        )
+    g.bench_function("scan_screen_triangles", |b| {
+        b.iter_batched_ref(|| Framebuffer::new(vp), |fb| draw_screen_triangles(&screen, fb), BatchSize::LargeInput)
     });
-    g.bench_function("scanline_renderer_4to7px", |b| {
+    g.bench_function("scanline_renderer", |b| {
         b.iter_batched_ref(
             || Framebuffer::new(vp),
             |fb| render_scanlines_into(&screen, fb, [0; 3]),
@@ -118,6 +136,13 @@ fn bench_small(c: &mut Criterion) {
         )
     });
     g.finish();
+}
+
+fn bench_small(c: &mut Criterion) {
+    let (verts, tris) = grid();
+    bench_small_group(c, "small_triangles_mesh", &verts, &tris);
+    let (verts, tris) = small(100_000);
+    bench_small_group(c, "small_triangles_scattered", &verts, &tris);
 }
 
 criterion_group!(benches, bench_large, bench_small);

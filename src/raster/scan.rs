@@ -50,7 +50,7 @@ impl<'a> RowWalker<'a> {
         if y > y_last || x_lo > x_hi {
             return None;
         }
-        let bounds = tri.edges.map(|e| {
+        let bound = |e: &super::fixed::Edge| {
             let k = e.row_constant(y);
             let step = SUBPIXEL_ONE * e.dx;
             let d = SUBPIXEL_ONE * e.dy.abs();
@@ -59,7 +59,8 @@ impl<'a> RowWalker<'a> {
                 1 => Bound::Right(FloorDda::new(k, step, d)),
                 _ => Bound::Flat { k, step },
             }
-        });
+        };
+        let bounds = [bound(&tri.edges[0]), bound(&tri.edges[1]), bound(&tri.edges[2])];
         Some(RowWalker {
             tri,
             bounds,
@@ -172,8 +173,8 @@ impl<'a> Span<'a> {
             end: self.x1,
             z: t.depth.at(dx, dy),
             z_step: t.depth.step_x(),
-            c: [0, 1, 2].map(|i| t.color[i].at(dx, dy)),
-            c_step: [0, 1, 2].map(|i| t.color[i].step_x()),
+            c: [t.color[0].at(dx, dy), t.color[1].at(dx, dy), t.color[2].at(dx, dy)],
+            c_step: [t.color[0].step_x(), t.color[1].step_x(), t.color[2].step_x()],
         }
     }
 }
