@@ -2,9 +2,14 @@
 //! 4-7 px triangles (triangles set up and drawn per second), through the whole front end
 //! (clip space in) and through the back end alone (screen triangles in).
 //!
-//! Must never feed timings back into the simulator: these are host wall-clock numbers.
+//! Must never feed timings back into the simulator: these are host timings.
+//!
+//! Set `RASTER_BENCH_CPU_TIME=1` to measure the benchmark thread's on-CPU time (from
+//! `/proc/thread-self/schedstat`) instead of wall-clock time: on a machine shared with other
+//! jobs the wall clock mostly measures the scheduler.
 
-use criterion::{criterion_group, criterion_main, BatchSize, Criterion, Throughput};
+use criterion::measurement::{Measurement, ValueFormatter, WallTime};
+use criterion::{BatchSize, Criterion, Throughput};
 use glam::{Vec3, Vec4};
 use rand::{Rng, SeedableRng};
 use rand_chacha::ChaCha8Rng;
@@ -87,7 +92,7 @@ fn small(n: usize) -> (Vec<Vertex>, Vec<[u32; 3]>) {
     (verts, tris)
 }
 
-fn bench_large(c: &mut Criterion) {
+fn bench_large<M: Measurement>(c: &mut Criterion<M>) {
     let (verts, tris) = large();
     let vp = viewport();
     let mut g = c.benchmark_group("large_triangles");
@@ -106,7 +111,7 @@ fn bench_large(c: &mut Criterion) {
     g.finish();
 }
 
-fn bench_small_group(c: &mut Criterion, name: &str, verts: &[Vertex], tris: &[[u32; 3]]) {
+fn bench_small_group<M: Measurement>(c: &mut Criterion<M>, name: &str, verts: &[Vertex], tris: &[[u32; 3]]) {
     let vp = viewport();
     let opts = RasterOptions::default();
     let mut screen = Vec::new();
@@ -138,12 +143,57 @@ fn bench_small_group(c: &mut Criterion, name: &str, verts: &[Vertex], tris: &[[u
     g.finish();
 }
 
-fn bench_small(c: &mut Criterion) {
+fn bench_small<M: Measurement>(c: &mut Criterion<M>) {
     let (verts, tris) = grid();
     bench_small_group(c, "small_triangles_mesh", &verts, &tris);
     let (verts, tris) = small(100_000);
     bench_small_group(c, "small_triangles_scattered", &verts, &tris);
 }
 
-criterion_group!(benches, bench_large, bench_small);
-criterion_main!(benches);
+/// On-CPU time of the calling thread in nanoseconds (Linux schedstat).
+fn thread_cpu_ns() -> u64 {
+    std::fs::read_to_string("/proc/thread-self/schedstat")
+        .ok()
+        .and_then(|s| s.split_whitespace().next().and_then(|v| v.parse().ok()))
+        .unwrap_or(0)
+}
+
+/// Criterion measurement of thread CPU time, formatted like wall time.
+struct CpuTime;
+
+impl Measurement for CpuTime {
+    type Intermediate = u64;
+    type Value = u64;
+    fn start(&self) -> u64 {
+        thread_cpu_ns()
+    }
+    fn end(&self, i: u64) -> u64 {
+        thread_cpu_ns().saturating_sub(i)
+    }
+    fn add(&self, a: &u64, b: &u64) -> u64 {
+        a + b
+    }
+    fn zero(&self) -> u64 {
+        0
+    }
+    fn to_f64(&self, v: &u64) -> f64 {
+        *v as f64
+    }
+    fn formatter(&self) -> &dyn ValueFormatter {
+        WallTime.formatter()
+    }
+}
+
+fn main() {
+    if std::env::var_os("RASTER_BENCH_CPU_TIME").is_some() {
+        let mut c = Criterion::default().with_measurement(CpuTime).configure_from_args();
+        bench_large(&mut c);
+        bench_small(&mut c);
+        c.final_summary();
+    } else {
+        let mut c = Criterion::default().configure_from_args();
+        bench_large(&mut c);
+        bench_small(&mut c);
+        c.final_summary();
+    }
+}

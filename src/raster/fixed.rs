@@ -175,11 +175,14 @@ impl FloorDda {
     /// `d > 0` is the caller's guarantee (edges with `dy == 0` never get a DDA).
     pub fn new(n: i64, step: i64, d: i64) -> FloorDda {
         debug_assert!(d > 0);
+        // One division each; the remainder follows by multiplication.
+        let q = n.div_euclid(d);
+        let q_step = step.div_euclid(d);
         FloorDda {
-            q: n.div_euclid(d),
-            r: n.rem_euclid(d),
-            q_step: step.div_euclid(d),
-            r_step: step.rem_euclid(d),
+            q,
+            r: n - q * d,
+            q_step,
+            r_step: step - q_step * d,
             d,
         }
     }
@@ -283,6 +286,8 @@ pub struct PlaneBasis {
     pub d1: (i64, i64),
     pub d2: (i64, i64),
     pub area2: i64,
+    /// `1 / area2`, computed once per triangle and shared by every plane.
+    pub inv_area2: f64,
     /// The pixel whose centre anchors the plane (the pixel containing vertex 0).
     pub ox: i64,
     pub oy: i64,
@@ -328,7 +333,7 @@ impl DepthPlane {
         let (dx1, dy1) = basis.d1;
         let (dx2, dy2) = basis.d2;
         let (nx, ny) = (f1 * dy2 - f2 * dy1, dx1 * f2 - dx2 * f1);
-        let per_step = (one as f64) / basis.area2 as f64;
+        let per_step = (one as f64) * basis.inv_area2;
         let per_pixel = per_step * SUBPIXEL_ONE as f64;
         let (gxf, gyf) = (nx as f64 * per_pixel, ny as f64 * per_pixel);
         const FAST_LIMIT: f64 = (1u64 << 62) as f64;
@@ -416,7 +421,7 @@ impl ColorPlane {
         let (dx2, dy2) = basis.d2;
         let (nx, ny) = (f1 * dy2 - f2 * dy1, dx1 * f2 - dx2 * f1);
         let (cx, cy) = (centre(basis.ox) - basis.x0, centre(basis.oy) - basis.y0);
-        let per_step = (1i64 << COLOR_FRAC) as f64 / basis.area2 as f64;
+        let per_step = (1i64 << COLOR_FRAC) as f64 * basis.inv_area2;
         let per_pixel = per_step * SUBPIXEL_ONE as f64;
         let lim = COLOR_GRADIENT_LIMIT as f64;
         let fix = |v: f64| round_f64(v.clamp(-lim, lim));

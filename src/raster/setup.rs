@@ -278,6 +278,7 @@ impl RasterTriangle {
             d1: (v1.x.wide() - v0.x.wide(), v1.y.wide() - v0.y.wide()),
             d2: (v2.x.wide() - v0.x.wide(), v2.y.wide() - v0.y.wide()),
             area2: t.area2(),
+            inv_area2: 1.0 / t.area2() as f64,
             ox: anchor.0,
             oy: anchor.1,
         };
