@@ -57,7 +57,10 @@ fn vertical_shared_edge_through_centres_is_owned_by_the_triangle_to_the_right() 
     assert_eq!(max_count(&t), 1);
     assert_eq!(covered(&t).len(), 11 * 8);
     let r = draw_counts(v, &right);
-    assert!((1..9).all(|y| r.count(5, y) == 1), "the left edge of the right half owns column 5");
+    assert!(
+        (1..9).all(|y| r.count(5, y) == 1),
+        "the left edge of the right half owns column 5"
+    );
 }
 
 #[test]
@@ -81,9 +84,22 @@ fn diagonal_shared_edge_through_centres_is_drawn_once() {
 fn vertex_on_a_pixel_centre_is_covered_only_where_top_and_left_edges_meet() {
     let v = vp(16, 16);
     // Right triangle with its right angle at the top-left, vertices on centres.
-    let p = pixels(v, [(2 * S + C, 2 * S + C), (8 * S + C, 2 * S + C), (2 * S + C, 8 * S + C)]);
-    assert!(p.contains(&(2, 2)), "top-left corner vertex is on a top and a left edge");
-    assert!(!p.contains(&(8, 2)), "right end of the top edge lies on the hypotenuse");
+    let p = pixels(
+        v,
+        [
+            (2 * S + C, 2 * S + C),
+            (8 * S + C, 2 * S + C),
+            (2 * S + C, 8 * S + C),
+        ],
+    );
+    assert!(
+        p.contains(&(2, 2)),
+        "top-left corner vertex is on a top and a left edge"
+    );
+    assert!(
+        !p.contains(&(8, 2)),
+        "right end of the top edge lies on the hypotenuse"
+    );
     assert!(!p.contains(&(2, 8)), "bottom vertex lies on the hypotenuse");
     // Rows 2..=7 hold 6, 5, ..., 1 pixels (the hypotenuse itself is excluded).
     assert_eq!(p.len(), 6 + 5 + 4 + 3 + 2 + 1);
@@ -104,7 +120,11 @@ fn one_subpixel_either_side_of_a_centre_decides_coverage() {
     };
     let c2 = 2 * S + C; // centre of column 2
     let c5 = 5 * S + C; // centre of column 5
-    assert_eq!(rect(c2, c5), vec![2, 3, 4], "left edge on a centre: in; right edge: out");
+    assert_eq!(
+        rect(c2, c5),
+        vec![2, 3, 4],
+        "left edge on a centre: in; right edge: out"
+    );
     assert_eq!(rect(c2 + 1, c5), vec![3, 4]);
     assert_eq!(rect(c2 - 1, c5), vec![2, 3, 4]);
     assert_eq!(rect(c2, c5 + 1), vec![2, 3, 4, 5]);
@@ -137,7 +157,9 @@ fn fans_of_thousands_of_slivers_are_watertight() {
         let n = 3000;
         let centre = (r.gen_range(100 * S..156 * S), r.gen_range(100 * S..156 * S));
         let radius = 120.0 * f64::from(S);
-        let mut angles: Vec<f64> = (0..n).map(|_| r.gen_range(0.0..std::f64::consts::TAU)).collect();
+        let mut angles: Vec<f64> = (0..n)
+            .map(|_| r.gen_range(0.0..std::f64::consts::TAU))
+            .collect();
         angles.sort_by(f64::total_cmp);
         angles.dedup();
         let ring: Vec<(i32, i32)> = angles
@@ -157,12 +179,28 @@ fn fans_of_thousands_of_slivers_are_watertight() {
             .collect();
         let a = draw_counts(v, &fan_centre);
         let b = draw_counts(v, &fan_vertex);
-        assert_eq!(max_count(&a), 1, "seed {seed}: a pixel drawn twice by the centre fan");
-        assert_eq!(max_count(&b), 1, "seed {seed}: a pixel drawn twice by the vertex fan");
-        assert!(covered(&a) == covered(&b), "seed {seed}: the two triangulations differ");
+        assert_eq!(
+            max_count(&a),
+            1,
+            "seed {seed}: a pixel drawn twice by the centre fan"
+        );
+        assert_eq!(
+            max_count(&b),
+            1,
+            "seed {seed}: a pixel drawn twice by the vertex fan"
+        );
+        assert!(
+            covered(&a) == covered(&b),
+            "seed {seed}: the two triangulations differ"
+        );
         // Deep inside the polygon nothing is missing.
         let r_in = 95.0;
-        for (x, y) in [(0.0f64, 0.0f64), (r_in, 0.0), (0.0, r_in), (-r_in * 0.7, -r_in * 0.7)] {
+        for (x, y) in [
+            (0.0f64, 0.0f64),
+            (r_in, 0.0),
+            (0.0, r_in),
+            (-r_in * 0.7, -r_in * 0.7),
+        ] {
             let px = ((f64::from(centre.0) / f64::from(S)) + x) as u32;
             let py = ((f64::from(centre.1) / f64::from(S)) + y) as u32;
             assert_eq!(a.count(px, py), 1, "seed {seed}: hole at {px},{py}");
@@ -173,9 +211,13 @@ fn fans_of_thousands_of_slivers_are_watertight() {
 /// Pixels covered by `t` whose eight neighbours are covered too.
 fn interior_of(t: &CountingTarget) -> impl Iterator<Item = (u32, u32)> + '_ {
     let (w, h) = (t.width(), t.height());
-    (1..h - 1).flat_map(move |y| (1..w - 1).map(move |x| (x, y))).filter(move |&(x, y)| {
-        (-1i32..=1).all(|dy| (-1i32..=1).all(|dx| t.count((x as i32 + dx) as u32, (y as i32 + dy) as u32) > 0))
-    })
+    (1..h - 1)
+        .flat_map(move |y| (1..w - 1).map(move |x| (x, y)))
+        .filter(move |&(x, y)| {
+            (-1i32..=1).all(|dy| {
+                (-1i32..=1).all(|dx| t.count((x as i32 + dx) as u32, (y as i32 + dy) as u32) > 0)
+            })
+        })
 }
 
 #[test]
@@ -227,7 +269,9 @@ fn grid_of_rotated_jittered_quads_is_watertight() {
         assert_eq!(max_count(&t), 1, "seed {seed}");
         // The outline's vertices were rounded independently, so its sides are not exactly
         // straight: compare away from the outline only.
-        let holes = interior_of(&hull).filter(|&(x, y)| t.count(x, y) != 1).count();
+        let holes = interior_of(&hull)
+            .filter(|&(x, y)| t.count(x, y) != 1)
+            .count();
         assert_eq!(holes, 0, "seed {seed}: holes inside the grid");
         assert!(covered(&t).len() * 10 > covered(&hull).len() * 9);
     }
@@ -249,14 +293,30 @@ fn random_closed_meshes_cover_each_pixel_equally_from_front_and_back() {
         let flipped: Vec<[u32; 3]> = tris.iter().map(|t| [t[0], t[2], t[1]]).collect();
         let (back, _) = mesh_counts(v, &verts, &flipped, CullMode::Back);
         let (both, _) = mesh_counts(v, &verts, &tris, CullMode::None);
-        assert!(cf.culled_backface > 0, "seed {seed}: nothing was back-facing");
+        assert!(
+            cf.culled_backface > 0,
+            "seed {seed}: nothing was back-facing"
+        );
         if convex {
             assert_eq!(max_count(&front), 1, "seed {seed}");
-            assert!(both.counts().iter().all(|&c| c == 0 || c == 2), "seed {seed}: a hole or overlap");
+            assert!(
+                both.counts().iter().all(|&c| c == 0 || c == 2),
+                "seed {seed}: a hole or overlap"
+            );
         }
-        assert_eq!(front.counts(), back.counts(), "seed {seed}: front and back coverage differ");
-        assert!(both.counts().iter().all(|&c| c % 2 == 0), "seed {seed}: odd coverage is a hole");
-        assert!(covered(&front).len() > 1000, "seed {seed}: the mesh should be on screen");
+        assert_eq!(
+            front.counts(),
+            back.counts(),
+            "seed {seed}: front and back coverage differ"
+        );
+        assert!(
+            both.counts().iter().all(|&c| c % 2 == 0),
+            "seed {seed}: odd coverage is a hole"
+        );
+        assert!(
+            covered(&front).len() > 1000,
+            "seed {seed}: the mesh should be on screen"
+        );
     }
 }
 
@@ -276,7 +336,11 @@ fn meshes_at_coordinates_up_to_1e6_px_are_watertight() {
                 let jit = if interior { 0.3 * span / n as f64 } else { 0.0 };
                 let x = -1.0e6 + i as f64 * span / n as f64 + r.gen_range(-jit..=jit);
                 let y = -1.0e6 + j as f64 * span / n as f64 + r.gen_range(-jit..=jit);
-                let w = if seed % 2 == 0 { 1.0 } else { r.gen_range(0.2..50.0) };
+                let w = if seed % 2 == 0 {
+                    1.0
+                } else {
+                    r.gen_range(0.2..50.0)
+                };
                 verts.push(pv_w(v, x, y, 0.5, w, [1.0; 3]));
             }
         }
@@ -289,7 +353,10 @@ fn meshes_at_coordinates_up_to_1e6_px_are_watertight() {
             }
         }
         let (t, c) = mesh_counts(v, &verts, &tris, CullMode::None);
-        assert!(c.clipped > 0, "seed {seed}: the guard band should have clipped");
+        assert!(
+            c.clipped > 0,
+            "seed {seed}: the guard band should have clipped"
+        );
         assert!(
             t.counts().iter().all(|&k| k == 1),
             "seed {seed}: every viewport pixel exactly once, got max {} and {} holes",

@@ -39,11 +39,20 @@ fn scanline_renderer_image_equals_zbuffer_image() {
         assert!(a.colors() == b.colors(), "seed {seed}: colours differ");
         assert!(a.depths() == b.depths(), "seed {seed}: depths differ");
         assert_eq!(a.hash(), b.hash());
-        assert_eq!((ca.spans, ca.pixels_tested, ca.pixels_written), (cb.spans, cb.pixels_tested, cb.pixels_written));
-        assert!(ca.pixels_written > 1000, "seed {seed}: the scene should draw something");
+        assert_eq!(
+            (ca.spans, ca.pixels_tested, ca.pixels_written),
+            (cb.spans, cb.pixels_tested, cb.pixels_written)
+        );
+        assert!(
+            ca.pixels_written > 1000,
+            "seed {seed}: the scene should draw something"
+        );
         assert_eq!(cb.scanlines, u64::from(v.height()));
         assert_eq!(cb.active_inserts, cb.bucket_inserts);
-        assert_eq!(cb.active_removals, cb.active_inserts, "every active triangle retires");
+        assert_eq!(
+            cb.active_removals, cb.active_inserts,
+            "every active triangle retires"
+        );
         assert_eq!(ca.bucket_inserts, 0);
     }
 }
@@ -82,7 +91,10 @@ fn region_set_equals_the_whole_framebuffer() {
     let mut composed = Framebuffer::new(v);
     regions.copy_into(&mut composed);
     assert!(composed.colors() == whole.colors() && composed.depths() == whole.depths());
-    assert_eq!((cr.pixels_tested, cr.pixels_written), (cw.pixels_tested, cw.pixels_written));
+    assert_eq!(
+        (cr.pixels_tested, cr.pixels_written),
+        (cw.pixels_tested, cw.pixels_written)
+    );
     assert!(cr.spans > cw.spans, "spans split at region borders");
 }
 
@@ -90,8 +102,14 @@ fn region_set_equals_the_whole_framebuffer() {
 fn region_set_rejects_overlaps_and_regions_outside_the_viewport() {
     let v = vp(10, 10);
     let r = |a, b, c, d| ScreenRect::new(a, b, c, d).unwrap();
-    assert_eq!(RegionSet::new(v, vec![r(0, 0, 5, 5), r(4, 4, 6, 6)]).unwrap_err(), RegionError::Overlap(0, 1));
-    assert_eq!(RegionSet::new(v, vec![r(0, 0, 11, 5)]).unwrap_err(), RegionError::OutsideViewport(0));
+    assert_eq!(
+        RegionSet::new(v, vec![r(0, 0, 5, 5), r(4, 4, 6, 6)]).unwrap_err(),
+        RegionError::Overlap(0, 1)
+    );
+    assert_eq!(
+        RegionSet::new(v, vec![r(0, 0, 11, 5)]).unwrap_err(),
+        RegionError::OutsideViewport(0)
+    );
     assert!(ScreenRect::new(3, 3, 3, 4).is_none());
     assert!(RegionSet::new(v, vec![r(0, 0, 5, 5), r(5, 0, 10, 5)]).is_ok());
 }
@@ -103,7 +121,10 @@ fn sparse_buffer_holds_exactly_the_framebuffers_written_pixels() {
     let (fb, cf) = zbuffer(v, &tris);
     let mut sparse = SparseBuffer::recording(v);
     let cs = draw_screen_triangles(&tris, &mut sparse);
-    assert_eq!((cs.pixels_tested, cs.pixels_written), (cf.pixels_tested, cf.pixels_written));
+    assert_eq!(
+        (cs.pixels_tested, cs.pixels_written),
+        (cf.pixels_tested, cf.pixels_written)
+    );
     let written = fb.depths().iter().filter(|&&z| z != u32::MAX).count();
     assert_eq!(sparse.active().len(), written);
     for p in sparse.active_sorted() {
@@ -123,7 +144,9 @@ fn setup_then_scan_through_bytes_equals_direct_drawing() {
     let mut r = rng(800);
     let (verts, tris) = random_soup(&mut r, 300);
     let v = vp(90, 70);
-    let opts = RasterOptions { cull: CullMode::Back };
+    let opts = RasterOptions {
+        cull: CullMode::Back,
+    };
     let mut direct = Framebuffer::new(v);
     let cd = draw_mesh(&verts, &tris, v, &opts, &mut direct);
     let mut shipped = Vec::new();
@@ -136,7 +159,11 @@ fn setup_then_scan_through_bytes_equals_direct_drawing() {
     let mut split = Framebuffer::new(v);
     let cb = draw_screen_triangles(&received, &mut split);
     assert_eq!(direct.hash(), split.hash());
-    assert_eq!(cd, cs + cb, "front-end and back-end counts add up to a direct draw");
+    assert_eq!(
+        cd,
+        cs + cb,
+        "front-end and back-end counts add up to a direct draw"
+    );
     assert!(cs.culled_backface > 0);
     assert_eq!(ScreenTriangle::PAYLOAD_BYTES, 49);
 }
@@ -160,7 +187,11 @@ fn drawing_a_subset_per_node_composes_to_the_whole() {
     assert_eq!(total.triangles_in, tris.len() as u64);
     // Depth-composite the three nodes (sort-last): nearest wins.
     for p in whole.active() {
-        let best = nodes.iter().map(|fb| fb.depth(p.x, p.y).unwrap()).min().unwrap();
+        let best = nodes
+            .iter()
+            .map(|fb| fb.depth(p.x, p.y).unwrap())
+            .min()
+            .unwrap();
         assert_eq!(best, p.z);
     }
 }
@@ -184,7 +215,12 @@ fn png_round_trips_and_reports_io_errors() {
 }
 
 fn arb_vertex() -> impl Strategy<Value = (i32, i32, u32, [u8; 3])> {
-    (-2000i32..12000, -2000i32..12000, 0u32..u32::MAX - 1, any::<[u8; 3]>())
+    (
+        -2000i32..12000,
+        -2000i32..12000,
+        0u32..u32::MAX - 1,
+        any::<[u8; 3]>(),
+    )
 }
 
 proptest! {

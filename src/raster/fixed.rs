@@ -416,7 +416,10 @@ impl ColorPlane {
             };
         }
         // |f| <= 255 and |d| <= 2^26, so the numerators stay below 2^35.
-        let (f1, f2) = (i64::from(c[1]) - i64::from(c[0]), i64::from(c[2]) - i64::from(c[0]));
+        let (f1, f2) = (
+            i64::from(c[1]) - i64::from(c[0]),
+            i64::from(c[2]) - i64::from(c[0]),
+        );
         let (dx1, dy1) = basis.d1;
         let (dx2, dy2) = basis.d2;
         let (nx, ny) = (f1 * dy2 - f2 * dy1, dx1 * f2 - dx2 * f1);
@@ -478,10 +481,20 @@ mod tests {
 
     #[test]
     fn floor_dda_matches_division() {
-        for &(n, step, d) in &[(7i64, 3i64, 5i64), (-7, 3, 5), (100, -13, 7), (0, 0, 1), (-5, 256, 256)] {
+        for &(n, step, d) in &[
+            (7i64, 3i64, 5i64),
+            (-7, 3, 5),
+            (100, -13, 7),
+            (0, 0, 1),
+            (-5, 256, 256),
+        ] {
             let mut dda = FloorDda::new(n, step, d);
             for k in 0..50 {
-                assert_eq!(dda.value(), floor_div(n + k * step, d), "n={n} step={step} d={d} k={k}");
+                assert_eq!(
+                    dda.value(),
+                    floor_div(n + k * step, d),
+                    "n={n} step={step} d={d} k={k}"
+                );
                 dda.step();
             }
         }
@@ -496,7 +509,9 @@ mod tests {
             assert_eq!(e.bias + r.bias, 1);
             // On the line both raw functions vanish; exactly one of them covers.
             assert_eq!(e.eval(i64::from(ax), i64::from(ay)), 0);
-            assert!(e.covers(i64::from(ax), i64::from(ay)) != r.covers(i64::from(ax), i64::from(ay)));
+            assert!(
+                e.covers(i64::from(ax), i64::from(ay)) != r.covers(i64::from(ax), i64::from(ay))
+            );
         }
     }
 

@@ -67,7 +67,14 @@ pub fn draw_mesh<T: Target + ?Sized>(
     options: &RasterOptions,
     target: &mut T,
 ) -> Counters {
-    draw_indices(vertices, triangles, 0..triangles.len() as u32, viewport, options, target)
+    draw_indices(
+        vertices,
+        triangles,
+        0..triangles.len() as u32,
+        viewport,
+        options,
+        target,
+    )
 }
 
 /// Draws the triangles whose indices are listed in `subset` (in that order): the triangles
@@ -80,7 +87,14 @@ pub fn draw_subset<T: Target + ?Sized>(
     options: &RasterOptions,
     target: &mut T,
 ) -> Counters {
-    draw_indices(vertices, triangles, subset.iter().copied(), viewport, options, target)
+    draw_indices(
+        vertices,
+        triangles,
+        subset.iter().copied(),
+        viewport,
+        options,
+        target,
+    )
 }
 
 /// Front end only: clips, projects, snaps and culls the listed triangles and appends the
@@ -95,7 +109,9 @@ pub fn setup_subset(
 ) -> Counters {
     let mut c = Counters::default();
     for &prim in subset {
-        setup_one(vertices, triangles, prim, viewport, options, &mut c, |t| out.push(t));
+        setup_one(vertices, triangles, prim, viewport, options, &mut c, |t| {
+            out.push(t)
+        });
     }
     c
 }
@@ -110,14 +126,19 @@ pub fn setup_mesh(
 ) -> Counters {
     let mut c = Counters::default();
     for prim in 0..triangles.len() as u32 {
-        setup_one(vertices, triangles, prim, viewport, options, &mut c, |t| out.push(t));
+        setup_one(vertices, triangles, prim, viewport, options, &mut c, |t| {
+            out.push(t)
+        });
     }
     c
 }
 
 /// Back end only: sets up and scans screen triangles (in order) into `target` (the
 /// sort-middle rasterization stage).
-pub fn draw_screen_triangles<T: Target + ?Sized>(tris: &[ScreenTriangle], target: &mut T) -> Counters {
+pub fn draw_screen_triangles<T: Target + ?Sized>(
+    tris: &[ScreenTriangle],
+    target: &mut T,
+) -> Counters {
     let mut c = Counters::default();
     for t in tris {
         draw_screen_triangle(t, target, &mut c);
@@ -127,7 +148,11 @@ pub fn draw_screen_triangles<T: Target + ?Sized>(tris: &[ScreenTriangle], target
 
 /// Sets up and scans one screen triangle into every rectangle of `target`.
 #[inline]
-pub fn draw_screen_triangle<T: Target + ?Sized>(tri: &ScreenTriangle, target: &mut T, c: &mut Counters) {
+pub fn draw_screen_triangle<T: Target + ?Sized>(
+    tri: &ScreenTriangle,
+    target: &mut T,
+    c: &mut Counters,
+) {
     let rt = RasterTriangle::new(tri);
     c.triangles_scanned += 1;
     for i in 0..target.rects().len() {
@@ -155,9 +180,15 @@ fn draw_indices<T: Target + ?Sized>(
     let mut front = Counters::default();
     let mut back = Counters::default();
     for prim in indices {
-        setup_one(vertices, triangles, prim, viewport, options, &mut front, |t| {
-            draw_screen_triangle(&t, target, &mut back)
-        });
+        setup_one(
+            vertices,
+            triangles,
+            prim,
+            viewport,
+            options,
+            &mut front,
+            |t| draw_screen_triangle(&t, target, &mut back),
+        );
     }
     front + back
 }

@@ -67,7 +67,11 @@ impl<'a> RowWalker<'a> {
     }
 
     /// `allow_probe = false` forces the DDA, so tests can check both modes agree.
-    fn with_probe(tri: &'a RasterTriangle, rect: ScreenRect, allow_probe: bool) -> Option<RowWalker<'a>> {
+    fn with_probe(
+        tri: &'a RasterTriangle,
+        rect: ScreenRect,
+        allow_probe: bool,
+    ) -> Option<RowWalker<'a>> {
         let y = tri.rows.0.max(i64::from(rect.y0()));
         let y_last = tri.rows.1.min(i64::from(rect.y1()) - 1);
         let x_lo = tri.cols.0.max(i64::from(rect.x0()));
@@ -82,8 +86,16 @@ impl<'a> RowWalker<'a> {
                 tri,
                 mode: Mode::Probe {
                     k: [at(0), at(1), at(2)],
-                    row_step: [SUBPIXEL_ONE * e[0].dx, SUBPIXEL_ONE * e[1].dx, SUBPIXEL_ONE * e[2].dx],
-                    x_step: [-SUBPIXEL_ONE * e[0].dy, -SUBPIXEL_ONE * e[1].dy, -SUBPIXEL_ONE * e[2].dy],
+                    row_step: [
+                        SUBPIXEL_ONE * e[0].dx,
+                        SUBPIXEL_ONE * e[1].dx,
+                        SUBPIXEL_ONE * e[2].dx,
+                    ],
+                    x_step: [
+                        -SUBPIXEL_ONE * e[0].dy,
+                        -SUBPIXEL_ONE * e[1].dy,
+                        -SUBPIXEL_ONE * e[2].dy,
+                    ],
                 },
                 y,
                 y_last,
@@ -101,7 +113,11 @@ impl<'a> RowWalker<'a> {
                 _ => Bound::Flat { k, step },
             }
         };
-        let bounds = [bound(&tri.edges[0]), bound(&tri.edges[1]), bound(&tri.edges[2])];
+        let bounds = [
+            bound(&tri.edges[0]),
+            bound(&tri.edges[1]),
+            bound(&tri.edges[2]),
+        ];
         Some(RowWalker {
             tri,
             mode: Mode::Dda(bounds),
@@ -120,7 +136,11 @@ impl<'a> RowWalker<'a> {
         }
         let (lo, hi) = match &mut self.mode {
             Mode::Dda(bounds) => dda_row(bounds, self.x_lo, self.x_hi),
-            Mode::Probe { k, row_step, x_step } => {
+            Mode::Probe {
+                k,
+                row_step,
+                x_step,
+            } => {
                 let r = probe_row(k, x_step, self.x_lo, self.x_hi);
                 for i in 0..3 {
                     k[i] += row_step[i];
@@ -253,8 +273,16 @@ impl<'a> Span<'a> {
             end: self.x1,
             z: t.depth.at(dx, dy),
             z_step: t.depth.step_x(),
-            c: [t.color[0].at(dx, dy), t.color[1].at(dx, dy), t.color[2].at(dx, dy)],
-            c_step: [t.color[0].step_x(), t.color[1].step_x(), t.color[2].step_x()],
+            c: [
+                t.color[0].at(dx, dy),
+                t.color[1].at(dx, dy),
+                t.color[2].at(dx, dy),
+            ],
+            c_step: [
+                t.color[0].step_x(),
+                t.color[1].step_x(),
+                t.color[2].step_x(),
+            ],
         }
     }
 }
@@ -349,8 +377,14 @@ mod tests {
                 rgb: [0; 3],
             };
             let size = 1 + next(12 * 256);
-            let (a, b, c) = (v(0, 0), v(next(size) - size / 2, next(size)), v(next(size), next(size) - size / 2));
-            let Some(t) = ScreenTriangle::new([a, b, c], 0) else { continue };
+            let (a, b, c) = (
+                v(0, 0),
+                v(next(size) - size / 2, next(size)),
+                v(next(size), next(size) - size / 2),
+            );
+            let Some(t) = ScreenTriangle::new([a, b, c], 0) else {
+                continue;
+            };
             let rt = RasterTriangle::new(&t);
             assert_eq!(spans(&rt, rect, true), spans(&rt, rect, false), "{t:?}");
             compared += 1;

@@ -62,7 +62,11 @@ pub fn render_scanlines(
 }
 
 /// Renders into a whole framebuffer (row by row), for comparison with the z-buffer path.
-pub fn render_scanlines_into(tris: &[ScreenTriangle], fb: &mut Framebuffer, clear: [u8; 3]) -> Counters {
+pub fn render_scanlines_into(
+    tris: &[ScreenTriangle],
+    fb: &mut Framebuffer,
+    clear: [u8; 3],
+) -> Counters {
     let Some(viewport) = Viewport::new(fb.width(), fb.height()) else {
         return Counters::default();
     };

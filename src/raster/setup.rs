@@ -10,7 +10,7 @@
 //! the screen (x right, y down), which is counter-clockwise in normalized device coordinates
 //! (y up), the OpenGL convention that glam's `perspective_rh` preserves.
 
-use super::clip::{clip_triangle, ClipVertex, Clipped, MAX_POLYGON};
+use super::clip::{clip_triangle, ClipResult, ClipVertex, MAX_POLYGON};
 use super::counters::Counters;
 use super::fixed::{channel_to_u8, ColorPlane, Depth, DepthPlane, Edge, PlaneBasis, Sub};
 use super::screen::Viewport;
@@ -179,9 +179,9 @@ pub fn setup_triangle(
         return;
     };
     match clip_triangle([a, b, c]) {
-        Clipped::Outside => counters.culled_outside += 1,
-        Clipped::Unclipped(t) => finish_polygon(&t, prim, viewport, options, counters, &mut emit),
-        Clipped::Clipped(p) => {
+        ClipResult::Outside => counters.culled_outside += 1,
+        ClipResult::Inside(t) => finish_polygon(&t, prim, viewport, options, counters, &mut emit),
+        ClipResult::Polygon(p) => {
             counters.clipped += 1;
             finish_polygon(p.vertices(), prim, viewport, options, counters, &mut emit);
         }
@@ -294,8 +294,14 @@ impl RasterTriangle {
             depth,
             color,
             anchor,
-            rows: (min(ys).first_centre_at_or_after(), max(ys).last_centre_at_or_before()),
-            cols: (min(xs).first_centre_at_or_after(), max(xs).last_centre_at_or_before()),
+            rows: (
+                min(ys).first_centre_at_or_after(),
+                max(ys).last_centre_at_or_before(),
+            ),
+            cols: (
+                min(xs).first_centre_at_or_after(),
+                max(xs).last_centre_at_or_before(),
+            ),
             prim: t.prim,
         }
     }
@@ -308,7 +314,8 @@ impl RasterTriangle {
     /// triangle's depth range, whether or not the centre is covered (a coverage-mask target
     /// needs it for edge pixels). Equals the depth of a fragment there.
     pub fn depth_at(&self, px: i64, py: i64) -> u32 {
-        self.depth.resolve(self.depth.at(px - self.anchor.0, py - self.anchor.1))
+        self.depth
+            .resolve(self.depth.at(px - self.anchor.0, py - self.anchor.1))
     }
 
     /// Colour of the triangle's planes at the centre of pixel `(px, py)`, clamped per

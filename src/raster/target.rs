@@ -122,9 +122,14 @@ impl PixelBuffer {
     #[inline]
     fn depth_test(&mut self, span: &Span<'_>, counters: &mut Counters) {
         let r = self.rect;
-        let start = (span.y() - r.y0()) as usize * r.width() as usize + (span.x0() - r.x0()) as usize;
+        let start =
+            (span.y() - r.y0()) as usize * r.width() as usize + (span.x0() - r.x0()) as usize;
         let end = start + span.len();
-        let written = depth_test_span(span, &mut self.color[start..end], &mut self.depth[start..end]);
+        let written = depth_test_span(
+            span,
+            &mut self.color[start..end],
+            &mut self.depth[start..end],
+        );
         count_depth_tested(counters, span.len(), written);
     }
 }
