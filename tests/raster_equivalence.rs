@@ -169,6 +169,31 @@ fn setup_then_scan_through_bytes_equals_direct_drawing() {
 }
 
 #[test]
+fn shared_vertex_cache_changes_nothing() {
+    // draw_mesh prepares each shared vertex once; one-triangle subsets prepare vertices per
+    // triangle. Both must give the same image and the same counts, clipping included.
+    let mut r = rng(950);
+    let (pos, tris) = sphere(12, 18, |_| r.gen_range(0.6..1.0));
+    for dist in [3.0f32, 1.3, 1.25] {
+        let verts = to_clip(&pos, random_rotation(&mut r), dist, 1.3);
+        let v = vp(90, 70);
+        let opts = RasterOptions { cull: CullMode::Back };
+        let mut whole = Framebuffer::new(v);
+        let cw = draw_mesh(&verts, &tris, v, &opts, &mut whole);
+        let mut single = Framebuffer::new(v);
+        let mut cs = Counters::default();
+        for i in 0..tris.len() as u32 {
+            cs += draw_subset(&verts, &tris, &[i], v, &opts, &mut single);
+        }
+        assert_eq!(cw, cs, "distance {dist}");
+        assert_eq!(whole.hash(), single.hash(), "distance {dist}");
+        if dist < 1.5 {
+            assert!(cw.clipped > 0, "the near plane cuts the mesh: {cw:?}");
+        }
+    }
+}
+
+#[test]
 fn drawing_a_subset_per_node_composes_to_the_whole() {
     let mut r = rng(900);
     let (verts, tris) = random_soup(&mut r, 200);

@@ -154,7 +154,7 @@ pub enum ClipResult {
 }
 
 /// Bits of the view-volume outcode: a triangle whose three vertices share a bit is invisible.
-fn outcode(v: &ClipVertex) -> u8 {
+pub fn outcode(v: &ClipVertex) -> u8 {
     let [x, y, z, w] = v.pos;
     (u8::from(x < -w))
         | (u8::from(x > w) << 1)
@@ -164,13 +164,29 @@ fn outcode(v: &ClipVertex) -> u8 {
         | (u8::from(z > w) << 5)
 }
 
+/// Bit i set when the vertex is outside clip plane i (near, far, then the guard band).
+pub fn plane_mask(v: &ClipVertex) -> u8 {
+    PLANES
+        .iter()
+        .enumerate()
+        .fold(0, |m, (i, p)| m | (u8::from(p.distance(v) < 0.0) << i))
+}
+
 /// Clips one triangle. Vertices must be finite (see [`ClipVertex::new`]).
+#[cfg(test)]
 pub fn clip_triangle(tri: [ClipVertex; 3]) -> ClipResult {
-    if tri.iter().fold(0xff, |acc, v| acc & outcode(v)) != 0 {
+    let outcodes = outcode(&tri[0]) & outcode(&tri[1]) & outcode(&tri[2]);
+    let planes = plane_mask(&tri[0]) | plane_mask(&tri[1]) | plane_mask(&tri[2]);
+    clip_classified(tri, outcodes, planes)
+}
+
+/// [`clip_triangle`] given the AND of the vertices' outcodes and the OR of their plane
+/// masks, for callers that computed them once per shared vertex.
+pub fn clip_classified(tri: [ClipVertex; 3], outcodes_and: u8, planes_or: u8) -> ClipResult {
+    if outcodes_and != 0 {
         return ClipResult::Outside;
     }
-    let needs = |p: Plane| tri.iter().any(|v| p.distance(v) < 0.0);
-    if !PLANES.iter().any(|&p| needs(p)) {
+    if planes_or == 0 {
         return ClipResult::Inside(tri);
     }
     let mut poly = Polygon::empty();

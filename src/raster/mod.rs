@@ -42,7 +42,7 @@ pub use image::{encode_png, image_hash, write_png, PngError};
 pub use scan::{Fragment, RowWalker, Span};
 pub use scanline::{render_scanlines, render_scanlines_into};
 pub use screen::{ScreenRect, Viewport};
-pub use setup::{CullMode, RasterOptions, RasterTriangle, ScreenTriangle, ScreenVertex};
+pub use setup::{CullMode, RasterOptions, RasterTriangle, ScreenTriangle, ScreenVertex, VertexCache};
 pub use target::{
     ActivePixel, CountingTarget, FragmentRecord, Framebuffer, PixelBuffer, RegionError, RegionSet,
     ScanlineBuffer, SparseBuffer, Target,
@@ -108,8 +108,9 @@ pub fn setup_subset(
     out: &mut Vec<ScreenTriangle>,
 ) -> Counters {
     let mut c = Counters::default();
+    let mut cache = new_cache(subset.len(), vertices.len());
     for &prim in subset {
-        setup_one(vertices, triangles, prim, viewport, options, &mut c, |t| {
+        setup_one(vertices, triangles, prim, viewport, options, &mut cache, &mut c, |t| {
             out.push(t)
         });
     }
@@ -125,8 +126,9 @@ pub fn setup_mesh(
     out: &mut Vec<ScreenTriangle>,
 ) -> Counters {
     let mut c = Counters::default();
+    let mut cache = new_cache(triangles.len(), vertices.len());
     for prim in 0..triangles.len() as u32 {
-        setup_one(vertices, triangles, prim, viewport, options, &mut c, |t| {
+        setup_one(vertices, triangles, prim, viewport, options, &mut cache, &mut c, |t| {
             out.push(t)
         });
     }
@@ -172,13 +174,14 @@ pub fn draw_screen_triangle<T: Target + ?Sized>(
 fn draw_indices<T: Target + ?Sized>(
     vertices: &[Vertex],
     triangles: &[[u32; 3]],
-    indices: impl Iterator<Item = u32>,
+    indices: impl ExactSizeIterator<Item = u32>,
     viewport: Viewport,
     options: &RasterOptions,
     target: &mut T,
 ) -> Counters {
     let mut front = Counters::default();
     let mut back = Counters::default();
+    let mut cache = new_cache(indices.len(), vertices.len());
     for prim in indices {
         setup_one(
             vertices,
@@ -186,6 +189,7 @@ fn draw_indices<T: Target + ?Sized>(
             prim,
             viewport,
             options,
+            &mut cache,
             &mut front,
             |t| draw_screen_triangle(&t, target, &mut back),
         );
@@ -193,20 +197,32 @@ fn draw_indices<T: Target + ?Sized>(
     front + back
 }
 
+#[allow(clippy::too_many_arguments)]
 fn setup_one(
     vertices: &[Vertex],
     triangles: &[[u32; 3]],
     prim: u32,
     viewport: Viewport,
     options: &RasterOptions,
+    cache: &mut Option<VertexCache>,
     c: &mut Counters,
     emit: impl FnMut(ScreenTriangle),
 ) {
-    match triangles.get(prim as usize) {
-        Some(&tri) => setup::setup_triangle(vertices, tri, prim, viewport, options, c, emit),
-        None => {
+    match (triangles.get(prim as usize), cache) {
+        (Some(&tri), Some(cache)) => {
+            setup::setup_triangle_cached(vertices, cache, tri, prim, viewport, options, c, emit)
+        }
+        (Some(&tri), None) => setup::setup_triangle(vertices, tri, prim, viewport, options, c, emit),
+        (None, _) => {
             c.triangles_in += 1;
             c.culled_invalid += 1;
         }
     }
+}
+
+/// A vertex cache when the triangles drawn are many relative to the vertex array, so that
+/// preparing shared vertices once (in a cache the size of the vertex array) pays off.
+/// Caching never changes results, only cost.
+fn new_cache(triangle_count: usize, vertex_count: usize) -> Option<VertexCache> {
+    (4 * 3 * triangle_count >= vertex_count).then(|| VertexCache::new(vertex_count))
 }

@@ -10,7 +10,7 @@
 //! the screen (x right, y down), which is counter-clockwise in normalized device coordinates
 //! (y up), the OpenGL convention that glam's `perspective_rh` preserves.
 
-use super::clip::{clip_triangle, ClipResult, ClipVertex, MAX_POLYGON};
+use super::clip::{clip_classified, outcode, plane_mask, ClipResult, ClipVertex, MAX_POLYGON};
 use super::counters::Counters;
 use super::fixed::{channel_to_u8, ColorPlane, Depth, DepthPlane, Edge, PlaneBasis, Sub};
 use super::screen::Viewport;
@@ -172,18 +172,118 @@ pub fn setup_triangle(
     counters: &mut Counters,
     mut emit: impl FnMut(ScreenTriangle),
 ) {
+    let fetch = |i: u32| vertices.get(i as usize).and_then(|v| prepare(v, viewport));
+    let prepared = [fetch(tri[0]), fetch(tri[1]), fetch(tri[2])];
+    setup_prepared(prepared, prim, viewport, options, counters, &mut emit);
+}
+
+/// A vertex with the front-end work that depends only on the vertex done: validity,
+/// classification against the clip planes, and its projection when no clipping can touch
+/// it. Shared vertices are prepared once per draw ([`VertexCache`]); the result is the same
+/// bits as preparing them per triangle, so caching never changes an image.
+#[derive(Clone, Copy, Debug)]
+pub struct PreparedVertex {
+    clip: ClipVertex,
+    outcode: u8,
+    planes: u8,
+    screen: Option<ScreenVertex>,
+}
+
+/// `None` for a vertex with a NaN or infinite component.
+pub fn prepare(v: &Vertex, viewport: Viewport) -> Option<PreparedVertex> {
+    let clip = ClipVertex::new(v)?;
+    let planes = plane_mask(&clip);
+    Some(PreparedVertex {
+        clip,
+        outcode: outcode(&clip),
+        planes,
+        screen: if planes == 0 { project(&clip, viewport) } else { None },
+    })
+}
+
+/// Prepared vertices of one mesh for one viewport, filled on first use.
+#[derive(Clone, Debug)]
+pub struct VertexCache {
+    slots: Vec<Slot>,
+}
+
+#[derive(Clone, Copy, Debug)]
+enum Slot {
+    Empty,
+    Invalid,
+    Ready(PreparedVertex),
+}
+
+impl VertexCache {
+    pub fn new(vertex_count: usize) -> VertexCache {
+        VertexCache {
+            slots: vec![Slot::Empty; vertex_count],
+        }
+    }
+
+    fn get(&mut self, vertices: &[Vertex], i: u32, viewport: Viewport) -> Option<PreparedVertex> {
+        let slot = self.slots.get_mut(i as usize)?;
+        if let Slot::Empty = slot {
+            *slot = match vertices.get(i as usize).and_then(|v| prepare(v, viewport)) {
+                Some(p) => Slot::Ready(p),
+                None => Slot::Invalid,
+            };
+        }
+        match slot {
+            Slot::Ready(p) => Some(*p),
+            _ => None,
+        }
+    }
+}
+
+/// [`setup_triangle`] with shared vertices prepared once in `cache` (which must have been
+/// made for `vertices` and used with this `viewport` only).
+#[allow(clippy::too_many_arguments)]
+pub fn setup_triangle_cached(
+    vertices: &[Vertex],
+    cache: &mut VertexCache,
+    tri: [u32; 3],
+    prim: u32,
+    viewport: Viewport,
+    options: &RasterOptions,
+    counters: &mut Counters,
+    mut emit: impl FnMut(ScreenTriangle),
+) {
+    let prepared = tri.map(|i| cache.get(vertices, i, viewport));
+    setup_prepared(prepared, prim, viewport, options, counters, &mut emit);
+}
+
+fn setup_prepared(
+    prepared: [Option<PreparedVertex>; 3],
+    prim: u32,
+    viewport: Viewport,
+    options: &RasterOptions,
+    counters: &mut Counters,
+    emit: &mut impl FnMut(ScreenTriangle),
+) {
     counters.triangles_in += 1;
-    let fetch = |i: u32| vertices.get(i as usize).and_then(ClipVertex::new);
-    let (Some(a), Some(b), Some(c)) = (fetch(tri[0]), fetch(tri[1]), fetch(tri[2])) else {
+    let [Some(a), Some(b), Some(c)] = prepared else {
         counters.culled_invalid += 1;
         return;
     };
-    match clip_triangle([a, b, c]) {
+    let outcodes = a.outcode & b.outcode & c.outcode;
+    let planes = a.planes | b.planes | c.planes;
+    if outcodes == 0 && planes == 0 {
+        // The common case: nothing to clip, vertices already projected.
+        let (Some(sa), Some(sb), Some(sc)) = (a.screen, b.screen, c.screen) else {
+            // A vertex at w == 0 on the eye: nothing visible.
+            counters.culled_outside += 1;
+            return;
+        };
+        finish_projected(&[sa, sb, sc], prim, viewport, options, counters, emit);
+        return;
+    }
+    match clip_classified([a.clip, b.clip, c.clip], outcodes, planes) {
         ClipResult::Outside => counters.culled_outside += 1,
-        ClipResult::Inside(t) => finish_polygon(&t, prim, viewport, options, counters, &mut emit),
+        ClipResult::Inside(t) => finish_polygon(&t, prim, viewport, options, counters, emit),
         ClipResult::Polygon(p) => {
             counters.clipped += 1;
-            finish_polygon(p.vertices(), prim, viewport, options, counters, &mut emit);
+            finish_polygon(p.vertices(), prim, viewport, options, counters, emit);
         }
     }
 }
@@ -213,7 +313,19 @@ fn finish_polygon(
             }
         }
     }
-    let poly = &poly[..n];
+    finish_projected(&poly[..n], prim, viewport, options, counters, emit);
+}
+
+/// Culls a projected convex polygon as a whole and fans it into screen triangles.
+fn finish_projected(
+    poly: &[ScreenVertex],
+    prim: u32,
+    viewport: Viewport,
+    options: &RasterOptions,
+    counters: &mut Counters,
+    emit: &mut impl FnMut(ScreenTriangle),
+) {
+    let n = poly.len();
     if misses_viewport(poly, viewport) {
         counters.culled_outside += 1;
         return;
