@@ -174,16 +174,18 @@ pub fn setup_triangle(
 ) {
     let fetch = |i: u32| vertices.get(i as usize).and_then(|v| prepare(v, viewport));
     let prepared = [fetch(tri[0]), fetch(tri[1]), fetch(tri[2])];
-    setup_prepared(prepared, prim, viewport, options, counters, &mut emit);
+    setup_prepared(vertices, tri, prepared, prim, viewport, options, counters, &mut emit);
 }
 
 /// A vertex with the front-end work that depends only on the vertex done: validity,
 /// classification against the clip planes, and its projection when no clipping can touch
 /// it. Shared vertices are prepared once per draw ([`VertexCache`]); the result is the same
 /// bits as preparing them per triangle, so caching never changes an image.
+///
+/// Small on purpose (the clip-space vertex is re-read only for the rare triangles that need
+/// clipping), so a cache over a large unshared vertex array stays cheap.
 #[derive(Clone, Copy, Debug)]
 pub struct PreparedVertex {
-    clip: ClipVertex,
     outcode: u8,
     planes: u8,
     screen: Option<ScreenVertex>,
@@ -194,7 +196,6 @@ pub fn prepare(v: &Vertex, viewport: Viewport) -> Option<PreparedVertex> {
     let clip = ClipVertex::new(v)?;
     let planes = plane_mask(&clip);
     Some(PreparedVertex {
-        clip,
         outcode: outcode(&clip),
         planes,
         screen: if planes == 0 { project(&clip, viewport) } else { None },
@@ -250,10 +251,13 @@ pub fn setup_triangle_cached(
     mut emit: impl FnMut(ScreenTriangle),
 ) {
     let prepared = tri.map(|i| cache.get(vertices, i, viewport));
-    setup_prepared(prepared, prim, viewport, options, counters, &mut emit);
+    setup_prepared(vertices, tri, prepared, prim, viewport, options, counters, &mut emit);
 }
 
+#[allow(clippy::too_many_arguments)]
 fn setup_prepared(
+    vertices: &[Vertex],
+    tri: [u32; 3],
     prepared: [Option<PreparedVertex>; 3],
     prim: u32,
     viewport: Viewport,
@@ -278,7 +282,13 @@ fn setup_prepared(
         finish_projected(&[sa, sb, sc], prim, viewport, options, counters, emit);
         return;
     }
-    match clip_classified([a.clip, b.clip, c.clip], outcodes, planes) {
+    // Prepared vertices are valid, so re-reading them always succeeds.
+    let fetch = |i: u32| vertices.get(i as usize).and_then(ClipVertex::new);
+    let (Some(ca), Some(cb), Some(cc)) = (fetch(tri[0]), fetch(tri[1]), fetch(tri[2])) else {
+        counters.culled_invalid += 1;
+        return;
+    };
+    match clip_classified([ca, cb, cc], outcodes, planes) {
         ClipResult::Outside => counters.culled_outside += 1,
         ClipResult::Inside(t) => finish_polygon(&t, prim, viewport, options, counters, emit),
         ClipResult::Polygon(p) => {
