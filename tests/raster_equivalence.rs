@@ -249,7 +249,7 @@ fn arb_vertex() -> impl Strategy<Value = (i32, i32, u32, [u8; 3])> {
 }
 
 proptest! {
-    #![proptest_config(ProptestConfig { cases: 256, ..ProptestConfig::default() })]
+    #![proptest_config(ProptestConfig { cases: 1024, ..ProptestConfig::default() })]
 
     /// Splitting a triangle at a point of one of its edges gives two triangles that cover
     /// exactly the original pixels, each once.

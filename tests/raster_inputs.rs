@@ -391,8 +391,8 @@ fn gouraud_colour_reaches_vertex_colours_at_vertex_centres() {
     );
 }
 
-/// Regression: a vertex at w == 0 after clipping (the eye itself) used to be divided by
-/// zero. Must not panic.
+/// Guard for the one division in projection: a vertex at w == 0 (the eye itself) passes
+/// both depth planes and would divide by zero. Must not panic.
 #[test]
 fn regression_vertex_at_the_eye_must_not_panic() {
     let (c, _) = check_one([
@@ -405,8 +405,8 @@ fn regression_vertex_at_the_eye_must_not_panic() {
     assert_eq!(c.pixels_written, 0);
 }
 
-/// Regression: a sliver with an area of one square subpixel and kilopixel-long edges makes
-/// colour gradients overflow i64 without saturation. Must not panic.
+/// Guard for gradient overflow: a sliver with an area of one square subpixel and long
+/// edges has colour gradients beyond i64 unless they saturate. Must not panic.
 #[test]
 fn regression_extreme_sliver_gradients_must_not_panic() {
     let long = 60 * 256;
@@ -424,8 +424,8 @@ fn regression_extreme_sliver_gradients_must_not_panic() {
     assert_eq!(c.triangles_scanned, 1);
 }
 
-/// Regression: a triangle with every vertex off the viewport by the full guard band on
-/// different sides must not panic in span arithmetic.
+/// Guard for span arithmetic at the edge of the fixed-point range: vertices exactly on the
+/// guard band. Must not panic.
 #[test]
 fn regression_guard_band_corners_must_not_panic() {
     let g = 8.0f32;

@@ -226,3 +226,28 @@ fn setup_one(
 fn new_cache(triangle_count: usize, vertex_count: usize) -> Option<VertexCache> {
     (4 * 3 * triangle_count >= vertex_count).then(|| VertexCache::new(vertex_count))
 }
+
+#[cfg(test)]
+mod tests {
+    /// Every file of the rasterizer says what it owns and what it must never do.
+    #[test]
+    fn every_file_states_what_it_owns_and_must_never_do() {
+        let files = [
+            ("mod.rs", include_str!("mod.rs")),
+            ("clip.rs", include_str!("clip.rs")),
+            ("fixed.rs", include_str!("fixed.rs")),
+            ("setup.rs", include_str!("setup.rs")),
+            ("scan.rs", include_str!("scan.rs")),
+            ("target.rs", include_str!("target.rs")),
+            ("scanline.rs", include_str!("scanline.rs")),
+            ("counters.rs", include_str!("counters.rs")),
+            ("screen.rs", include_str!("screen.rs")),
+            ("image.rs", include_str!("image.rs")),
+        ];
+        for (name, src) in files {
+            assert!(src.starts_with("//!"), "{name} must start with a //! doc");
+            let head: String = src.lines().take_while(|l| l.starts_with("//!")).collect();
+            assert!(head.to_lowercase().contains("must never"), "{name}: say what it must never do");
+        }
+    }
+}
