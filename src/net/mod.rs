@@ -17,7 +17,10 @@
 //! 2. After every `inject` or `advance`, the caller re-reads `next_event_time()` and calls
 //!    `advance(t)` at that `t` before injecting anything later than `t`.
 //! 3. `advance(now)` processes every internal event at or before `now`; afterwards
-//!    `next_event_time()` is either `None` or strictly later than `now`.
+//!    `next_event_time()` is either `None` or strictly later than `now` (until the next
+//!    `inject`: the flow level asks for an `advance` at the injection instant, so that
+//!    messages starting together share one rate computation; advancing between them gives
+//!    the same times, only slower).
 //!
 //! Must never iterate a hash map on a path that affects timing or output, and never use
 //! floating point for a time.
@@ -310,6 +313,13 @@ impl Network {
     ) -> Option<SimTime> {
         if let Err(e) = self.check_message(src, dst) {
             panic!("Network::inject of message {msg}: {e}");
+        }
+        if let Some(pending) = self.next_event_time() {
+            // Skipping an `advance` would lose a rate change or a queue hand-over.
+            assert!(
+                pending >= now,
+                "Network::inject at {now} before advancing to the pending event at {pending}"
+            );
         }
         if dst == Dest::Node(src) {
             return Some(now);
