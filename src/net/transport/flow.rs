@@ -43,8 +43,9 @@ pub struct Flow {
     dirty_flows: Vec<u32>,
     dirty_links: Vec<LinkId>,
     dirty_since: Option<SimTime>,
-    /// The lowest rate among flows that ended since the last recomputation (0 once a flow
-    /// started): flows below it keep their rates (see `recompute`).
+    /// A level below which no flow's rate changes in the next recomputation: the lowest
+    /// rate among flows that ended, and for each flow that started the smallest initial share
+    /// on its route (see `recompute`).
     dirty_floor: u64,
     /// Test switch: recompute from level 0 every time (the reference for the shortcut).
     always_full: bool,
@@ -176,7 +177,12 @@ impl Flow {
             link.peak = link.peak.max(link.flows.len() as u32);
         }
         self.dirty_flows.push(slot);
-        self.dirty_floor = 0;
+        let least_share = route
+            .iter()
+            .map(|&l| self.capacity / self.links[l as usize].flows.len() as u64)
+            .min()
+            .unwrap_or(0);
+        self.dirty_floor = self.dirty_floor.min(least_share);
         self.mark_dirty(now);
     }
 
@@ -267,12 +273,15 @@ impl Flow {
     /// A flow whose rate did not change keeps its completion entry: with the same rate,
     /// `since + ceil(remaining / rate)` is the same instant whenever it is computed.
     ///
-    /// When flows only ended (none started), the flows whose rate is below the lowest
-    /// ended rate `r` keep their rates: water-filling fixes them at levels below `r`, where
-    /// no link the ended flows crossed can be the bottleneck (such a link would have fixed
-    /// the ended flow below `r`), and removing a flow only raises those links' shares. So
-    /// the filling restarts at level `r` with their rates subtracted, and gives exactly the
-    /// full recomputation's result.
+    /// Flows whose rate is below a floor keep their rates, so the filling restarts at the
+    /// floor with their rates subtracted and gives exactly the full recomputation's result.
+    /// Why: adding or removing a flow `f` of rate `r` (with it present) cannot change any
+    /// level below `r` of the filling, because no link `f` crosses is a bottleneck below
+    /// `r` (it would have fixed `f` there), and without `f` those links' shares are only
+    /// higher. An ended flow's `r` is its current rate; a started flow's `r` is at least the
+    /// smallest `capacity / flows` on its route, since the filling's shares only grow. Over a
+    /// batch of changes the floor is the minimum of theirs (by induction, no flow's rate at an
+    /// intermediate step drops below it).
     fn recompute(&mut self, now: SimTime) {
         let mut floor = std::mem::replace(&mut self.dirty_floor, u64::MAX);
         if self.always_full {
@@ -290,7 +299,7 @@ impl Flow {
             old_rates.push(f.rate);
             self.scratch.fixed[slot as usize] = false;
         }
-        self.water_fill(floor);
+        self.water_fill();
         for (&slot, &old_rate) in comp.iter().zip(&old_rates) {
             let f = &mut self.flows[slot as usize];
             if f.rate == old_rate {
@@ -314,7 +323,7 @@ impl Flow {
     /// at least that much per flow), so the heap keys are lazy lower bounds: a popped link
     /// whose real share has grown is pushed back with it, and no key is touched when a flow
     /// is fixed. Ties go to the lowest link index.
-    fn water_fill(&mut self, floor: u64) {
+    fn water_fill(&mut self) {
         let s = &mut self.scratch;
         s.bottlenecks.clear();
         for &l in &s.component_links {
@@ -323,7 +332,9 @@ impl Flow {
             let mut unfixed = 0;
             for &slot in &self.links[li].flows {
                 let rate = self.flows[slot as usize].rate;
-                let below = rate < floor;
+                // Outside the component means below the floor (collect_component took every
+                // flow at or above it on these links, and every started flow).
+                let below = s.flow_epoch[slot as usize] != s.epoch;
                 s.fixed[slot as usize] = below;
                 if below {
                     cap = cap.saturating_sub(rate);
