@@ -87,6 +87,8 @@ struct Scratch {
     /// Rates of the component's flows before the recomputation, aligned with
     /// `component_flows`.
     old_rates: Vec<u64>,
+    /// Trusted rates of one link's flows, sorted: see `start_floor`.
+    rates: Vec<u64>,
     /// (share lower bound, link): see `water_fill`.
     bottlenecks: BinaryHeap<Reverse<(u64, LinkId)>>,
 }
@@ -177,13 +179,57 @@ impl Flow {
             link.peak = link.peak.max(link.flows.len() as u32);
         }
         self.dirty_flows.push(slot);
-        let least_share = route
-            .iter()
-            .map(|&l| self.capacity / self.links[l as usize].flows.len() as u64)
-            .min()
-            .unwrap_or(0);
-        self.dirty_floor = self.dirty_floor.min(least_share);
+        let below = self.start_floor(route);
+        self.dirty_floor = self.dirty_floor.min(below);
         self.mark_dirty(now);
+    }
+
+    /// A rate that a flow just started on `route` (already in the links' lists, with rate 0)
+    /// is certain to exceed, capped at the current floor: see `recompute`.
+    ///
+    /// On the started flow's bottleneck link `l`, its new rate `r` satisfies
+    /// `sum(min(old_i, r)) + r > capacity - flows(l)` over the other flows `i` on `l` (the
+    /// link is saturated up to the floors, every other flow there ends at most at `r`, and a
+    /// flow below `r` keeps its old rate). So any `x` with `sum(min(old_i, x)) + x <=
+    /// capacity - flows(l)` on every link of the route is below `r`. Rates are trusted only
+    /// below the current floor (they cannot have changed yet in this batch); above it, and
+    /// for flows not yet rated, `min(old_i, x)` is replaced by its upper bound `x`.
+    fn start_floor(&mut self, route: &[LinkId]) -> u64 {
+        let floor = self.dirty_floor;
+        let mut result = floor;
+        let rates = &mut self.scratch.rates;
+        for &l in route {
+            let flows = &self.links[l as usize].flows;
+            let budget = self.capacity.saturating_sub(flows.len() as u64);
+            rates.clear();
+            rates.extend(
+                flows
+                    .iter()
+                    .map(|&f| self.flows[f as usize].rate)
+                    .filter(|&r| r != 0 && r < floor),
+            );
+            rates.sort_unstable();
+            // Flows counted at x: the untrusted others and the started flow itself.
+            let at_x = (flows.len() - rates.len()) as u64;
+            let mut fixed_sum: u64 = 0;
+            let mut best = 0;
+            for k in 0..=rates.len() {
+                if k > 0 {
+                    fixed_sum += rates[k - 1];
+                }
+                let counted = at_x + (rates.len() - k) as u64;
+                if fixed_sum > budget || counted == 0 {
+                    break;
+                }
+                let x = (budget - fixed_sum) / counted;
+                best = x;
+                if k == rates.len() || x <= rates[k] {
+                    break;
+                }
+            }
+            result = result.min(best);
+        }
+        result
     }
 
     /// Ends the flow in `slot` at `now` (its work is done) and schedules its delivery.
