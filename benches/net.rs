@@ -2,7 +2,8 @@
 //! 64 KiB to 8 random nodes at once: 4096 messages), and the fidelity table (the same
 //! pattern at every level: predicted makespan next to the simulator's wall time).
 //!
-//! Prints its figures to stdout; must stay under about a minute in total.
+//! Prints its figures to stdout; must stay under about a minute in total, and must never
+//! feed wall time into a simulated result.
 
 use std::time::Instant;
 

@@ -529,8 +529,10 @@ mod tests {
         }
     }
 
-    /// Runs random overlapping flows on 12 links; returns every delivery in order.
-    fn run(always_full: bool, seed: u64) -> Vec<Delivered> {
+    /// Runs random overlapping flows on 12 links, starting at multiples of `grain` ps (a
+    /// coarse grain makes starts coincide with each other and with completions); returns
+    /// every delivery in order.
+    fn run(always_full: bool, seed: u64, grain: u64) -> Vec<Delivered> {
         let mut rng = rand_chacha::ChaCha8Rng::seed_from_u64(seed);
         let mut flow = Flow::new(timing(), 12);
         flow.always_full = always_full;
@@ -539,7 +541,7 @@ mod tests {
                 let first = rng.gen_range(0..12u32);
                 let len = rng.gen_range(1..5u32);
                 let route = (first..first + len).map(|l| l % 12).collect();
-                let at = SimTime::from_ps(rng.gen_range(0..50_000_000_000u64));
+                let at = SimTime::from_ps(rng.gen_range(0..50_000_000_000u64 / grain) * grain);
                 (at, route, Bytes::new(rng.gen_range(1..200_000)))
             })
             .collect();
@@ -566,9 +568,11 @@ mod tests {
     #[test]
     fn restarting_the_filling_at_the_ended_rate_equals_a_full_recomputation() {
         for seed in 0..8 {
-            let full = run(true, seed);
-            assert_eq!(full.len(), 300);
-            assert_eq!(run(false, seed), full, "seed {seed}");
+            for grain in [1, 1_000_000_000, 5_000_000_000] {
+                let full = run(true, seed, grain);
+                assert_eq!(full.len(), 300);
+                assert_eq!(run(false, seed, grain), full, "seed {seed} grain {grain}");
+            }
         }
     }
 }
