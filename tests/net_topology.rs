@@ -195,3 +195,29 @@ fn invalid_configs_are_rejected_with_what_is_valid() {
         "exactly one dim",
     );
 }
+
+#[test]
+fn names_round_trip_and_unknown_names_list_the_valid_ones() {
+    for kind in TopologyKind::ALL {
+        assert_eq!(TopologyKind::from_name(kind.name()), Ok(kind));
+    }
+    for f in Fidelity::ALL {
+        assert_eq!(Fidelity::from_name(f.name()), Ok(f));
+    }
+    for s in Switching::ALL {
+        assert_eq!(Switching::from_name(s.name()), Ok(s));
+    }
+    let e = TopologyKind::from_name("fat-tree").unwrap_err().to_string();
+    assert!(
+        e.contains("ring, pipeline, torus, mesh, hypercube, bus, crossbar"),
+        "{e}"
+    );
+    let e = Switching::from_name("cut-through").unwrap_err().to_string();
+    assert!(e.contains("store-and-forward, wormhole"), "{e}");
+}
+
+#[test]
+fn a_network_can_move_to_another_thread() {
+    fn assert_send<T: Send>(_: &T) {}
+    assert_send(&net(TopologyKind::Mesh, &[4, 4]));
+}

@@ -77,6 +77,10 @@ impl TopologyKind {
             TopologyKind::Crossbar => "crossbar",
         }
     }
+    /// The kind called `name` in specs (`ring`, `torus`, ...), or an error listing them.
+    pub fn from_name(name: &str) -> Result<TopologyKind, NetError> {
+        by_name(&Self::ALL, name, Self::name, "topology")
+    }
 }
 
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -86,11 +90,16 @@ pub enum Switching {
 }
 
 impl Switching {
+    pub const ALL: [Switching; 2] = [Switching::StoreAndForward, Switching::Wormhole];
     pub fn name(self) -> &'static str {
         match self {
             Switching::StoreAndForward => "store-and-forward",
             Switching::Wormhole => "wormhole",
         }
+    }
+    /// `store-and-forward` or `wormhole`, or an error listing them.
+    pub fn from_name(name: &str) -> Result<Switching, NetError> {
+        by_name(&Self::ALL, name, Self::name, "switching")
     }
 }
 
@@ -117,6 +126,29 @@ impl Fidelity {
             Fidelity::Packet => "packet",
         }
     }
+    /// `ideal`, `hops`, `flow` or `packet`, or an error listing them.
+    pub fn from_name(name: &str) -> Result<Fidelity, NetError> {
+        by_name(&Self::ALL, name, Self::name, "fidelity")
+    }
+}
+
+/// The variant whose `name` is `wanted` (names come from each enum's exhaustive `name`).
+fn by_name<T: Copy>(
+    all: &[T],
+    wanted: &str,
+    name: fn(T) -> &'static str,
+    what: &str,
+) -> Result<T, NetError> {
+    all.iter()
+        .copied()
+        .find(|&v| name(v) == wanted)
+        .ok_or_else(|| {
+            let valid: Vec<&str> = all.iter().map(|&v| name(v)).collect();
+            NetError::Config(format!(
+                "unknown {what} '{wanted}'; valid: {}",
+                valid.join(", ")
+            ))
+        })
 }
 
 /// A network description (built by `spec`; validated by [`Network::new`]).
