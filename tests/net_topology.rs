@@ -221,3 +221,23 @@ fn a_network_can_move_to_another_thread() {
     fn assert_send<T: Send>(_: &T) {}
     assert_send(&net(TopologyKind::Mesh, &[4, 4]));
 }
+
+#[test]
+fn small_grids_list_their_links_by_node_then_dimension_then_plus_before_minus() {
+    let torus = net(TopologyKind::Torus, &[3, 2]);
+    let expected = [
+        "0->1", "0->2", "0->3", "1->2", "1->0", "1->4", "2->0", "2->1", "2->5", "3->4", "3->5",
+        "3->0", "4->5", "4->3", "4->1", "5->3", "5->4", "5->2",
+    ];
+    assert_eq!(link_names(&torus), expected);
+    let mesh = net(TopologyKind::Mesh, &[2, 2]);
+    let expected = [
+        "0->1", "0->2", "1->0", "1->3", "2->3", "2->0", "3->2", "3->1",
+    ];
+    assert_eq!(link_names(&mesh), expected);
+    let cube = net(TopologyKind::Hypercube, &[4]);
+    let expected = [
+        "0->1", "0->2", "1->0", "1->3", "2->3", "2->0", "3->2", "3->1",
+    ];
+    assert_eq!(link_names(&cube), expected);
+}

@@ -76,9 +76,10 @@ struct LinkState {
 /// Reused buffers of the recomputation; `epoch` marks what the current one has visited.
 #[derive(Default)]
 struct Scratch {
-    epoch: u32,
-    flow_epoch: Vec<u32>,
-    link_epoch: Vec<u32>,
+    /// u64: never wraps back to a stale mark.
+    epoch: u64,
+    flow_epoch: Vec<u64>,
+    link_epoch: Vec<u64>,
     component_flows: Vec<u32>,
     component_links: Vec<LinkId>,
     fixed: Vec<bool>,
@@ -95,13 +96,12 @@ struct Scratch {
 
 impl Flow {
     pub fn new(timing: Timing, links: usize) -> Flow {
-        let mut scratch = Scratch {
+        let scratch = Scratch {
             link_epoch: vec![0; links],
             cap_left: vec![0; links],
             unfixed: vec![0; links],
             ..Scratch::default()
         };
-        scratch.epoch = 0;
         Flow {
             capacity: timing.bandwidth.bits_per_s(),
             timing,
@@ -269,7 +269,7 @@ impl Flow {
     /// dirty flows and links through such flows, and the links they cross.
     fn collect_component(&mut self, floor: u64) {
         let s = &mut self.scratch;
-        s.epoch = s.epoch.wrapping_add(1);
+        s.epoch += 1;
         s.component_flows.clear();
         s.component_links.clear();
         let epoch = s.epoch;
