@@ -91,7 +91,8 @@ struct Scratch {
     /// Trusted rates of one link's flows, sorted: see `start_floor`.
     rates: Vec<u64>,
     /// (share lower bound, link): see `water_fill`.
-    bottlenecks: BinaryHeap<Reverse<(u64, LinkId)>>,
+    /// Keys packed as `share << 32 | link` (one integer compare per heap step).
+    bottlenecks: BinaryHeap<Reverse<u128>>,
 }
 
 impl Flow {
@@ -371,7 +372,8 @@ impl Flow {
     /// is fixed. Ties go to the lowest link index.
     fn water_fill(&mut self) {
         let s = &mut self.scratch;
-        s.bottlenecks.clear();
+        let mut keys = std::mem::take(&mut s.bottlenecks).into_vec();
+        keys.clear();
         for &l in &s.component_links {
             let li = l as usize;
             let mut cap = self.capacity;
@@ -391,17 +393,19 @@ impl Flow {
             s.cap_left[li] = cap;
             s.unfixed[li] = unfixed;
             if unfixed > 0 {
-                s.bottlenecks.push(Reverse((cap / unfixed as u64, l)));
+                keys.push(Reverse(bottleneck_key(cap / unfixed as u64, l)));
             }
         }
-        while let Some(Reverse((key, l))) = s.bottlenecks.pop() {
+        s.bottlenecks = BinaryHeap::from(keys);
+        while let Some(Reverse(packed)) = s.bottlenecks.pop() {
+            let (key, l) = ((packed >> 32) as u64, packed as u32);
             let li = l as usize;
             if s.unfixed[li] == 0 {
                 continue;
             }
             let share = s.cap_left[li] / s.unfixed[li] as u64;
             if share > key {
-                s.bottlenecks.push(Reverse((share, l)));
+                s.bottlenecks.push(Reverse(bottleneck_key(share, l)));
                 continue;
             }
             let rate = share.max(1);
@@ -512,6 +516,11 @@ impl Transport for Flow {
             peak_queue: l.peak,
         }
     }
+}
+
+/// Orders by share, then by link index.
+fn bottleneck_key(share: u64, link: LinkId) -> u128 {
+    (share as u128) << 32 | link as u128
 }
 
 #[cfg(test)]
