@@ -214,6 +214,32 @@ pub enum NetError {
 }
 
 /// The network a machine owns: a topology plus the transport model its fidelity selects.
+///
+/// ```
+/// use sortsim::net::{Dest, Fidelity, Network, NetworkConfig, Switching, TopologyKind};
+/// use sortsim::units::{Bytes, SimTime};
+///
+/// let cfg = NetworkConfig {
+///     topology: TopologyKind::Mesh,
+///     dims: vec![4, 4],
+///     link_bandwidth: "1MB/s".parse().unwrap(),
+///     hop_latency: SimTime::from_us(1),
+///     switching: Switching::Wormhole,
+///     packet_size: Bytes::new(1024),
+///     fidelity: Fidelity::Flow,
+/// };
+/// let mut net = Network::new(&cfg).unwrap();
+/// // Two messages from 0 and 4 to 8 at once share the link 4->8 ...
+/// assert_eq!(net.inject(SimTime::ZERO, 1, 0, Dest::Node(8), Bytes::new(1000)), None);
+/// assert_eq!(net.inject(SimTime::ZERO, 2, 4, Dest::Node(8), Bytes::new(1000)), None);
+/// let mut delivered = Vec::new();
+/// while let Some(t) = net.next_event_time() {
+///     net.advance(t, &mut delivered);
+/// }
+/// // ... so each moves at half the link rate: 2 ms of transfer plus 2 and 1 hops of 1 us.
+/// let at: Vec<u64> = delivered.iter().map(|d| d.at.ps()).collect();
+/// assert_eq!(at, [2_001_000_000, 2_002_000_000]);
+/// ```
 pub struct Network {
     topology: Box<dyn Topology>,
     transport: Box<dyn Transport>,
