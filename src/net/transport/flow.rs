@@ -195,12 +195,23 @@ impl Flow {
     /// capacity - flows(l)` on every link of the route is below `r`. Rates are trusted only
     /// below the current floor (they cannot have changed yet in this batch); above it, and
     /// for flows not yet rated, `min(old_i, x)` is replaced by its upper bound `x`.
+    ///
+    /// That bound costs a sort of each link's flows, worth it for a start alone at its
+    /// instant (the common case once a run is under way). When other flows started in the
+    /// same batch, or a link carries more than `SORTED_BOUND_MAX_FLOWS` flows, the link's
+    /// initial share `capacity / flows` is used instead: also below the new rate, since the
+    /// filling's shares only grow.
     fn start_floor(&mut self, route: &[LinkId]) -> u64 {
         let floor = self.dirty_floor;
         let mut result = floor;
+        let batched = self.dirty_flows.len() > 1;
         let rates = &mut self.scratch.rates;
         for &l in route {
             let flows = &self.links[l as usize].flows;
+            if batched || flows.len() > SORTED_BOUND_MAX_FLOWS {
+                result = result.min(self.capacity / flows.len() as u64);
+                continue;
+            }
             let budget = self.capacity.saturating_sub(flows.len() as u64);
             rates.clear();
             rates.extend(
@@ -517,6 +528,9 @@ impl Transport for Flow {
         }
     }
 }
+
+/// Above this many flows on a link, `start_floor` uses the cheap bound for it.
+const SORTED_BOUND_MAX_FLOWS: usize = 256;
 
 /// Orders by share, then by link index.
 fn bottleneck_key(share: u64, link: LinkId) -> u128 {
