@@ -233,6 +233,15 @@ impl RegionSet {
         Ok(RegionSet { rects, bufs })
     }
 
+    /// As `new`, with every region cleared to `clear` (a scene's background).
+    pub fn with_clear(viewport: Viewport, rects: Vec<ScreenRect>, clear: [u8; 3]) -> Result<RegionSet, RegionError> {
+        let mut set = RegionSet::new(viewport, rects)?;
+        for b in &mut set.bufs {
+            b.clear(clear);
+        }
+        Ok(set)
+    }
+
     pub fn regions(&self) -> &[PixelBuffer] {
         &self.bufs
     }

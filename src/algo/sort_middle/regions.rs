@@ -58,7 +58,7 @@ impl RegionGrid {
 
     /// Appends the regions that `tri`'s pixel bounding box touches, in index order.
     pub fn touched_by(&self, tri: &ScreenTriangle, out: &mut Vec<u32>) {
-        let Some((x0, y0, x1, y1)) = tri.pixel_bounds(self.viewport) else { return };
+        let Some((x0, y0, x1, y1)) = pixel_bounds(tri, self.viewport) else { return };
         let col = |x: u32| (x as u64 * self.cols as u64 / self.viewport.width() as u64) as u32;
         let row = |y: u32| (y as u64 * self.rows as u64 / self.viewport.height() as u64) as u32;
         for r in row(y0)..=row(y1) {
@@ -67,4 +67,19 @@ impl RegionGrid {
             }
         }
     }
+}
+
+/// The pixels whose centres lie in `tri`'s bounding box, clamped to the viewport:
+/// (x0, y0, x1, y1) inclusive, or `None` when no pixel centre is inside the box.
+pub fn pixel_bounds(tri: &ScreenTriangle, viewport: Viewport) -> Option<(u32, u32, u32, u32)> {
+    let v = tri.vertices();
+    let xs = v.iter().map(|p| p.x);
+    let ys = v.iter().map(|p| p.y);
+    let (min_x, max_x) = (xs.clone().min()?, xs.max()?);
+    let (min_y, max_y) = (ys.clone().min()?, ys.max()?);
+    let x0 = min_x.first_centre_at_or_after().max(0);
+    let y0 = min_y.first_centre_at_or_after().max(0);
+    let x1 = max_x.last_centre_at_or_before().min(viewport.width() as i64 - 1);
+    let y1 = max_y.last_centre_at_or_before().min(viewport.height() as i64 - 1);
+    (x0 <= x1 && y0 <= y1).then_some((x0 as u32, y0 as u32, x1 as u32, y1 as u32))
 }
