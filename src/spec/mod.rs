@@ -6,6 +6,7 @@
 //! malformed spec reach the rest of the crate: everything past `spec` is validated.
 
 pub mod machine;
+pub mod scene;
 mod quantity;
 
 use std::path::{Path, PathBuf};
