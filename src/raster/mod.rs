@@ -3,6 +3,50 @@
 //!
 //! Must never read the simulation clock or know about nodes: it turns triangles into pixels
 //! and counts, nothing else.
+//!
+//! The modules are the pipeline, in order:
+//! * `clip`: homogeneous clipping (near, far, guard band), shared edges cut identically;
+//! * `fixed`: every fixed-point format, the edge functions and the top-left fill rule;
+//! * `setup`: project, snap, cull, fan into [`ScreenTriangle`]s (the sort-middle message),
+//!   then edge and plane equations ([`RasterTriangle`]);
+//! * `scan`: exact spans per row and fragments along them;
+//! * `target`: the [`Target`] trait and the buffers fragments land in;
+//! * `scanline`: the scanline z-buffer renderer over the same spans;
+//! * `counters`, `screen`, `image`: counts, screen coordinate types, PNG and image hash.
+//!
+//! ```
+//! use glam::{Vec3, Vec4};
+//! use sortsim::raster::{draw_mesh, Framebuffer, RasterOptions, Vertex, Viewport};
+//! let v = |x: f32, y: f32| Vertex { clip: Vec4::new(x, y, 0.5, 1.0), color: Vec3::new(1.0, 0.0, 0.0) };
+//! let verts = [v(-1.0, -1.0), v(1.0, -1.0), v(-1.0, 1.0)];
+//! let vp = Viewport::new(8, 8).unwrap();
+//! let mut fb = Framebuffer::new(vp);
+//! let c = draw_mesh(&verts, &[[0, 1, 2]], vp, &RasterOptions::default(), &mut fb);
+//! assert_eq!(c.pixels_written, 28); // below the diagonal; the diagonal is a right edge
+//! assert_eq!(fb.color(0, 7), Some([255, 0, 0]));
+//! ```
+
+mod clip;
+pub mod counters;
+pub mod fixed;
+pub mod image;
+pub mod scan;
+pub mod scanline;
+pub mod screen;
+pub mod setup;
+pub mod target;
+
+pub use counters::Counters;
+pub use fixed::{Depth, Sub};
+pub use image::{encode_png, image_hash, write_png, PngError};
+pub use scan::{Fragment, RowWalker, Span};
+pub use scanline::{render_scanlines, render_scanlines_into};
+pub use screen::{ScreenRect, Viewport};
+pub use setup::{CullMode, RasterOptions, RasterTriangle, ScreenTriangle, ScreenVertex};
+pub use target::{
+    ActivePixel, CountingTarget, FragmentRecord, Framebuffer, PixelBuffer, RegionError, RegionSet,
+    ScanlineBuffer, SparseBuffer, Target,
+};
 
 /// A vertex as the scene hands it over: clip-space position as produced by glam's
 /// `Mat4::perspective_rh` (visible when 0 <= z <= w, |x|,|y| <= w), and a linear colour in
@@ -11,4 +55,127 @@
 pub struct Vertex {
     pub clip: glam::Vec4,
     pub color: glam::Vec3,
+}
+
+/// Draws every triangle of an indexed mesh, in order, into `target`. Triangle `i` of
+/// `triangles` has primitive id `i`. Out-of-range indices and non-finite vertices drop the
+/// triangle (counted as `culled_invalid`); nothing panics.
+pub fn draw_mesh<T: Target + ?Sized>(
+    vertices: &[Vertex],
+    triangles: &[[u32; 3]],
+    viewport: Viewport,
+    options: &RasterOptions,
+    target: &mut T,
+) -> Counters {
+    draw_indices(vertices, triangles, 0..triangles.len() as u32, viewport, options, target)
+}
+
+/// Draws the triangles whose indices are listed in `subset` (in that order): the triangles
+/// one node owns. Primitive ids stay the indices into `triangles`.
+pub fn draw_subset<T: Target + ?Sized>(
+    vertices: &[Vertex],
+    triangles: &[[u32; 3]],
+    subset: &[u32],
+    viewport: Viewport,
+    options: &RasterOptions,
+    target: &mut T,
+) -> Counters {
+    draw_indices(vertices, triangles, subset.iter().copied(), viewport, options, target)
+}
+
+/// Front end only: clips, projects, snaps and culls the listed triangles and appends the
+/// resulting screen triangles to `out` (the sort-middle geometry stage).
+pub fn setup_subset(
+    vertices: &[Vertex],
+    triangles: &[[u32; 3]],
+    subset: &[u32],
+    viewport: Viewport,
+    options: &RasterOptions,
+    out: &mut Vec<ScreenTriangle>,
+) -> Counters {
+    let mut c = Counters::default();
+    for &prim in subset {
+        setup_one(vertices, triangles, prim, viewport, options, &mut c, |t| out.push(t));
+    }
+    c
+}
+
+/// [`setup_subset`] over the whole mesh.
+pub fn setup_mesh(
+    vertices: &[Vertex],
+    triangles: &[[u32; 3]],
+    viewport: Viewport,
+    options: &RasterOptions,
+    out: &mut Vec<ScreenTriangle>,
+) -> Counters {
+    let mut c = Counters::default();
+    for prim in 0..triangles.len() as u32 {
+        setup_one(vertices, triangles, prim, viewport, options, &mut c, |t| out.push(t));
+    }
+    c
+}
+
+/// Back end only: sets up and scans screen triangles (in order) into `target` (the
+/// sort-middle rasterization stage).
+pub fn draw_screen_triangles<T: Target + ?Sized>(tris: &[ScreenTriangle], target: &mut T) -> Counters {
+    let mut c = Counters::default();
+    for t in tris {
+        draw_screen_triangle(t, target, &mut c);
+    }
+    c
+}
+
+/// Sets up and scans one screen triangle into every rectangle of `target`.
+#[inline]
+pub fn draw_screen_triangle<T: Target + ?Sized>(tri: &ScreenTriangle, target: &mut T, c: &mut Counters) {
+    let rt = RasterTriangle::new(tri);
+    c.triangles_scanned += 1;
+    for i in 0..target.rects().len() {
+        let rect = target.rects()[i];
+        let Some(mut walker) = RowWalker::new(&rt, rect) else {
+            continue;
+        };
+        while let Some(row) = walker.next_row() {
+            if let Some(span) = row.span {
+                c.spans += 1;
+                target.span(i, &span, c);
+            }
+        }
+    }
+}
+
+fn draw_indices<T: Target + ?Sized>(
+    vertices: &[Vertex],
+    triangles: &[[u32; 3]],
+    indices: impl Iterator<Item = u32>,
+    viewport: Viewport,
+    options: &RasterOptions,
+    target: &mut T,
+) -> Counters {
+    let mut front = Counters::default();
+    let mut back = Counters::default();
+    for prim in indices {
+        setup_one(vertices, triangles, prim, viewport, options, &mut front, |t| {
+            draw_screen_triangle(&t, target, &mut back)
+        });
+    }
+    front + back
+}
+
+fn setup_one(
+    vertices: &[Vertex],
+    triangles: &[[u32; 3]],
+    prim: u32,
+    viewport: Viewport,
+    options: &RasterOptions,
+    c: &mut Counters,
+    emit: impl FnMut(ScreenTriangle),
+) {
+    match triangles.get(prim as usize) {
+        Some(&tri) => setup::setup_triangle(vertices, tri, prim, viewport, options, c, emit),
+        None => {
+            c.triangles_in += 1;
+            c.culled_invalid += 1;
+        }
+    }
 }

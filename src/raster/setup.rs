@@ -1,0 +1,333 @@
+//! Front end and triangle setup: project clipped vertices to the screen, snap them to fixed
+//! point, cull (invalid, outside, back-facing, zero area), fan clipped polygons into
+//! [`ScreenTriangle`]s, and turn a screen triangle into the edge and plane equations that
+//! `scan` walks ([`RasterTriangle`]).
+//!
+//! Must never touch a target or generate pixels. Everything after snapping is integer, so a
+//! `ScreenTriangle` shipped to another node as bytes rasterizes to identical pixels there.
+//!
+//! Winding: a triangle is *front-facing* when its vertices run counter-clockwise as seen on
+//! the screen (x right, y down), which is counter-clockwise in normalized device coordinates
+//! (y up), the OpenGL convention that glam's `perspective_rh` preserves.
+
+use super::clip::{clip_triangle, ClipVertex, Clipped, MAX_POLYGON};
+use super::counters::Counters;
+use super::fixed::{channel_to_u8, ColorPlane, Depth, DepthPlane, Edge, PlaneBasis, Sub};
+use super::screen::Viewport;
+use super::Vertex;
+
+/// Which faces the front end drops.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub enum CullMode {
+    /// Draw both windings.
+    #[default]
+    None,
+    /// Drop triangles that run clockwise on screen.
+    Back,
+}
+
+/// Front-end options.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub struct RasterOptions {
+    pub cull: CullMode,
+}
+
+/// A projected, snapped vertex: position in 1/256 pixel, depth, 8-bit linear colour.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
+pub struct ScreenVertex {
+    pub x: Sub,
+    pub y: Sub,
+    pub z: Depth,
+    pub rgb: [u8; 3],
+}
+
+/// A snapped screen-space triangle with non-zero area, ready to ship between nodes and to
+/// rasterize anywhere with identical results.
+///
+/// Invariant: the vertices are stored in the canonical orientation (`area2 > 0`, see
+/// `fixed`), which for a front-facing input means v1 and v2 were swapped; coverage does not
+/// depend on the order.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
+pub struct ScreenTriangle {
+    v: [ScreenVertex; 3],
+    prim: u32,
+}
+
+/// Twice the signed area of the snapped triangle, `(b - a) x (c - a)` in y-down
+/// coordinates: negative for counter-clockwise on screen (front-facing).
+pub fn signed_area2(a: &ScreenVertex, b: &ScreenVertex, c: &ScreenVertex) -> i64 {
+    let (ax, ay) = (a.x.wide(), a.y.wide());
+    (b.x.wide() - ax) * (c.y.wide() - ay) - (b.y.wide() - ay) * (c.x.wide() - ax)
+}
+
+impl ScreenTriangle {
+    /// Bytes of a serialized screen triangle: per vertex x, y (i32), z (u32), r, g, b (u8),
+    /// then the primitive id (u32), little endian. This is the message payload per
+    /// triangle for sort-middle redistribution.
+    pub const PAYLOAD_BYTES: usize = 3 * (4 + 4 + 4 + 3) + 4;
+
+    /// `None` when the snapped area is zero. `prim` is the triangle's index in its mesh,
+    /// which fragment records carry and depth ties are ordered by.
+    pub fn new(v: [ScreenVertex; 3], prim: u32) -> Option<ScreenTriangle> {
+        let a = signed_area2(&v[0], &v[1], &v[2]);
+        match a.signum() {
+            0 => None,
+            1 => Some(ScreenTriangle { v, prim }),
+            _ => Some(ScreenTriangle {
+                v: [v[0], v[2], v[1]],
+                prim,
+            }),
+        }
+    }
+
+    pub fn vertices(&self) -> &[ScreenVertex; 3] {
+        &self.v
+    }
+
+    pub fn prim(&self) -> u32 {
+        self.prim
+    }
+
+    /// Twice the area in square subpixel steps (> 0).
+    pub fn area2(&self) -> i64 {
+        signed_area2(&self.v[0], &self.v[1], &self.v[2])
+    }
+
+    pub fn to_bytes(&self) -> [u8; ScreenTriangle::PAYLOAD_BYTES] {
+        let mut out = [0u8; ScreenTriangle::PAYLOAD_BYTES];
+        for (i, v) in self.v.iter().enumerate() {
+            let o = i * 15;
+            out[o..o + 4].copy_from_slice(&v.x.raw().to_le_bytes());
+            out[o + 4..o + 8].copy_from_slice(&v.y.raw().to_le_bytes());
+            out[o + 8..o + 12].copy_from_slice(&v.z.raw().to_le_bytes());
+            out[o + 12..o + 15].copy_from_slice(&v.rgb);
+        }
+        out[45..49].copy_from_slice(&self.prim.to_le_bytes());
+        out
+    }
+
+    /// Inverse of [`ScreenTriangle::to_bytes`]; `None` for bytes no screen triangle
+    /// produces (coordinates out of range, reserved depth, zero area).
+    pub fn from_bytes(b: &[u8; ScreenTriangle::PAYLOAD_BYTES]) -> Option<ScreenTriangle> {
+        let word = |o: usize| [b[o], b[o + 1], b[o + 2], b[o + 3]];
+        let vertex = |i: usize| -> Option<ScreenVertex> {
+            let o = i * 15;
+            Some(ScreenVertex {
+                x: Sub::from_raw(i32::from_le_bytes(word(o)))?,
+                y: Sub::from_raw(i32::from_le_bytes(word(o + 4)))?,
+                z: Depth::from_raw(u32::from_le_bytes(word(o + 8)))?,
+                rgb: [b[o + 12], b[o + 13], b[o + 14]],
+            })
+        };
+        let v = [vertex(0)?, vertex(1)?, vertex(2)?];
+        let prim = u32::from_le_bytes(word(45));
+        // Only the canonical orientation is ever serialized; reject anything else so that
+        // a round trip is the identity.
+        (signed_area2(&v[0], &v[1], &v[2]) > 0).then_some(ScreenTriangle { v, prim })
+    }
+}
+
+/// Projects a clipped vertex to the screen and snaps it. `None` when w is not positive
+/// (a vertex at the eye; only reachable through degenerate input).
+fn project(v: &ClipVertex, viewport: Viewport) -> Option<ScreenVertex> {
+    let [x, y, z, w] = v.pos;
+    if w.partial_cmp(&0.0) != Some(std::cmp::Ordering::Greater) {
+        return None;
+    }
+    let sx = (x / w + 1.0) * 0.5 * f64::from(viewport.width());
+    let sy = (1.0 - y / w) * 0.5 * f64::from(viewport.height());
+    Some(ScreenVertex {
+        x: Sub::snap(sx)?,
+        y: Sub::snap(sy)?,
+        z: Depth::from_unit(z / w)?,
+        rgb: v.color.map(channel_to_u8),
+    })
+}
+
+/// True when no pixel centre of the viewport lies within the x/y extent of the vertices.
+fn misses_viewport(vs: &[ScreenVertex], viewport: Viewport) -> bool {
+    let xmin = vs.iter().map(|v| v.x).min();
+    let xmax = vs.iter().map(|v| v.x).max();
+    let ymin = vs.iter().map(|v| v.y).min();
+    let ymax = vs.iter().map(|v| v.y).max();
+    let (Some(xmin), Some(xmax), Some(ymin), Some(ymax)) = (xmin, xmax, ymin, ymax) else {
+        return true;
+    };
+    xmax.last_centre_at_or_before() < 0
+        || ymax.last_centre_at_or_before() < 0
+        || xmin.first_centre_at_or_after() >= i64::from(viewport.width())
+        || ymin.first_centre_at_or_after() >= i64::from(viewport.height())
+}
+
+/// Runs one input triangle through clip, project, snap and cull, handing each resulting
+/// screen triangle to `emit` and counting what happened.
+pub fn setup_triangle(
+    vertices: &[Vertex],
+    tri: [u32; 3],
+    prim: u32,
+    viewport: Viewport,
+    options: &RasterOptions,
+    counters: &mut Counters,
+    mut emit: impl FnMut(ScreenTriangle),
+) {
+    counters.triangles_in += 1;
+    let fetch = |i: u32| vertices.get(i as usize).and_then(ClipVertex::new);
+    let (Some(a), Some(b), Some(c)) = (fetch(tri[0]), fetch(tri[1]), fetch(tri[2])) else {
+        counters.culled_invalid += 1;
+        return;
+    };
+    match clip_triangle([a, b, c]) {
+        Clipped::Outside => counters.culled_outside += 1,
+        Clipped::Unclipped(t) => finish_polygon(&t, prim, viewport, options, counters, &mut emit),
+        Clipped::Clipped(p) => {
+            counters.clipped += 1;
+            finish_polygon(p.vertices(), prim, viewport, options, counters, &mut emit);
+        }
+    }
+}
+
+/// Projects a (clipped) convex polygon, culls it as a whole, and fans it into triangles.
+fn finish_polygon(
+    clipped: &[ClipVertex],
+    prim: u32,
+    viewport: Viewport,
+    options: &RasterOptions,
+    counters: &mut Counters,
+    emit: &mut impl FnMut(ScreenTriangle),
+) {
+    let n = clipped.len();
+    let mut poly = [ScreenVertex {
+        x: Sub::default(),
+        y: Sub::default(),
+        z: Depth::NEAR,
+        rgb: [0; 3],
+    }; MAX_POLYGON];
+    for (dst, v) in poly.iter_mut().zip(clipped) {
+        match project(v, viewport) {
+            Some(s) => *dst = s,
+            None => {
+                counters.culled_outside += 1;
+                return;
+            }
+        }
+    }
+    let poly = &poly[..n];
+    if misses_viewport(poly, viewport) {
+        counters.culled_outside += 1;
+        return;
+    }
+    // The polygon's orientation decides culling once for all its pieces, so snapping can
+    // never make part of a clipped triangle face the other way.
+    let total: i64 = (1..n - 1)
+        .map(|i| signed_area2(&poly[0], &poly[i], &poly[i + 1]))
+        .sum();
+    if total == 0 {
+        counters.culled_zero_area += 1;
+        return;
+    }
+    if options.cull == CullMode::Back && total > 0 {
+        counters.culled_backface += 1;
+        return;
+    }
+    let mut produced = 0;
+    for i in 1..n - 1 {
+        let piece = [poly[0], poly[i], poly[i + 1]];
+        // A piece that snapping collapsed or flipped covers nothing of the polygon.
+        if signed_area2(&piece[0], &piece[1], &piece[2]).signum() != total.signum() {
+            continue;
+        }
+        if let Some(t) = ScreenTriangle::new(piece, prim) {
+            emit(t);
+            produced += 1;
+        }
+    }
+    counters.triangles_set_up += produced;
+    if produced == 0 {
+        counters.culled_zero_area += 1;
+    }
+}
+
+/// A screen triangle with its edge functions and interpolation planes, ready to scan.
+#[derive(Clone, Copy, Debug)]
+pub struct RasterTriangle {
+    pub(crate) edges: [Edge; 3],
+    pub(crate) depth: DepthPlane,
+    pub(crate) color: [ColorPlane; 3],
+    /// The pixel the planes are anchored at.
+    pub(crate) anchor: (i64, i64),
+    /// Inclusive pixel rows and columns whose centres lie within the vertices' extent.
+    pub(crate) rows: (i64, i64),
+    pub(crate) cols: (i64, i64),
+    prim: u32,
+}
+
+impl RasterTriangle {
+    pub fn new(t: &ScreenTriangle) -> RasterTriangle {
+        let [v0, v1, v2] = t.v;
+        let edges = [
+            Edge::new(v0.x, v0.y, v1.x, v1.y),
+            Edge::new(v1.x, v1.y, v2.x, v2.y),
+            Edge::new(v2.x, v2.y, v0.x, v0.y),
+        ];
+        let anchor = (v0.x.pixel(), v0.y.pixel());
+        let basis = PlaneBasis {
+            x0: v0.x.wide(),
+            y0: v0.y.wide(),
+            d1: (v1.x.wide() - v0.x.wide(), v1.y.wide() - v0.y.wide()),
+            d2: (v2.x.wide() - v0.x.wide(), v2.y.wide() - v0.y.wide()),
+            area2: t.area2(),
+            ox: anchor.0,
+            oy: anchor.1,
+        };
+        let depth = DepthPlane::new(&basis, [v0.z.raw(), v1.z.raw(), v2.z.raw()]);
+        let color = [0, 1, 2].map(|ch| ColorPlane::new(&basis, [v0.rgb[ch], v1.rgb[ch], v2.rgb[ch]]));
+        let xs = [v0.x, v1.x, v2.x];
+        let ys = [v0.y, v1.y, v2.y];
+        let min = |a: [Sub; 3]| a[0].min(a[1]).min(a[2]);
+        let max = |a: [Sub; 3]| a[0].max(a[1]).max(a[2]);
+        RasterTriangle {
+            edges,
+            depth,
+            color,
+            anchor,
+            rows: (min(ys).first_centre_at_or_after(), max(ys).last_centre_at_or_before()),
+            cols: (min(xs).first_centre_at_or_after(), max(xs).last_centre_at_or_before()),
+            prim: t.prim,
+        }
+    }
+
+    pub fn prim(&self) -> u32 {
+        self.prim
+    }
+
+    /// True when the sample at `(px * 256 + sx, py * 256 + sy)` subpixel steps (`sx`, `sy`
+    /// in 0..256 within pixel `(px, py)`) is inside under the fill rule. Samples obey the
+    /// same top-left rule as pixel centres, so per-sample coverage is watertight too: this
+    /// is what a supersampling or coverage-mask target evaluates on edge pixels.
+    pub fn covers_sample(&self, px: i64, py: i64, sx: u8, sy: u8) -> bool {
+        let x = px * super::fixed::SUBPIXEL_ONE + i64::from(sx);
+        let y = py * super::fixed::SUBPIXEL_ONE + i64::from(sy);
+        self.edges.iter().all(|e| e.covers(x, y))
+    }
+
+    /// Coverage mask of pixel `(px, py)` for up to 64 sample positions (bit i = sample i).
+    pub fn coverage_mask(&self, px: i64, py: i64, samples: &[(u8, u8)]) -> u64 {
+        samples
+            .iter()
+            .take(64)
+            .enumerate()
+            .filter(|(_, &(sx, sy))| self.covers_sample(px, py, sx, sy))
+            .fold(0u64, |m, (i, _)| m | (1 << i))
+    }
+
+    /// True when the whole closed pixel square lies strictly inside all three edges (so
+    /// every sample of it is covered): an interior pixel for an anti-aliasing target.
+    pub fn fully_covers_pixel(&self, px: i64, py: i64) -> bool {
+        let one = super::fixed::SUBPIXEL_ONE;
+        let corners = [(0, 0), (one, 0), (0, one), (one, one)];
+        corners.iter().all(|&(cx, cy)| {
+            let (x, y) = (px * one + cx, py * one + cy);
+            self.edges.iter().all(|e| e.eval(x, y) > 0)
+        })
+    }
+}
