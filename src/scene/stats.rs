@@ -3,11 +3,102 @@
 //! to pixels, clipped to the screen rectangle, and its area taken. This is what stand-in
 //! scenes are matched on (paper 002's mean triangle sizes, paper 003's depth complexity).
 //!
-//! Owns measurement of frames. Must never change geometry or know about machines.
+//! `rasterized` measures what the real rasterizer does with the frame (after culling,
+//! clipping and snapping): triangles set up, pixels rendered, depth complexity and its
+//! histogram p_d, active pixels (paper 003's vocabulary), and `raster_overlap_factor` the
+//! mean number of screen regions a set-up triangle's bounding box touches (paper 002).
+//!
+//! Owns measurement of frames. Must never change geometry or know about machines; it calls
+//! the rasterizer only to count, never to produce an image anyone keeps.
 
 use glam::{DVec2, DVec4};
 
 use super::FrameGeometry;
+use crate::raster::{self, CountingTarget, Counters, CullMode, RasterOptions, ScreenTriangle, Viewport};
+
+/// What the rasterizer made of one frame (every fragment counted, before any depth test).
+#[derive(Clone, Debug, Default, PartialEq)]
+pub struct RasterStats {
+    /// The rasterizer's own counts (culled, clipped, set up, spans, ...).
+    pub counters: Counters,
+    /// Fragments generated: pixels rendered before z-buffering (paper 003's "total pixels").
+    pub pixels_rendered: u64,
+    /// `pixels_rendered / triangles_set_up`: mean pixels per set-up triangle.
+    pub mean_area_px: f64,
+    /// `pixels_rendered / (width * height)`: depth complexity d.
+    pub depth_complexity: f64,
+    /// Pixel locations with at least one fragment.
+    pub active_pixels: u64,
+    /// `depth_histogram[k]` = number of pixel locations with exactly k fragments; divided by
+    /// width * height this is paper 003's p_d.
+    pub depth_histogram: Vec<u64>,
+}
+
+impl RasterStats {
+    /// p_d for every d (sums to 1).
+    pub fn p_d(&self, width: u32, height: u32) -> Vec<f64> {
+        let a = width as f64 * height as f64;
+        self.depth_histogram.iter().map(|n| *n as f64 / a).collect()
+    }
+}
+
+/// Rasterizes `frame` into a fragment-counting target (no z-buffer) and measures it.
+pub fn rasterized(frame: &FrameGeometry) -> RasterStats {
+    let Some(viewport) = Viewport::new(frame.width, frame.height) else {
+        return RasterStats::default();
+    };
+    let mut target = CountingTarget::new(viewport);
+    let counters = raster::draw_mesh(&frame.vertices, &frame.triangles, viewport, &options(frame), &mut target);
+    let mut histogram: Vec<u64> = Vec::new();
+    let mut pixels = 0u64;
+    for &c in target.counts() {
+        let c = c as usize;
+        if histogram.len() <= c {
+            histogram.resize(c + 1, 0);
+        }
+        histogram[c] += 1;
+        pixels += c as u64;
+    }
+    let set_up = counters.triangles_set_up;
+    RasterStats {
+        counters,
+        pixels_rendered: pixels,
+        mean_area_px: if set_up > 0 { pixels as f64 / set_up as f64 } else { 0.0 },
+        depth_complexity: pixels as f64 / viewport.pixels() as f64,
+        active_pixels: viewport.pixels() as u64 - histogram.first().copied().unwrap_or(0),
+        depth_histogram: histogram,
+    }
+}
+
+/// Mean number of `region_w` x `region_h` regions (a grid from the top-left corner) that the
+/// snapped bounding box of each set-up triangle touches: paper 002's overlap factor, as a
+/// sort-middle geometry stage that sends a triangle to every region its bounding box meets
+/// would count it.
+pub fn raster_overlap_factor(frame: &FrameGeometry, region_w: u32, region_h: u32) -> f64 {
+    let Some(viewport) = Viewport::new(frame.width, frame.height) else {
+        return 0.0;
+    };
+    let mut tris: Vec<ScreenTriangle> = Vec::new();
+    raster::setup_mesh(&frame.vertices, &frame.triangles, viewport, &options(frame), &mut tris);
+    if tris.is_empty() {
+        return 0.0;
+    }
+    let (rw, rh) = (region_w.max(1) as i64, region_h.max(1) as i64);
+    let (maxx, maxy) = (frame.width as i64 - 1, frame.height as i64 - 1);
+    let mut touched = 0u64;
+    for t in &tris {
+        let v = t.vertices();
+        let px = |s: raster::Sub| s.pixel();
+        let (x0, x1) = (v.iter().map(|p| px(p.x)).min().unwrap().clamp(0, maxx), v.iter().map(|p| px(p.x)).max().unwrap().clamp(0, maxx));
+        let (y0, y1) = (v.iter().map(|p| px(p.y)).min().unwrap().clamp(0, maxy), v.iter().map(|p| px(p.y)).max().unwrap().clamp(0, maxy));
+        touched += ((x1 / rw - x0 / rw + 1) * (y1 / rh - y0 / rh + 1)) as u64;
+    }
+    touched as f64 / tris.len() as f64
+}
+
+fn options(frame: &FrameGeometry) -> RasterOptions {
+    RasterOptions { cull: if frame.cull_backfaces { CullMode::Back } else { CullMode::None } }
+}
 
 /// Geometric statistics of one frame.
 #[derive(Clone, Copy, Debug, Default, PartialEq)]
