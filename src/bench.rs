@@ -1,1 +1,272 @@
-//! Benchmarks reachable from the command line (`sortsim bench ...`).
+//! Benchmarks reachable from the command line (`sortsim bench ...`): PHOLD on the engine,
+//! measured against a bare binary-heap PHOLD loop in the same run.
+//!
+//! Owns workload definitions and wall-clock measurement. Wall-clock time is read here and in
+//! `report::cost` only, never inside a simulation.
+
+use std::cmp::Reverse;
+use std::collections::BinaryHeap;
+use std::time::Instant;
+
+use rand::Rng;
+use rand_chacha::ChaCha12Rng;
+use serde::Serialize;
+
+use crate::engine::{rng_stream, Filter, Payload, Sim, SimError};
+use crate::units::SimTime;
+
+/// The PHOLD synthetic workload (Fujimoto): `lps` logical processes start with
+/// `events_per_lp` events each; every event schedules one new event, at a random other LP
+/// with probability `remote`, after `lookahead` plus an exponential delay of mean `mean`.
+#[derive(Clone, Debug, Serialize)]
+pub struct PholdConfig {
+    pub lps: u32,
+    pub events_per_lp: u32,
+    pub remote: f64,
+    #[serde(skip)]
+    pub mean: SimTime,
+    #[serde(skip)]
+    pub lookahead: SimTime,
+    #[serde(skip)]
+    pub end: SimTime,
+    pub seed: u64,
+}
+
+impl PholdConfig {
+    /// Events in flight at any instant (PHOLD keeps the population constant).
+    pub fn in_flight(&self) -> u64 {
+        self.lps as u64 * self.events_per_lp as u64
+    }
+}
+
+/// What one PHOLD run produced.
+#[derive(Clone, Debug, PartialEq, Eq, Serialize)]
+pub struct PholdOutcome {
+    /// Events processed with time <= end.
+    pub events: u64,
+    /// Time of the last event processed, in picoseconds.
+    pub last_event_ps: u64,
+    /// Order-sensitive hash of (time, LP) of every processed event.
+    pub trace_hash: u64,
+}
+
+/// The PHOLD event: carries nothing; the receiving LP is the event's place.
+#[derive(Clone, Copy, Debug)]
+struct Phold;
+impl Payload for Phold {}
+
+struct Draw {
+    rng: ChaCha12Rng,
+}
+
+impl Draw {
+    fn new(cfg: &PholdConfig, lp: u32) -> Draw {
+        Draw {
+            rng: rng_stream(cfg.seed, &format!("phold/{lp}")),
+        }
+    }
+    /// (destination, delay) of the event an event at `lp` schedules. The exponential draw is
+    /// f64, floored to whole picoseconds: deterministic on every IEEE-754 platform.
+    fn next(&mut self, cfg: &PholdConfig, lp: u32) -> (u32, SimTime) {
+        let dst = if cfg.lps > 1 && self.rng.gen_bool(cfg.remote) {
+            let other = self.rng.gen_range(0..cfg.lps - 1);
+            if other >= lp {
+                other + 1
+            } else {
+                other
+            }
+        } else {
+            lp
+        };
+        let u: f64 = 1.0 - self.rng.gen::<f64>(); // (0, 1]
+        let exp_ps = (-(cfg.mean.ps() as f64) * u.ln()) as u64;
+        (dst, cfg.lookahead + SimTime::from_ps(exp_ps))
+    }
+}
+
+fn mix(hash: u64, t: SimTime, lp: u32) -> u64 {
+    (hash ^ t.ps().rotate_left(17) ^ lp as u64).wrapping_mul(0x0000_0100_0000_01b3)
+}
+
+/// PHOLD on the engine: one program per LP, events as posted messages.
+pub fn phold_engine(cfg: &PholdConfig) -> Result<PholdOutcome, SimError> {
+    use std::cell::Cell;
+    use std::rc::Rc;
+    let mut sim: Sim<Phold> = Sim::bare(cfg.lps, cfg.seed);
+    let log = Rc::new(Cell::new((0u64, 0u64, 0u64))); // events, last time, hash
+    for lp in 0..cfg.lps {
+        let node = sim.node(lp);
+        let (cfg, log) = (cfg.clone(), log.clone());
+        sim.spawn(lp, format!("lp{lp}"), async move {
+            let mut draw = Draw::new(&cfg, lp);
+            for _ in 0..cfg.events_per_lp {
+                let (dst, delay) = draw.next(&cfg, lp);
+                node.post(dst, delay, Phold);
+            }
+            loop {
+                node.recv(Filter::ANY).await;
+                let now = node.now();
+                let (n, _, h) = log.get();
+                log.set((n + 1, now.ps(), mix(h, now, lp)));
+                let (dst, delay) = draw.next(&cfg, lp);
+                node.post(dst, delay, Phold);
+            }
+        });
+    }
+    sim.run_until(cfg.end)?;
+    let (events, last, hash) = log.get();
+    Ok(PholdOutcome {
+        events,
+        last_event_ps: last,
+        trace_hash: hash,
+    })
+}
+
+/// PHOLD as a bare loop over a `BinaryHeap` of (time, sequence, lp): the baseline the
+/// engine's overhead is measured against. Draws the same random numbers in the same order,
+/// so it must produce the same outcome.
+pub fn phold_baseline(cfg: &PholdConfig) -> PholdOutcome {
+    let mut draws: Vec<Draw> = (0..cfg.lps).map(|lp| Draw::new(cfg, lp)).collect();
+    let mut heap = BinaryHeap::with_capacity(cfg.in_flight() as usize);
+    let mut seq = 0u64;
+    for lp in 0..cfg.lps {
+        for _ in 0..cfg.events_per_lp {
+            let (dst, delay) = draws[lp as usize].next(cfg, lp);
+            heap.push(Reverse((delay.ps(), seq, dst)));
+            seq += 1;
+        }
+    }
+    let (mut events, mut last, mut hash) = (0u64, 0u64, 0u64);
+    while let Some(Reverse((t, _, lp))) = heap.pop() {
+        if t > cfg.end.ps() {
+            break;
+        }
+        let now = SimTime::from_ps(t);
+        events += 1;
+        last = t;
+        hash = mix(hash, now, lp);
+        let (dst, delay) = draws[lp as usize].next(cfg, lp);
+        heap.push(Reverse(((now + delay).ps(), seq, dst)));
+        seq += 1;
+    }
+    PholdOutcome {
+        events,
+        last_event_ps: last,
+        trace_hash: hash,
+    }
+}
+
+/// The deterministic part of a PHOLD run: the workload and what the engine computed.
+/// Byte-identical for identical inputs.
+#[derive(Clone, Debug, Serialize)]
+pub struct PholdSummary {
+    pub lps: u32,
+    pub events_per_lp: u32,
+    pub in_flight: u64,
+    pub remote: f64,
+    pub mean_s: f64,
+    pub lookahead_s: f64,
+    pub end_s: f64,
+    pub seed: u64,
+    pub events: u64,
+    pub simulated_end_s: f64,
+    pub trace_hash: String,
+    /// Whether the bare loop processed the same events in the same order.
+    pub baseline_agrees: bool,
+}
+
+/// What the PHOLD run cost on this host, engine against baseline in the same process.
+#[derive(Clone, Debug, Serialize)]
+pub struct PholdCost {
+    pub engine_wall_s: f64,
+    pub engine_events_per_s: f64,
+    pub baseline_wall_s: f64,
+    pub baseline_events_per_s: f64,
+    /// Engine events/s over baseline events/s (1.0 = no overhead).
+    pub ratio_to_baseline: f64,
+}
+
+/// Runs PHOLD on the engine and on the baseline and reports both.
+pub fn phold_report(cfg: &PholdConfig) -> Result<(PholdSummary, PholdCost), SimError> {
+    let t0 = Instant::now();
+    let engine = phold_engine(cfg)?;
+    let engine_wall = t0.elapsed().as_secs_f64();
+    let t1 = Instant::now();
+    let baseline = phold_baseline(cfg);
+    let baseline_wall = t1.elapsed().as_secs_f64();
+    let rate = |events: u64, wall: f64| {
+        if wall > 0.0 {
+            events as f64 / wall
+        } else {
+            0.0
+        }
+    };
+    let engine_rate = rate(engine.events, engine_wall);
+    let baseline_rate = rate(baseline.events, baseline_wall);
+    let summary = PholdSummary {
+        lps: cfg.lps,
+        events_per_lp: cfg.events_per_lp,
+        in_flight: cfg.in_flight(),
+        remote: cfg.remote,
+        mean_s: cfg.mean.as_secs_f64(),
+        lookahead_s: cfg.lookahead.as_secs_f64(),
+        end_s: cfg.end.as_secs_f64(),
+        seed: cfg.seed,
+        events: engine.events,
+        simulated_end_s: SimTime::from_ps(engine.last_event_ps).as_secs_f64(),
+        trace_hash: format!("{:016x}", engine.trace_hash),
+        baseline_agrees: engine == baseline,
+    };
+    let cost = PholdCost {
+        engine_wall_s: engine_wall,
+        engine_events_per_s: engine_rate,
+        baseline_wall_s: baseline_wall,
+        baseline_events_per_s: baseline_rate,
+        ratio_to_baseline: if baseline_rate > 0.0 {
+            engine_rate / baseline_rate
+        } else {
+            0.0
+        },
+    };
+    Ok((summary, cost))
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn small(seed: u64) -> PholdConfig {
+        PholdConfig {
+            lps: 16,
+            events_per_lp: 4,
+            remote: 0.75,
+            mean: SimTime::from_us(1),
+            lookahead: SimTime::from_ns(100),
+            end: SimTime::from_us(200),
+            seed,
+        }
+    }
+
+    #[test]
+    fn engine_processes_exactly_the_baselines_events_in_order() {
+        let cfg = small(42);
+        let engine = phold_engine(&cfg).unwrap();
+        let baseline = phold_baseline(&cfg);
+        // Expected ~ lps*events_per_lp*end/(mean+lookahead) = 64*200/1.1 ≈ 11,600 events.
+        assert!(engine.events > 5_000, "{engine:?}");
+        assert_eq!(engine, baseline);
+        assert!(engine.last_event_ps <= cfg.end.ps());
+    }
+
+    #[test]
+    fn seeds_change_the_trace_and_repeat_it() {
+        assert_eq!(
+            phold_engine(&small(1)).unwrap(),
+            phold_engine(&small(1)).unwrap()
+        );
+        assert_ne!(
+            phold_engine(&small(1)).unwrap().trace_hash,
+            phold_engine(&small(2)).unwrap().trace_hash
+        );
+    }
+}

@@ -59,7 +59,11 @@ impl SimTime {
 impl Add for SimTime {
     type Output = SimTime;
     fn add(self, rhs: SimTime) -> SimTime {
-        SimTime(self.0.checked_add(rhs.0).expect("simulated time overflowed u64 picoseconds"))
+        SimTime(
+            self.0
+                .checked_add(rhs.0)
+                .expect("simulated time overflowed u64 picoseconds"),
+        )
     }
 }
 impl AddAssign for SimTime {
@@ -70,7 +74,11 @@ impl AddAssign for SimTime {
 impl Sub for SimTime {
     type Output = SimTime;
     fn sub(self, rhs: SimTime) -> SimTime {
-        SimTime(self.0.checked_sub(rhs.0).expect("simulated time went negative"))
+        SimTime(
+            self.0
+                .checked_sub(rhs.0)
+                .expect("simulated time went negative"),
+        )
     }
 }
 impl std::iter::Sum for SimTime {
@@ -116,7 +124,11 @@ impl Bytes {
 impl Add for Bytes {
     type Output = Bytes;
     fn add(self, rhs: Bytes) -> Bytes {
-        Bytes(self.0.checked_add(rhs.0).expect("byte count overflowed u64"))
+        Bytes(
+            self.0
+                .checked_add(rhs.0)
+                .expect("byte count overflowed u64"),
+        )
     }
 }
 impl AddAssign for Bytes {
@@ -160,7 +172,9 @@ impl Bandwidth {
         (bits_per_s > 0).then_some(Bandwidth { bits_per_s })
     }
     pub fn from_bytes_per_s(bytes_per_s: u64) -> Option<Bandwidth> {
-        bytes_per_s.checked_mul(8).and_then(Bandwidth::from_bits_per_s)
+        bytes_per_s
+            .checked_mul(8)
+            .and_then(Bandwidth::from_bits_per_s)
     }
     pub fn bits_per_s(self) -> u64 {
         self.bits_per_s
@@ -172,7 +186,10 @@ impl Bandwidth {
     /// Time to move `bytes` at this rate: ceil(bytes * 8 * 1e12 / bits_per_s) picoseconds,
     /// computed in u128 and rounded once, up (a transfer never finishes early).
     pub fn transfer_time(self, bytes: Bytes) -> SimTime {
-        SimTime(ceil_div(bytes.0 as u128 * 8 * PS_PER_S as u128, self.bits_per_s as u128))
+        SimTime(ceil_div(
+            bytes.0 as u128 * 8 * PS_PER_S as u128,
+            self.bits_per_s as u128,
+        ))
     }
     /// Exact bit-picoseconds numerator of `transfer_time`: bytes * 8e12. Transport models that
     /// share a link keep remaining work in this unit so that no rounding accumulates.
@@ -201,16 +218,32 @@ pub fn ceil_div(num: u128, den: u128) -> u64 {
 #[derive(Debug, Clone, PartialEq, Eq, thiserror::Error)]
 pub enum UnitError {
     #[error("empty {kind}; expected a number followed by a unit ({valid})")]
-    Empty { kind: &'static str, valid: &'static str },
-    #[error("'{text}' is not a valid {kind}: {why}; expected a number followed by a unit ({valid})")]
-    Invalid { text: String, kind: &'static str, why: &'static str, valid: &'static str },
+    Empty {
+        kind: &'static str,
+        valid: &'static str,
+    },
+    #[error(
+        "'{text}' is not a valid {kind}: {why}; expected a number followed by a unit ({valid})"
+    )]
+    Invalid {
+        text: String,
+        kind: &'static str,
+        why: &'static str,
+        valid: &'static str,
+    },
     #[error("'{text}' has unknown unit '{unit}' for a {kind}; valid units: {valid}")]
-    UnknownUnit { text: String, unit: String, kind: &'static str, valid: &'static str },
+    UnknownUnit {
+        text: String,
+        unit: String,
+        kind: &'static str,
+        valid: &'static str,
+    },
 }
 
 const TIME_UNITS: &str = "ps, ns, us, ms, s";
 const BYTE_UNITS: &str = "B, KB, MB, GB (powers of 10), KiB, MiB, GiB (powers of 2)";
-const RATE_UNITS: &str = "bit/s, kbit/s, Mbit/s, Gbit/s, B/s, KB/s, MB/s, GB/s, KiB/s, MiB/s, GiB/s";
+const RATE_UNITS: &str =
+    "bit/s, kbit/s, Mbit/s, Gbit/s, B/s, KB/s, MB/s, GB/s, KiB/s, MiB/s, GiB/s";
 
 impl std::str::FromStr for SimTime {
     type Err = UnitError;
@@ -224,7 +257,8 @@ impl std::str::FromStr for SimTime {
             "s" => PS_PER_S as u128,
             _ => return Err(q.unknown_unit()),
         };
-        q.scaled(ps_per_unit, "finer than one picosecond").map(SimTime)
+        q.scaled(ps_per_unit, "finer than one picosecond")
+            .map(SimTime)
     }
 }
 
@@ -287,7 +321,12 @@ struct Quantity<'a> {
 
 impl<'a> Quantity<'a> {
     fn parse(text: &'a str, kind: &'static str, valid: &'static str) -> Result<Self, UnitError> {
-        let invalid = |why| UnitError::Invalid { text: text.to_string(), kind, why, valid };
+        let invalid = |why| UnitError::Invalid {
+            text: text.to_string(),
+            kind,
+            why,
+            valid,
+        };
         let trimmed = text.trim();
         if trimmed.is_empty() {
             return Err(UnitError::Empty { kind, valid });
@@ -295,7 +334,9 @@ impl<'a> Quantity<'a> {
         if trimmed.starts_with('-') {
             return Err(invalid("it is negative"));
         }
-        let split = trimmed.find(|c: char| !(c.is_ascii_digit() || c == '.')).unwrap_or(trimmed.len());
+        let split = trimmed
+            .find(|c: char| !(c.is_ascii_digit() || c == '.'))
+            .unwrap_or(trimmed.len());
         let (number, unit) = (&trimmed[..split], trimmed[split..].trim_start());
         if number.is_empty() {
             return Err(invalid("it has no number"));
@@ -314,17 +355,33 @@ impl<'a> Quantity<'a> {
                 .and_then(|m| m.checked_add((d - b'0') as u128))
                 .ok_or_else(|| invalid("it is too large"))?;
         }
-        let decimals = u32::try_from(frac_part.len()).map_err(|_| invalid("it has too many decimals"))?;
+        let decimals =
+            u32::try_from(frac_part.len()).map_err(|_| invalid("it has too many decimals"))?;
         if decimals > 30 {
             return Err(invalid("it has too many decimals"));
         }
-        Ok(Quantity { text, mantissa, decimals, unit, kind, valid })
+        Ok(Quantity {
+            text,
+            mantissa,
+            decimals,
+            unit,
+            kind,
+            valid,
+        })
     }
 
     /// mantissa * per_unit / 10^decimals, which must be an integer that fits in u64.
     fn scaled(&self, per_unit: u128, inexact_why: &'static str) -> Result<u64, UnitError> {
-        let invalid = |why| UnitError::Invalid { text: self.text.to_string(), kind: self.kind, why, valid: self.valid };
-        let num = self.mantissa.checked_mul(per_unit).ok_or_else(|| invalid("it is too large"))?;
+        let invalid = |why| UnitError::Invalid {
+            text: self.text.to_string(),
+            kind: self.kind,
+            why,
+            valid: self.valid,
+        };
+        let num = self
+            .mantissa
+            .checked_mul(per_unit)
+            .ok_or_else(|| invalid("it is too large"))?;
         let den = 10u128.pow(self.decimals);
         if num % den != 0 {
             return Err(invalid(inexact_why));
@@ -373,11 +430,26 @@ mod tests {
 
     #[test]
     fn rejects_bad_quantities_listing_valid_units() {
-        for bad in ["", "  ", "-5us", "NaN", "nan s", "inf s", "5", "us", "5 parsecs", "1..2ms", ".ms"] {
+        for bad in [
+            "",
+            "  ",
+            "-5us",
+            "NaN",
+            "nan s",
+            "inf s",
+            "5",
+            "us",
+            "5 parsecs",
+            "1..2ms",
+            ".ms",
+        ] {
             let err = bad.parse::<SimTime>().unwrap_err().to_string();
             assert!(err.contains("ps, ns, us, ms, s"), "{bad:?}: {err}");
         }
-        let err = "99999999999999999999999999s".parse::<SimTime>().unwrap_err().to_string();
+        let err = "99999999999999999999999999s"
+            .parse::<SimTime>()
+            .unwrap_err()
+            .to_string();
         assert!(err.contains("too large"), "{err}");
         let err = "0.5ps".parse::<SimTime>().unwrap_err().to_string();
         assert!(err.contains("finer than one picosecond"), "{err}");
@@ -397,13 +469,19 @@ mod tests {
         assert_eq!(bw.transfer_time(Bytes(17_000_000)).ps(), PS_PER_S);
         assert_eq!(bw.transfer_time(Bytes::ZERO), SimTime::ZERO);
         let slow = Bandwidth::from_bits_per_s(3).unwrap();
-        assert_eq!(slow.transfer_time(Bytes(1)).ps(), (8 * PS_PER_S).div_ceil(3));
+        assert_eq!(
+            slow.transfer_time(Bytes(1)).ps(),
+            (8 * PS_PER_S).div_ceil(3)
+        );
     }
 
     #[test]
     fn display_is_compact() {
         assert_eq!(SimTime::from_us(60).to_string(), "60us");
         assert_eq!(SimTime::from_ps(1_500_000_000).to_string(), "1.500000ms");
-        assert_eq!("17MB/s".parse::<Bandwidth>().unwrap().to_string(), "17000000B/s");
+        assert_eq!(
+            "17MB/s".parse::<Bandwidth>().unwrap().to_string(),
+            "17000000B/s"
+        );
     }
 }

@@ -66,7 +66,11 @@ impl Op {
 
     /// The valid names, for error messages.
     pub fn valid_names() -> String {
-        Op::ALL.iter().map(|op| op.name()).collect::<Vec<_>>().join(", ")
+        Op::ALL
+            .iter()
+            .map(|op| op.name())
+            .collect::<Vec<_>>()
+            .join(", ")
     }
 }
 
@@ -85,7 +89,12 @@ impl CostTable {
     }
     /// The time to perform `counts`.
     pub fn time(&self, counts: &Counts) -> SimTime {
-        let ps: u128 = self.per_op.iter().zip(counts.n.iter()).map(|(c, &n)| c.ps() as u128 * n as u128).sum();
+        let ps: u128 = self
+            .per_op
+            .iter()
+            .zip(counts.n.iter())
+            .map(|(c, &n)| c.ps() as u128 * n as u128)
+            .sum();
         SimTime::from_ps(u64::try_from(ps).expect("a charged duration overflowed u64 picoseconds"))
     }
 }

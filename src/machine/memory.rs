@@ -12,9 +12,22 @@ use crate::units::Bytes;
 #[derive(Debug, Clone, PartialEq, Eq, thiserror::Error)]
 pub enum MemError {
     #[error("node {node}: allocating {requested} for '{tag}' exceeds its memory: {available} of {capacity} available")]
-    OverCapacity { node: u32, tag: &'static str, requested: Bytes, available: Bytes, capacity: Bytes },
-    #[error("node {node}: freeing {requested} of '{tag}' but only {held} is allocated under that tag")]
-    FreeTooMuch { node: u32, tag: &'static str, requested: Bytes, held: Bytes },
+    OverCapacity {
+        node: u32,
+        tag: &'static str,
+        requested: Bytes,
+        available: Bytes,
+        capacity: Bytes,
+    },
+    #[error(
+        "node {node}: freeing {requested} of '{tag}' but only {held} is allocated under that tag"
+    )]
+    FreeTooMuch {
+        node: u32,
+        tag: &'static str,
+        requested: Bytes,
+        held: Bytes,
+    },
 }
 
 /// High-water marks of one pool.
@@ -43,7 +56,13 @@ struct TagUse {
 
 impl MemoryPool {
     pub fn new(node: u32, capacity: Bytes) -> MemoryPool {
-        MemoryPool { node, capacity, used: Bytes::ZERO, high_water: Bytes::ZERO, by_tag: BTreeMap::new() }
+        MemoryPool {
+            node,
+            capacity,
+            used: Bytes::ZERO,
+            high_water: Bytes::ZERO,
+            by_tag: BTreeMap::new(),
+        }
     }
 
     pub fn available(&self) -> Bytes {
@@ -75,7 +94,12 @@ impl MemoryPool {
     pub fn free(&mut self, tag: &'static str, bytes: Bytes) -> Result<(), MemError> {
         let t = self.by_tag.entry(tag).or_default();
         if bytes > t.held {
-            return Err(MemError::FreeTooMuch { node: self.node, tag, requested: bytes, held: t.held });
+            return Err(MemError::FreeTooMuch {
+                node: self.node,
+                tag,
+                requested: bytes,
+                held: t.held,
+            });
         }
         t.held = t.held - bytes;
         self.used = self.used - bytes;
@@ -86,7 +110,11 @@ impl MemoryPool {
         PoolStats {
             capacity: self.capacity,
             high_water: self.high_water,
-            high_water_by_tag: self.by_tag.iter().map(|(&tag, t)| (tag, t.high_water)).collect(),
+            high_water_by_tag: self
+                .by_tag
+                .iter()
+                .map(|(&tag, t)| (tag, t.high_water))
+                .collect(),
         }
     }
 }
@@ -118,7 +146,11 @@ mod tests {
             err.to_string(),
             "node 7: allocating 21B for 'subpixels' exceeds its memory: 20B of 100B available"
         );
-        assert_eq!(pool.used(), Bytes::new(80), "a failed allocation changes nothing");
+        assert_eq!(
+            pool.used(),
+            Bytes::new(80),
+            "a failed allocation changes nothing"
+        );
         assert!(pool.free("zbuffer", Bytes::new(81)).is_err());
     }
 }

@@ -37,7 +37,10 @@ impl MachineConfig {
         }
         let mut m = self.clone();
         match self.network.topology {
-            TopologyKind::Ring | TopologyKind::Pipeline | TopologyKind::Bus | TopologyKind::Crossbar => {
+            TopologyKind::Ring
+            | TopologyKind::Pipeline
+            | TopologyKind::Bus
+            | TopologyKind::Crossbar => {
                 m.nodes = nodes;
                 m.network.dims = vec![nodes];
             }

@@ -2,20 +2,45 @@
 //! `network.fidelity`.
 //!
 //! Owns where a message goes (the exact list of links) and when it arrives. The engine hands
-//! a message in with `Network::inject` and asks for deliveries with `next_event_time` /
-//! `advance`; this module is a plain discrete-event state machine and knows nothing about
-//! async programs, cpus or payloads.
+//! a message in with [`Network::inject`] and asks for deliveries with
+//! [`Network::next_event_time`] / [`Network::advance`]; this module is a plain discrete-event
+//! state machine and knows nothing about async programs, cpus or payloads.
+//!
+//! Layout: `topology/` says which links a message crosses (one file per topology behind the
+//! [`topology::Topology`] trait); `transport/` says when it arrives (one file per fidelity
+//! level); `timing.rs` holds the one contention-free formula every level agrees with;
+//! `pattern.rs` drives a network from a list of messages without the engine.
+//!
+//! Contract with the caller (the engine, or [`pattern::run_pattern`]):
+//! 1. `inject(now, ..)` is called at the message's start instant, never for an instant earlier
+//!    than the last `advance`.
+//! 2. After every `inject` or `advance`, the caller re-reads `next_event_time()` and calls
+//!    `advance(t)` at that `t` before injecting anything later than `t`.
+//! 3. `advance(now)` processes every internal event at or before `now`; afterwards
+//!    `next_event_time()` is either `None` or strictly later than `now`.
 //!
 //! Must never iterate a hash map on a path that affects timing or output, and never use
 //! floating point for a time.
 
+pub mod fidelity;
+pub mod pattern;
+pub mod timing;
+pub mod topology;
+pub mod transport;
+
 use crate::units::{Bandwidth, Bytes, SimTime};
+use timing::Timing;
+use topology::{Link, Topology};
+use transport::Transport;
 
 /// A simulated node (processor) index, `0..nodes`.
 pub type NodeId = u32;
 
 /// A message's identity, assigned by whoever injects it (the engine uses its sequence).
 pub type MsgId = u64;
+
+/// Index of a link in [`Network::link_stats`] and in routes.
+pub type LinkId = u32;
 
 #[derive(Clone, Copy, Debug, PartialEq, Eq, PartialOrd, Ord)]
 pub enum TopologyKind {
@@ -28,10 +53,42 @@ pub enum TopologyKind {
     Crossbar,
 }
 
+impl TopologyKind {
+    pub const ALL: [TopologyKind; 7] = [
+        TopologyKind::Ring,
+        TopologyKind::Pipeline,
+        TopologyKind::Torus,
+        TopologyKind::Mesh,
+        TopologyKind::Hypercube,
+        TopologyKind::Bus,
+        TopologyKind::Crossbar,
+    ];
+    pub fn name(self) -> &'static str {
+        match self {
+            TopologyKind::Ring => "ring",
+            TopologyKind::Pipeline => "pipeline",
+            TopologyKind::Torus => "torus",
+            TopologyKind::Mesh => "mesh",
+            TopologyKind::Hypercube => "hypercube",
+            TopologyKind::Bus => "bus",
+            TopologyKind::Crossbar => "crossbar",
+        }
+    }
+}
+
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub enum Switching {
     StoreAndForward,
     Wormhole,
+}
+
+impl Switching {
+    pub fn name(self) -> &'static str {
+        match self {
+            Switching::StoreAndForward => "store-and-forward",
+            Switching::Wormhole => "wormhole",
+        }
+    }
 }
 
 #[derive(Clone, Copy, Debug, PartialEq, Eq, PartialOrd, Ord)]
@@ -43,7 +100,12 @@ pub enum Fidelity {
 }
 
 impl Fidelity {
-    pub const ALL: [Fidelity; 4] = [Fidelity::Ideal, Fidelity::Hops, Fidelity::Flow, Fidelity::Packet];
+    pub const ALL: [Fidelity; 4] = [
+        Fidelity::Ideal,
+        Fidelity::Hops,
+        Fidelity::Flow,
+        Fidelity::Packet,
+    ];
     pub fn name(self) -> &'static str {
         match self {
             Fidelity::Ideal => "ideal",
@@ -54,11 +116,12 @@ impl Fidelity {
     }
 }
 
-/// A validated network description (built by `spec`).
+/// A network description (built by `spec`; validated by [`Network::new`]).
 #[derive(Clone, Debug)]
 pub struct NetworkConfig {
     pub topology: TopologyKind,
-    /// Extent per dimension (torus, mesh); `[nodes]` for the one-dimensional topologies.
+    /// Extent per dimension (torus, mesh); `[nodes]` for the one-dimensional topologies and
+    /// the hypercube.
     pub dims: Vec<u32>,
     pub link_bandwidth: Bandwidth,
     pub hop_latency: SimTime,
@@ -83,52 +146,220 @@ pub struct Delivered {
 }
 
 /// Per-link traffic over a run.
+///
+/// `busy` depends on the level: ideal/hops add the serialization time of every message that
+/// crosses the link; flow counts the time with at least one active flow; packet counts the
+/// time the link is transmitting (held by a packet). `peak_queue`: 0 for ideal/hops, the
+/// largest number of concurrent flows for flow, the longest FIFO of waiting packets for
+/// packet (a message's own packets waiting behind each other count).
 #[derive(Clone, Debug, Default, PartialEq, Eq)]
 pub struct LinkStats {
     pub from: NodeId,
     pub to: NodeId,
+    /// Human name: `3->4` for a wire, `bus`, `out3` / `in3` for crossbar ports.
+    pub name: String,
     pub bytes: Bytes,
     pub messages: u64,
     pub busy: SimTime,
     pub peak_queue: u32,
 }
 
+/// Why a network or a message was rejected. Every message says what would be valid.
 #[derive(Debug, Clone, PartialEq, Eq, thiserror::Error)]
 pub enum NetError {
+    /// The configuration cannot describe a network.
+    #[error("invalid network: {0}")]
+    Config(String),
+    /// A message cannot be sent on this network.
     #[error("{0}")]
-    Invalid(String),
+    Message(String),
+    /// A pattern file field is malformed (bad unit string, ...).
+    #[error("{0}")]
+    Pattern(String),
 }
 
-/// Placeholder facade: ideal transport only. Replaced by the full topology and transport
-/// implementation.
+/// The network a machine owns: a topology plus the transport model its fidelity selects.
 pub struct Network {
-    cfg: NetworkConfig,
-    nodes: u32,
+    topology: Box<dyn Topology>,
+    transport: Box<dyn Transport>,
+    timing: Timing,
+    bytes: Vec<Bytes>,
+    messages: Vec<u64>,
+    route_buf: Vec<LinkId>,
 }
 
 impl Network {
+    /// Builds the network, validating the configuration (dimensions and packet size).
     pub fn new(cfg: &NetworkConfig) -> Result<Network, NetError> {
-        let nodes = cfg.dims.iter().product();
-        Ok(Network { cfg: cfg.clone(), nodes })
+        if cfg.packet_size.get() == 0 {
+            return Err(NetError::Config(
+                "packet_size must be at least 1 byte".to_string(),
+            ));
+        }
+        let topology = topology::build(cfg.topology, &cfg.dims)?;
+        let timing = Timing {
+            bandwidth: cfg.link_bandwidth,
+            hop_latency: cfg.hop_latency,
+            switching: cfg.switching,
+            packet_size: cfg.packet_size,
+        };
+        let links = topology.links().len();
+        let transport = transport::build(cfg.fidelity, timing, links);
+        Ok(Network {
+            topology,
+            transport,
+            timing,
+            bytes: vec![Bytes::ZERO; links],
+            messages: vec![0; links],
+            route_buf: Vec::new(),
+        })
     }
+
     pub fn nodes(&self) -> u32 {
-        self.nodes
+        self.topology.nodes()
     }
+
+    /// Only a bus reaches every node with one transmission.
     pub fn supports_broadcast(&self) -> bool {
-        self.cfg.topology == TopologyKind::Bus
+        self.topology.broadcast_link().is_some()
     }
+
+    pub fn timing(&self) -> Timing {
+        self.timing
+    }
+
+    /// Whether a message from `src` to `dst` has a route (false only for a pipeline run
+    /// backwards, or nodes out of range).
+    pub fn can_route(&self, src: NodeId, dst: NodeId) -> bool {
+        let n = self.nodes();
+        src < n && dst < n && self.topology.route_into(src, dst, &mut Vec::new())
+    }
+
+    /// The links a message crosses, in order; `None` when [`Network::can_route`] is false.
+    /// On a crossbar a route is `[out(src), in(dst)]`.
+    pub fn route(&self, src: NodeId, dst: NodeId) -> Option<Vec<LinkId>> {
+        let mut links = Vec::new();
+        let n = self.nodes();
+        (src < n && dst < n && self.topology.route_into(src, dst, &mut links)).then_some(links)
+    }
+
+    /// Switch traversals from `src` to `dst`: the `h` of the latency formula (the number of
+    /// links, except on a crossbar where both ports count as one hop).
+    ///
+    /// Panics when the pair cannot be routed (check [`Network::can_route`] first).
+    pub fn hops(&self, src: NodeId, dst: NodeId) -> u32 {
+        let route = self
+            .route(src, dst)
+            .unwrap_or_else(|| panic!("no route from node {src} to node {dst}"));
+        route.len() as u32 / self.topology.links_per_hop()
+    }
+
+    /// Links cut by the best balanced bisection, counted in one direction (a bidirectional
+    /// pair counts once); see each topology's file for its case.
+    pub fn bisection_width(&self) -> u32 {
+        self.topology.bisection_width()
+    }
+
+    pub fn link_count(&self) -> usize {
+        self.topology.links().len()
+    }
+
+    pub fn links(&self) -> &[Link] {
+        self.topology.links()
+    }
+
+    /// Checks that a message may be injected; the error names what is valid.
+    pub fn check_message(&self, src: NodeId, dst: Dest) -> Result<(), NetError> {
+        let n = self.nodes();
+        if src >= n {
+            return Err(NetError::Message(format!(
+                "source node {src} does not exist; valid nodes are 0..={}",
+                n - 1
+            )));
+        }
+        match dst {
+            Dest::Broadcast if !self.supports_broadcast() => Err(NetError::Message(format!(
+                "broadcast needs a bus; this network is a {}",
+                self.topology.kind().name()
+            ))),
+            Dest::Broadcast => Ok(()),
+            Dest::Node(d) if d >= n => Err(NetError::Message(format!(
+                "destination node {d} does not exist; valid nodes are 0..={}",
+                n - 1
+            ))),
+            Dest::Node(d) if !self.can_route(src, d) => Err(NetError::Message(format!(
+                "no route from node {src} to node {d}: a pipeline only sends to higher \
+                 node ids (destination must be >= {src})"
+            ))),
+            Dest::Node(_) => Ok(()),
+        }
+    }
+
     /// Starts a message at `now`. Returns the delivery time when the model already knows it
-    /// (contention-free models); otherwise the delivery comes out of `advance`.
-    pub fn inject(&mut self, now: SimTime, _msg: MsgId, _src: NodeId, _dst: Dest, bytes: Bytes) -> Option<SimTime> {
-        Some(now + self.cfg.hop_latency + self.cfg.link_bandwidth.transfer_time(bytes))
+    /// (ideal, hops, and a message to self at every level); otherwise the delivery comes out
+    /// of [`Network::advance`].
+    ///
+    /// Panics if [`Network::check_message`] would fail: that is the caller's bug.
+    pub fn inject(
+        &mut self,
+        now: SimTime,
+        msg: MsgId,
+        src: NodeId,
+        dst: Dest,
+        bytes: Bytes,
+    ) -> Option<SimTime> {
+        if let Err(e) = self.check_message(src, dst) {
+            panic!("Network::inject of message {msg}: {e}");
+        }
+        if dst == Dest::Node(src) {
+            return Some(now);
+        }
+        let mut route = std::mem::take(&mut self.route_buf);
+        route.clear();
+        match dst {
+            Dest::Broadcast => route.extend(self.topology.broadcast_link()),
+            Dest::Node(d) => {
+                self.topology.route_into(src, d, &mut route);
+            }
+        }
+        for &l in &route {
+            self.bytes[l as usize] += bytes;
+            self.messages[l as usize] += 1;
+        }
+        let hops = route.len() as u32 / self.topology.links_per_hop();
+        let arrival = self.transport.inject(now, msg, &route, hops, bytes);
+        self.route_buf = route;
+        arrival
     }
+
     /// The earliest instant at which `advance` has something to do.
     pub fn next_event_time(&self) -> Option<SimTime> {
-        None
+        self.transport.next_event_time()
     }
+
     /// Processes the model's internal events at `now`, appending messages delivered at `now`.
-    pub fn advance(&mut self, _now: SimTime, _delivered: &mut Vec<Delivered>) {}
+    pub fn advance(&mut self, now: SimTime, delivered: &mut Vec<Delivered>) {
+        self.transport.advance(now, delivered);
+    }
+
+    /// Traffic per link, in link index order.
     pub fn link_stats(&self) -> Vec<LinkStats> {
-        Vec::new()
+        self.topology
+            .links()
+            .iter()
+            .enumerate()
+            .map(|(i, link)| {
+                let usage = self.transport.usage(i as LinkId);
+                LinkStats {
+                    from: link.from,
+                    to: link.to,
+                    name: link.name(),
+                    bytes: self.bytes[i],
+                    messages: self.messages[i],
+                    busy: usage.busy,
+                    peak_queue: usage.peak_queue,
+                }
+            })
+            .collect()
     }
 }

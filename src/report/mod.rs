@@ -1,1 +1,41 @@
-//! (being built)
+//! Reports: what a run measured, as files a person or a plot reads. summary.json holds every
+//! simulated metric with its unit in the key (`_s`, `_bytes`, `_pct`) and is byte-identical for
+//! identical inputs; cost.json holds what the simulation cost the host (wall time, events,
+//! peak memory) and is not deterministic by nature.
+//!
+//! Owns formatting and writing. Must never run a simulation, and never leave a half-written
+//! file: everything goes through `write_atomic`.
+
+pub mod cost;
+pub mod summary;
+
+use std::io::Write;
+use std::path::Path;
+
+/// Writes `bytes` to `path` through a temporary file in the same folder and a rename, so a
+/// reader (or an interrupted run) never sees a partial file.
+pub fn write_atomic(path: &Path, bytes: &[u8]) -> std::io::Result<()> {
+    let dir = path
+        .parent()
+        .filter(|d| !d.as_os_str().is_empty())
+        .unwrap_or(Path::new("."));
+    std::fs::create_dir_all(dir)?;
+    let name = path
+        .file_name()
+        .map(|n| n.to_string_lossy().into_owned())
+        .unwrap_or_default();
+    let tmp = dir.join(format!(".{name}.tmp{}", std::process::id()));
+    let mut file = std::fs::File::create(&tmp)?;
+    file.write_all(bytes)?;
+    file.sync_all()?;
+    drop(file);
+    std::fs::rename(&tmp, path)
+}
+
+/// Pretty JSON with a trailing newline; serde_json keeps struct field order, and every map in
+/// a report is a BTreeMap or a Vec, so the text is deterministic.
+pub fn to_json<T: serde::Serialize>(value: &T) -> String {
+    let mut s = serde_json::to_string_pretty(value).expect("report types serialize");
+    s.push('\n');
+    s
+}

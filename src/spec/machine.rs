@@ -127,12 +127,18 @@ pub fn validate(path: &Path, spec: MachineSpec) -> Result<MachineConfig, SpecErr
     let mut costs = CostTable::default();
     for (name, &cost) in &spec.cpu.costs {
         let op = Op::from_name(name).ok_or_else(|| {
-            invalid(&format!("cpu.costs.{name}"), format!("unknown operation; valid operations: {}", Op::valid_names()))
+            invalid(
+                &format!("cpu.costs.{name}"),
+                format!("unknown operation; valid operations: {}", Op::valid_names()),
+            )
         })?;
         costs.set(op, cost);
     }
     if spec.memory.capacity_per_node == Bytes::ZERO {
-        return Err(invalid("memory.capacity_per_node", "must be greater than 0B".into()));
+        return Err(invalid(
+            "memory.capacity_per_node",
+            "must be greater than 0B".into(),
+        ));
     }
     let network = network_config(path, spec.nodes, &spec.network)?;
     Network::new(&network).map_err(|e| invalid("network", e.to_string()))?;
@@ -158,38 +164,68 @@ fn network_config(path: &Path, nodes: u32, net: &NetworkSpec) -> Result<NetworkC
     let topology = TopologyKind::from(net.topology);
     let dims = match (&net.dims, topology) {
         (Some(d), _) => d.clone(),
-        (None, TopologyKind::Ring | TopologyKind::Pipeline | TopologyKind::Bus | TopologyKind::Crossbar) => {
+        (
+            None,
+            TopologyKind::Ring
+            | TopologyKind::Pipeline
+            | TopologyKind::Bus
+            | TopologyKind::Crossbar,
+        ) => {
             vec![nodes]
         }
         (None, TopologyKind::Hypercube) => vec![nodes],
         (None, _) => {
-            return Err(invalid("network.dims", format!("a {topology:?} needs its extent per dimension, e.g. [4, 4]")))
+            return Err(invalid(
+                "network.dims",
+                format!("a {topology:?} needs its extent per dimension, e.g. [4, 4]"),
+            ))
         }
     };
     if dims.is_empty() {
-        return Err(invalid("network.dims", "must list at least one dimension".into()));
+        return Err(invalid(
+            "network.dims",
+            "must list at least one dimension".into(),
+        ));
     }
     if let Some(i) = dims.iter().position(|&d| d == 0) {
-        return Err(invalid(&format!("network.dims[{i}]"), "a dimension must be at least 1".into()));
+        return Err(invalid(
+            &format!("network.dims[{i}]"),
+            "a dimension must be at least 1".into(),
+        ));
     }
     let product: u64 = dims.iter().map(|&d| d as u64).product();
     if product != nodes as u64 {
         return Err(invalid(
             "network.dims",
-            format!("the product of {dims:?} is {product}, but `nodes` is {nodes}; they must be equal"),
+            format!(
+                "the product of {dims:?} is {product}, but `nodes` is {nodes}; they must be equal"
+            ),
         ));
     }
     match topology {
         TopologyKind::Mesh if !(2..=3).contains(&dims.len()) => {
-            return Err(invalid("network.dims", format!("a mesh is 2D or 3D, got {} dimensions", dims.len())))
+            return Err(invalid(
+                "network.dims",
+                format!("a mesh is 2D or 3D, got {} dimensions", dims.len()),
+            ))
         }
-        TopologyKind::Ring | TopologyKind::Pipeline | TopologyKind::Bus | TopologyKind::Crossbar | TopologyKind::Hypercube
+        TopologyKind::Ring
+        | TopologyKind::Pipeline
+        | TopologyKind::Bus
+        | TopologyKind::Crossbar
+        | TopologyKind::Hypercube
             if dims.len() != 1 =>
         {
-            return Err(invalid("network.dims", format!("a {topology:?} has one dimension, [nodes]")))
+            return Err(invalid(
+                "network.dims",
+                format!("a {topology:?} has one dimension, [nodes]"),
+            ))
         }
         TopologyKind::Hypercube if !nodes.is_power_of_two() => {
-            return Err(invalid("nodes", format!("a hypercube has a power-of-two node count, got {nodes}")))
+            return Err(invalid(
+                "nodes",
+                format!("a hypercube has a power-of-two node count, got {nodes}"),
+            ))
         }
         _ => {}
     }

@@ -5,6 +5,7 @@
 //! Owns deserialization of user input. Must never simulate anything, and never let a
 //! malformed spec reach the rest of the crate: everything past `spec` is validated.
 
+pub mod check;
 pub mod machine;
 pub mod scene;
 mod quantity;
@@ -17,19 +18,50 @@ use serde::de::DeserializeOwned;
 #[derive(Debug, thiserror::Error)]
 pub enum SpecError {
     #[error("{}: cannot read: {source}", file.display())]
-    Io { file: PathBuf, source: std::io::Error },
+    Io {
+        file: PathBuf,
+        source: std::io::Error,
+    },
     #[error("{}:{line}:{column}: malformed JSON: {message}", file.display())]
-    Syntax { file: PathBuf, line: usize, column: usize, message: String },
+    Syntax {
+        file: PathBuf,
+        line: usize,
+        column: usize,
+        message: String,
+    },
     #[error("{}:{line}:{column}: at `{field}`: {message}", file.display())]
-    Field { file: PathBuf, field: String, line: usize, column: usize, message: String },
-    #[error("{}: at `{field}`: {message}", file.display())]
-    Invalid { file: PathBuf, field: String, message: String },
+    Field {
+        file: PathBuf,
+        field: String,
+        line: usize,
+        column: usize,
+        message: String,
+    },
+    #[error("{}: {}{message}", file.display(), at(field))]
+    Invalid {
+        file: PathBuf,
+        field: String,
+        message: String,
+    },
+}
+
+/// "at `path`: " for a field, nothing for the document as a whole.
+fn at(field: &str) -> String {
+    if field.is_empty() {
+        String::new()
+    } else {
+        format!("at `{field}`: ")
+    }
 }
 
 impl SpecError {
     /// A value that parsed but is not allowed; `field` is a path such as `network.dims[1]`.
     pub fn invalid(file: &Path, field: impl Into<String>, message: impl Into<String>) -> SpecError {
-        SpecError::Invalid { file: file.to_path_buf(), field: field.into(), message: message.into() }
+        SpecError::Invalid {
+            file: file.to_path_buf(),
+            field: field.into(),
+            message: message.into(),
+        }
     }
 
     /// The field path the error points at, if any.
@@ -45,7 +77,10 @@ impl SpecError {
 /// unknown field, a missing field or a bad value as its path (serde's message lists the valid
 /// fields or variants).
 pub fn load_json<T: DeserializeOwned>(path: &Path) -> Result<T, SpecError> {
-    let text = std::fs::read_to_string(path).map_err(|source| SpecError::Io { file: path.to_path_buf(), source })?;
+    let text = std::fs::read_to_string(path).map_err(|source| SpecError::Io {
+        file: path.to_path_buf(),
+        source,
+    })?;
     parse_json(path, &text)
 }
 
@@ -102,7 +137,7 @@ impl SpecKind {
     pub fn detect(path: &Path) -> Result<SpecKind, SpecError> {
         let value: serde_json::Value = load_json(path)?;
         let has = |key: &str| value.get(key).is_some();
-        if has("network") {
+        if has("network") || has("cpu") || has("memory") {
             Ok(SpecKind::Machine)
         } else if has("geometry") || has("resolution") {
             Ok(SpecKind::Scene)

@@ -20,7 +20,12 @@ where
 {
     type Value = T;
     fn expecting(&self, f: &mut fmt::Formatter) -> fmt::Result {
-        write!(f, "a {} as a string with a unit, such as {}", self.1, example(self.1))
+        write!(
+            f,
+            "a {} as a string with a unit, such as {}",
+            self.1,
+            example(self.1)
+        )
     }
     fn visit_str<E: de::Error>(self, v: &str) -> Result<T, E> {
         v.parse().map_err(E::custom)

@@ -1,0 +1,540 @@
+//! The simulation state and the executor loop: pops events in (time, sequence) order, turns
+//! them into wake-ups, and polls node programs until they wait again.
+//!
+//! Owns the clock, the queue, program bookkeeping and message hand-off between the network
+//! model and mailboxes. Must never expose the queue or the clock to programs except through
+//! `Node`, and never poll a program while holding the state borrow.
+
+use std::cell::RefCell;
+use std::collections::VecDeque;
+use std::fmt;
+use std::future::Future;
+use std::pin::Pin;
+use std::rc::Rc;
+use std::task::{Context, Poll, Waker};
+
+use super::node::{Envelope, Filter, Node, Payload};
+use super::queue::EventQueue;
+use super::stats::{NodeStats, RunStats};
+use crate::machine::{CpuConfig, MachineConfig, MemError, MemoryPool};
+use crate::net::{Delivered, Dest, MsgId, Network, NodeId};
+use crate::units::{Bytes, SimTime};
+
+/// A program's index in the simulation, in spawn order.
+pub type ProgramId = u32;
+
+type Program = Pin<Box<dyn Future<Output = Result<(), SimError>>>>;
+
+/// Why a run stopped without finishing.
+#[derive(Debug, thiserror::Error)]
+pub enum SimError {
+    #[error("deadlock at {at} (seed {seed}): the event queue is empty but {} program(s) still wait:\n{}", waiting.len(), list(waiting))]
+    Deadlock {
+        at: SimTime,
+        seed: u64,
+        waiting: Vec<WaitingProgram>,
+    },
+    #[error("program '{program}' on node {node} failed at {at} (seed {seed}): {source}")]
+    Memory {
+        program: String,
+        node: NodeId,
+        at: SimTime,
+        seed: u64,
+        source: MemError,
+    },
+    #[error("program '{program}' on node {node} failed at {at} (seed {seed}): {message}")]
+    Program {
+        program: String,
+        node: NodeId,
+        at: SimTime,
+        seed: u64,
+        message: String,
+    },
+}
+
+/// A program left waiting when the queue emptied.
+#[derive(Debug, Clone, PartialEq, Eq)]
+pub struct WaitingProgram {
+    pub name: String,
+    pub node: NodeId,
+    pub waits_for: String,
+}
+
+fn list(waiting: &[WaitingProgram]) -> String {
+    waiting
+        .iter()
+        .map(|w| {
+            format!(
+                "  - '{}' on node {} waits for {}",
+                w.name, w.node, w.waits_for
+            )
+        })
+        .collect::<Vec<_>>()
+        .join("\n")
+}
+
+/// What a program is blocked on, for deadlock reports.
+#[derive(Clone, Copy, Debug)]
+pub(super) enum Wait {
+    Nothing,
+    Time(SimTime),
+    Message(Filter),
+    Delivery(NodeId),
+}
+
+impl fmt::Display for Wait {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        match self {
+            Wait::Nothing => write!(f, "nothing (it never ran to completion)"),
+            Wait::Time(t) => write!(f, "the clock to reach {t}"),
+            Wait::Message(filter) => write!(f, "a message {filter}"),
+            Wait::Delivery(dst) => write!(f, "its blocking send to node {dst} to be delivered"),
+        }
+    }
+}
+
+pub(super) enum Event<M> {
+    Wake(ProgramId),
+    /// A message whose arrival time the network knew at injection.
+    Arrive(MsgId),
+    /// The network model has internal work at this instant.
+    NetWake,
+    /// A message posted directly into a mailbox, bypassing network and cpu (timers, PHOLD).
+    /// Kept small: heap entries are moved on every push and pop.
+    Post {
+        src: NodeId,
+        dst: NodeId,
+        payload: M,
+    },
+}
+
+pub(super) struct ProgramMeta<M> {
+    pub name: String,
+    pub node: NodeId,
+    /// Daemons (message handlers) may still be waiting when the run ends.
+    pub daemon: bool,
+    pub done: bool,
+    pub phase: &'static str,
+    pub wait: Wait,
+    /// Set when a blocking send this program waits on has been delivered.
+    pub delivered: bool,
+    /// A message handed straight to this program because it was waiting for it.
+    pub handoff: Option<Envelope<M>>,
+}
+
+struct InFlight<M> {
+    env: Envelope<M>,
+    broadcast: bool,
+    /// A program blocked until delivery (sends without communication overlap).
+    notify: Option<ProgramId>,
+}
+
+pub(super) struct NodeState<M> {
+    pub cpu_free_at: SimTime,
+    pub mailbox: VecDeque<Envelope<M>>,
+    pub waiters: Vec<(ProgramId, Filter)>,
+    pub pool: MemoryPool,
+    pub stats: NodeStats,
+}
+
+pub(super) struct State<M> {
+    pub now: SimTime,
+    pub seed: u64,
+    pub queue: EventQueue<Event<M>>,
+    pub ready: VecDeque<ProgramId>,
+    pub current: ProgramId,
+    pub programs: Vec<ProgramMeta<M>>,
+    pub spawned: Vec<Program>,
+    pub nodes: Vec<NodeState<M>>,
+    pub cpu: CpuConfig,
+    net: Option<Network>,
+    net_wake_at: Option<SimTime>,
+    in_flight: Vec<Option<InFlight<M>>>,
+    free_slots: Vec<usize>,
+    delivered: Vec<Delivered>,
+    pub events: u64,
+}
+
+impl<M: Payload> State<M> {
+    pub fn schedule(&mut self, at: SimTime, event: Event<M>) {
+        debug_assert!(at >= self.now, "an event was scheduled in the past");
+        self.queue.push(at, event);
+    }
+
+    pub fn meta(&mut self) -> &mut ProgramMeta<M> {
+        &mut self.programs[self.current as usize]
+    }
+
+    /// Queues `t` of work on `node`'s cpu, first come first served; returns when it ends.
+    pub fn reserve_cpu(&mut self, node: NodeId, t: SimTime, comm: bool) -> SimTime {
+        let phase = self.programs[self.current as usize].phase;
+        let now = self.now;
+        let n = &mut self.nodes[node as usize];
+        let start = n.cpu_free_at.max(now);
+        let end = start + t;
+        n.cpu_free_at = end;
+        n.stats.charge(phase, t);
+        if comm {
+            n.stats.comm += t;
+        }
+        end
+    }
+
+    pub fn register_program(&mut self, node: NodeId, name: String, daemon: bool, program: Program) {
+        self.programs.push(ProgramMeta {
+            name,
+            node,
+            daemon,
+            done: false,
+            phase: "run",
+            wait: Wait::Nothing,
+            delivered: false,
+            handoff: None,
+        });
+        self.spawned.push(program);
+    }
+
+    /// Hands a message to the network at `now`.
+    pub fn inject(&mut self, env: Envelope<M>, broadcast: bool, notify: Option<ProgramId>) {
+        let (src, dst, bytes) = (env.src, env.dst, env.bytes);
+        let stats = &mut self.nodes[src as usize].stats;
+        stats.bytes_sent += bytes;
+        stats.messages_sent += 1;
+        let slot = match self.free_slots.pop() {
+            Some(i) => i,
+            None => {
+                self.in_flight.push(None);
+                self.in_flight.len() - 1
+            }
+        };
+        self.in_flight[slot] = Some(InFlight {
+            env,
+            broadcast,
+            notify,
+        });
+        let id = slot as MsgId;
+        let now = self.now;
+        let dest = if broadcast {
+            Dest::Broadcast
+        } else {
+            Dest::Node(dst)
+        };
+        let net = self
+            .net
+            .as_mut()
+            .expect("this simulation was built without a network; use Node::post");
+        match net.inject(now, id, src, dest, bytes) {
+            Some(at) => self.schedule(at, Event::Arrive(id)),
+            None => self.arm_net_wake(),
+        }
+    }
+
+    fn arm_net_wake(&mut self) {
+        let next = self.net.as_ref().and_then(Network::next_event_time);
+        if let Some(t) = next {
+            if self.net_wake_at.is_none_or(|armed| t < armed) {
+                self.net_wake_at = Some(t);
+                self.schedule(t, Event::NetWake);
+            }
+        }
+    }
+
+    fn net_wake(&mut self) {
+        if self.net_wake_at != Some(self.now) {
+            return; // superseded by an earlier wake-up, or already handled at this instant
+        }
+        self.net_wake_at = None;
+        let mut delivered = std::mem::take(&mut self.delivered);
+        self.net
+            .as_mut()
+            .expect("network wake-up without a network")
+            .advance(self.now, &mut delivered);
+        for d in delivered.drain(..) {
+            debug_assert_eq!(
+                d.at, self.now,
+                "the network delivered at another instant than asked"
+            );
+            self.arrive(d.msg);
+        }
+        self.delivered = delivered;
+        self.arm_net_wake();
+    }
+
+    fn arrive(&mut self, id: MsgId) {
+        let flight = self.in_flight[id as usize]
+            .take()
+            .expect("a message arrived twice");
+        self.free_slots.push(id as usize);
+        if let Some(p) = flight.notify {
+            self.programs[p as usize].delivered = true;
+            self.ready.push_back(p);
+        }
+        let mut env = flight.env;
+        env.arrived = self.now;
+        if flight.broadcast {
+            for dst in 0..self.nodes.len() as NodeId {
+                if dst != env.src {
+                    let mut copy = env.clone_for_broadcast();
+                    copy.dst = dst;
+                    self.deliver(copy);
+                }
+            }
+        } else {
+            self.deliver(env);
+        }
+    }
+
+    /// Hands a message to the first program on its destination waiting for one like it, or
+    /// else puts it in the destination's mailbox.
+    pub fn deliver(&mut self, env: Envelope<M>) {
+        let node = &mut self.nodes[env.dst as usize];
+        node.stats.bytes_received += env.bytes;
+        node.stats.messages_received += 1;
+        match node.waiters.iter().position(|(_, f)| f.matches(&env)) {
+            Some(i) => {
+                let (p, _) = node.waiters.swap_remove(i);
+                self.programs[p as usize].handoff = Some(env);
+                self.ready.push_back(p);
+            }
+            None => node.mailbox.push_back(env),
+        }
+    }
+}
+
+/// One simulation: a machine's nodes, their programs, and the network between them.
+pub struct Sim<M: Payload> {
+    state: Rc<RefCell<State<M>>>,
+    programs: Vec<Option<Program>>,
+}
+
+impl<M: Payload> Sim<M> {
+    /// A simulation of `machine`, with random streams derived from `seed`.
+    pub fn new(machine: &MachineConfig, seed: u64) -> Result<Sim<M>, crate::net::NetError> {
+        let net = Network::new(&machine.network)?;
+        Ok(Sim::build(
+            machine.nodes,
+            machine.cpu.clone(),
+            machine.memory_per_node,
+            Some(net),
+            seed,
+        ))
+    }
+
+    /// A simulation without a network or cpu costs: programs exchange only `Node::post`
+    /// messages (used by PHOLD and by engine tests).
+    pub fn bare(nodes: u32, seed: u64) -> Sim<M> {
+        Sim::build(
+            nodes,
+            CpuConfig::default(),
+            Bytes::new(u64::MAX),
+            None,
+            seed,
+        )
+    }
+
+    fn build(nodes: u32, cpu: CpuConfig, memory: Bytes, net: Option<Network>, seed: u64) -> Sim<M> {
+        let nodes = (0..nodes)
+            .map(|i| NodeState {
+                cpu_free_at: SimTime::ZERO,
+                mailbox: VecDeque::new(),
+                waiters: Vec::new(),
+                pool: MemoryPool::new(i, memory),
+                stats: NodeStats::default(),
+            })
+            .collect();
+        let state = State {
+            now: SimTime::ZERO,
+            seed,
+            queue: EventQueue::with_capacity(1024),
+            ready: VecDeque::new(),
+            current: 0,
+            programs: Vec::new(),
+            spawned: Vec::new(),
+            nodes,
+            cpu,
+            net,
+            net_wake_at: None,
+            in_flight: Vec::new(),
+            free_slots: Vec::new(),
+            delivered: Vec::new(),
+            events: 0,
+        };
+        Sim {
+            state: Rc::new(RefCell::new(state)),
+            programs: Vec::new(),
+        }
+    }
+
+    pub fn nodes(&self) -> u32 {
+        self.state.borrow().nodes.len() as u32
+    }
+
+    /// The handle through which programs on node `id` act.
+    pub fn node(&self, id: NodeId) -> Node<M> {
+        assert!(id < self.nodes(), "node {id} does not exist");
+        Node::new(id, self.state.clone())
+    }
+
+    /// Starts `program` on node `id` at time zero (or now, if the run has started).
+    pub fn spawn<F>(&mut self, id: NodeId, name: impl Into<String>, program: F)
+    where
+        F: Future<Output = Result<(), SimError>> + 'static,
+    {
+        self.state
+            .borrow_mut()
+            .register_program(id, name.into(), false, Box::pin(program));
+    }
+
+    /// Runs until no event is left. Fails if a program fails, or with a deadlock report if
+    /// programs that must finish are still waiting.
+    pub fn run(&mut self) -> Result<RunStats, SimError> {
+        self.run_until(SimTime::MAX)?;
+        let st = self.state.borrow();
+        let waiting: Vec<WaitingProgram> = st
+            .programs
+            .iter()
+            .filter(|p| !p.done && !p.daemon)
+            .map(|p| WaitingProgram {
+                name: p.name.clone(),
+                node: p.node,
+                waits_for: p.wait.to_string(),
+            })
+            .collect();
+        if !waiting.is_empty() {
+            return Err(SimError::Deadlock {
+                at: st.now,
+                seed: st.seed,
+                waiting,
+            });
+        }
+        drop(st);
+        Ok(self.stats())
+    }
+
+    /// Processes every event up to and including `horizon`; programs may still be waiting
+    /// afterwards (a time-bounded run such as PHOLD).
+    pub fn run_until(&mut self, horizon: SimTime) -> Result<(), SimError> {
+        let mut cx = Context::from_waker(Waker::noop());
+        loop {
+            // One borrow per step: either the next ready program, or the next event.
+            let p = {
+                let mut st = self.state.borrow_mut();
+                if !st.spawned.is_empty() {
+                    drop(st);
+                    self.adopt_spawned();
+                    continue;
+                }
+                match st.ready.pop_front() {
+                    Some(p) => {
+                        st.current = p;
+                        p
+                    }
+                    None => {
+                        match st.queue.peek_time() {
+                            Some(t) if t <= horizon => {}
+                            _ => return Ok(()),
+                        }
+                        let (at, event) = st.queue.pop().expect("peeked");
+                        st.now = at;
+                        st.events += 1;
+                        match event {
+                            Event::Wake(p) => st.ready.push_back(p),
+                            Event::Arrive(id) => st.arrive(id),
+                            Event::NetWake => st.net_wake(),
+                            Event::Post { src, dst, payload } => {
+                                let tag = payload.tag();
+                                st.deliver(Envelope { src, dst, tag, bytes: Bytes::ZERO, payload, arrived: at })
+                            }
+                        }
+                        continue;
+                    }
+                }
+            };
+            let Some(program) = self.programs[p as usize].as_mut() else {
+                continue;
+            };
+            if let Poll::Ready(result) = program.as_mut().poll(&mut cx) {
+                self.programs[p as usize] = None;
+                self.finished(p);
+                result?;
+            }
+        }
+    }
+
+    fn finished(&mut self, p: ProgramId) {
+        let mut st = self.state.borrow_mut();
+        let now = st.now;
+        let meta = &mut st.programs[p as usize];
+        meta.done = true;
+        let (node, daemon) = (meta.node, meta.daemon);
+        if !daemon {
+            let stats = &mut st.nodes[node as usize].stats;
+            stats.finish = stats.finish.max(now);
+        }
+    }
+
+    fn adopt_spawned(&mut self) {
+        let mut st = self.state.borrow_mut();
+        let first = self.programs.len() as ProgramId;
+        let spawned: Vec<Program> = st.spawned.drain(..).collect();
+        for (i, p) in spawned.into_iter().enumerate() {
+            self.programs.push(Some(p));
+            st.ready.push_back(first + i as ProgramId);
+        }
+    }
+
+    /// What the run has measured so far.
+    pub fn stats(&self) -> RunStats {
+        let st = self.state.borrow();
+        RunStats {
+            end: st.now,
+            seed: st.seed,
+            events: st.events,
+            nodes: st.nodes.iter().map(|n| n.stats.clone()).collect(),
+            links: st.net.as_ref().map(Network::link_stats).unwrap_or_default(),
+            memory: st.nodes.iter().map(|n| n.pool.stats()).collect(),
+        }
+    }
+
+    pub fn now(&self) -> SimTime {
+        self.state.borrow().now
+    }
+}
+
+// Programs hold `Node` handles (and so the state) in their futures; break the cycle.
+impl<M: Payload> Drop for Sim<M> {
+    fn drop(&mut self) {
+        self.programs.clear();
+        if let Ok(mut st) = self.state.try_borrow_mut() {
+            st.spawned.clear();
+        }
+    }
+}
+
+impl<M: Payload> State<M> {
+    pub fn net(&self) -> Option<&Network> {
+        self.net.as_ref()
+    }
+
+    pub fn fail(&self, message: String) -> SimError {
+        let meta = &self.programs[self.current as usize];
+        SimError::Program {
+            program: meta.name.clone(),
+            node: meta.node,
+            at: self.now,
+            seed: self.seed,
+            message,
+        }
+    }
+
+    pub fn memory_error(&self, source: MemError) -> SimError {
+        let meta = &self.programs[self.current as usize];
+        SimError::Memory {
+            program: meta.name.clone(),
+            node: meta.node,
+            at: self.now,
+            seed: self.seed,
+            source,
+        }
+    }
+}

@@ -1,0 +1,54 @@
+//! What a run measured: per node busy time by phase, communication, traffic and finishing
+//! time; per link traffic; per node memory high-water marks.
+//!
+//! Owns raw counters only. Must never format or write anything (that is `report`).
+
+use crate::machine::PoolStats;
+use crate::net::LinkStats;
+use crate::units::{Bytes, SimTime};
+
+#[derive(Clone, Debug, Default, PartialEq, Eq)]
+pub struct NodeStats {
+    /// Busy time per phase label, in the order the labels first appeared.
+    pub busy_by_phase: Vec<(&'static str, SimTime)>,
+    /// Part of the busy time spent on message overheads (and, without overlap, on waiting for
+    /// a blocking send to be delivered).
+    pub comm: SimTime,
+    pub bytes_sent: Bytes,
+    pub messages_sent: u64,
+    pub bytes_received: Bytes,
+    pub messages_received: u64,
+    /// When the node's last program that must finish did finish.
+    pub finish: SimTime,
+}
+
+impl NodeStats {
+    pub fn busy(&self) -> SimTime {
+        self.busy_by_phase.iter().map(|&(_, t)| t).sum()
+    }
+
+    pub(crate) fn charge(&mut self, phase: &'static str, t: SimTime) {
+        match self.busy_by_phase.iter_mut().find(|(p, _)| *p == phase) {
+            Some((_, busy)) => *busy += t,
+            None => self.busy_by_phase.push((phase, t)),
+        }
+    }
+}
+
+#[derive(Clone, Debug, Default)]
+pub struct RunStats {
+    /// The instant the last event was processed.
+    pub end: SimTime,
+    pub seed: u64,
+    pub events: u64,
+    pub nodes: Vec<NodeStats>,
+    pub links: Vec<LinkStats>,
+    pub memory: Vec<PoolStats>,
+}
+
+impl RunStats {
+    /// Idle time of node `i`: the run's length minus its busy time.
+    pub fn idle(&self, i: usize) -> SimTime {
+        self.end.saturating_sub(self.nodes[i].busy())
+    }
+}

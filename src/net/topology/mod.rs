@@ -1,0 +1,164 @@
+//! Topologies: which links exist and which ones a message crosses.
+//!
+//! Owns the [`Topology`] trait (one implementation per file, BookSim's `networks/` folder)
+//! and the exhaustive selection from [`TopologyKind`]. Routing is deterministic and fixed per
+//! pair (no adaptive routing): ties always go the "increasing id" way.
+//!
+//! Bisection width convention, shared by every topology: the number of links that cross
+//! the best balanced cut, counted in ONE direction (a bidirectional pair counts once, a
+//! one-way link counts once). A ring has 2, a k-ary n-cube `2 * N / k` for the cut across its
+//! longest dimension, a hypercube `N / 2`.
+//!
+//! Must never know about time, bandwidth or transport models.
+
+mod bus;
+mod crossbar;
+mod grid;
+mod hypercube;
+mod mesh;
+mod pipeline;
+mod ring;
+mod torus;
+
+use super::{LinkId, NetError, NodeId, TopologyKind};
+
+/// One directed link (or the shared medium of a bus, or a crossbar port).
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct Link {
+    pub from: NodeId,
+    pub to: NodeId,
+    pub kind: LinkKind,
+}
+
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum LinkKind {
+    /// A point-to-point wire `from -> to`.
+    Wire,
+    /// The single shared medium of a bus (`from` = `to` = 0).
+    Bus,
+    /// A crossbar's output port of node `from` (= `to`).
+    Out,
+    /// A crossbar's input port of node `to` (= `from`).
+    In,
+}
+
+impl Link {
+    pub fn wire(from: NodeId, to: NodeId) -> Link {
+        Link {
+            from,
+            to,
+            kind: LinkKind::Wire,
+        }
+    }
+
+    /// `3->4`, `bus`, `out3`, `in3`.
+    pub fn name(&self) -> String {
+        match self.kind {
+            LinkKind::Wire => format!("{}->{}", self.from, self.to),
+            LinkKind::Bus => "bus".to_string(),
+            LinkKind::Out => format!("out{}", self.from),
+            LinkKind::In => format!("in{}", self.to),
+        }
+    }
+}
+
+/// A network shape with its routing function.
+pub trait Topology {
+    fn kind(&self) -> TopologyKind;
+    fn nodes(&self) -> u32;
+    /// Every link, in link-index order.
+    fn links(&self) -> &[Link];
+    /// Appends the links from `src` to `dst` (both `< nodes`) to `out`; false when the pair
+    /// has no route. A message to itself has an empty route.
+    fn route_into(&self, src: NodeId, dst: NodeId, out: &mut Vec<LinkId>) -> bool;
+    /// Links that one hop acquires together (2 on a crossbar: the source's output port and
+    /// the destination's input port are one switch traversal).
+    fn links_per_hop(&self) -> u32 {
+        1
+    }
+    fn bisection_width(&self) -> u32;
+    /// The link a broadcast uses, if the topology has one.
+    fn broadcast_link(&self) -> Option<LinkId> {
+        None
+    }
+}
+
+/// Builds the topology `kind` with extents `dims`, or says what `dims` would be valid.
+pub fn build(kind: TopologyKind, dims: &[u32]) -> Result<Box<dyn Topology>, NetError> {
+    let nodes = validate_dims(kind, dims)?;
+    Ok(match kind {
+        TopologyKind::Ring => Box::new(ring::Ring::new(nodes)),
+        TopologyKind::Pipeline => Box::new(pipeline::Pipeline::new(nodes)),
+        TopologyKind::Torus => Box::new(torus::Torus::new(dims)),
+        TopologyKind::Mesh => Box::new(mesh::Mesh::new(dims)),
+        TopologyKind::Hypercube => Box::new(hypercube::Hypercube::new(nodes)),
+        TopologyKind::Bus => Box::new(bus::Bus::new(nodes)),
+        TopologyKind::Crossbar => Box::new(crossbar::Crossbar::new(nodes)),
+    })
+}
+
+/// Checks the shape rules and returns the node count.
+fn validate_dims(kind: TopologyKind, dims: &[u32]) -> Result<u32, NetError> {
+    let name = kind.name();
+    let err = |what: String| Err(NetError::Config(format!("{name} dims {dims:?}: {what}")));
+    if dims.is_empty() {
+        return err("dims must not be empty".to_string());
+    }
+    if dims.contains(&0) {
+        return err("every dimension must be at least 1".to_string());
+    }
+    let Some(nodes) = dims.iter().try_fold(1u32, |acc, &d| acc.checked_mul(d)) else {
+        return err(format!(
+            "the node count (product of dims) must fit in {} nodes",
+            u32::MAX
+        ));
+    };
+    match kind {
+        TopologyKind::Ring
+        | TopologyKind::Pipeline
+        | TopologyKind::Bus
+        | TopologyKind::Crossbar
+            if dims.len() != 1 =>
+        {
+            err(
+                "a ring, pipeline, bus or crossbar takes exactly one dim, the node count, e.g. [8]"
+                    .to_string(),
+            )
+        }
+        TopologyKind::Hypercube if dims.len() != 1 || !nodes.is_power_of_two() => err(
+            "a hypercube takes exactly one dim, the node count, which must be a power of two \
+             (1, 2, 4, 8, ...)"
+                .to_string(),
+        ),
+        TopologyKind::Mesh if !(2..=3).contains(&dims.len()) => {
+            err("a mesh is 2D or 3D: dims [x, y] or [x, y, z], e.g. [16, 32]".to_string())
+        }
+        _ => Ok(nodes),
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn rejects(kind: TopologyKind, dims: &[u32], needle: &str) {
+        let e = build(kind, dims)
+            .err()
+            .expect("must be rejected")
+            .to_string();
+        assert!(e.contains(needle), "{kind:?} {dims:?}: {e}");
+    }
+
+    #[test]
+    fn invalid_shapes_say_what_is_valid() {
+        rejects(TopologyKind::Ring, &[], "must not be empty");
+        rejects(TopologyKind::Torus, &[4, 0], "at least 1");
+        rejects(TopologyKind::Ring, &[4, 4], "exactly one dim");
+        rejects(TopologyKind::Hypercube, &[12], "power of two");
+        rejects(TopologyKind::Mesh, &[16], "2D or 3D");
+        rejects(TopologyKind::Mesh, &[2, 2, 2, 2], "2D or 3D");
+        rejects(TopologyKind::Torus, &[65536, 65536], "must fit");
+        assert!(build(TopologyKind::Torus, &[3, 3, 3, 3]).is_ok());
+        assert!(build(TopologyKind::Hypercube, &[1]).is_ok());
+    }
+}

@@ -1,0 +1,132 @@
+//! The command line end to end: bundled specs validate, outputs are byte-identical across
+//! runs of the same inputs.
+
+use std::path::PathBuf;
+use std::process::{Command, Output};
+
+fn sortsim(args: &[&str]) -> Output {
+    let out = Command::new(env!("CARGO_BIN_EXE_sortsim"))
+        .args(args)
+        .current_dir(env!("CARGO_MANIFEST_DIR"))
+        .output()
+        .expect("sortsim runs");
+    assert!(
+        out.status.success(),
+        "{args:?} failed: {}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    out
+}
+
+fn temp_dir(name: &str) -> PathBuf {
+    let dir = std::env::temp_dir().join(format!("sortsim-{name}-{}", std::process::id()));
+    let _ = std::fs::remove_dir_all(&dir);
+    dir
+}
+
+#[test]
+fn every_bundled_machine_checks_ok() {
+    let machines: Vec<String> = [
+        "delta",
+        "multicluster-torus",
+        "multicluster-pipeline",
+        "power-challenge",
+        "snooping-bus",
+    ]
+    .iter()
+    .map(|m| format!("machines/{m}.json"))
+    .collect();
+    let args: Vec<&str> = std::iter::once("check")
+        .chain(machines.iter().map(String::as_str))
+        .collect();
+    let stdout = String::from_utf8(sortsim(&args).stdout).unwrap();
+    assert_eq!(
+        stdout.lines().filter(|l| l.starts_with("OK ")).count(),
+        5,
+        "{stdout}"
+    );
+    assert!(
+        stdout.contains("machine 'delta': 512 nodes, Mesh [16, 32]"),
+        "{stdout}"
+    );
+}
+
+#[test]
+fn netsim_twice_gives_byte_identical_json_at_every_fidelity() {
+    for fidelity in ["ideal", "hops", "flow", "packet"] {
+        let (a, b) = (
+            temp_dir(&format!("netsim-a-{fidelity}")),
+            temp_dir(&format!("netsim-b-{fidelity}")),
+        );
+        let run = |dir: &PathBuf| {
+            sortsim(&[
+                "netsim",
+                "machines/multicluster-torus.json",
+                "tests/patterns/all-to-all-4x4.json",
+                "--fidelity",
+                fidelity,
+                "-o",
+                dir.to_str().unwrap(),
+            ])
+            .stdout
+        };
+        let (out_a, out_b) = (run(&a), run(&b));
+        assert_eq!(out_a, out_b, "{fidelity}: stdout differs");
+        let summary_a = std::fs::read(a.join("summary.json")).unwrap();
+        assert_eq!(summary_a, std::fs::read(b.join("summary.json")).unwrap());
+        assert_eq!(summary_a, out_a, "summary.json is what was printed");
+        assert!(a.join("cost.json").exists());
+        let report: serde_json::Value = serde_json::from_slice(&summary_a).unwrap();
+        assert_eq!(report["messages"].as_array().unwrap().len(), 240);
+        assert_eq!(report["fidelity"], fidelity);
+    }
+}
+
+#[test]
+fn phold_twice_gives_byte_identical_summary() {
+    let (a, b) = (temp_dir("phold-a"), temp_dir("phold-b"));
+    for dir in [&a, &b] {
+        sortsim(&[
+            "bench",
+            "phold",
+            "--lps",
+            "64",
+            "--events-per-lp",
+            "8",
+            "--end",
+            "200us",
+            "--seed",
+            "9",
+            "-o",
+            dir.to_str().unwrap(),
+        ]);
+    }
+    let summary = std::fs::read_to_string(a.join("summary.json")).unwrap();
+    assert_eq!(
+        summary,
+        std::fs::read_to_string(b.join("summary.json")).unwrap()
+    );
+    let v: serde_json::Value = serde_json::from_str(&summary).unwrap();
+    assert_eq!(v["baseline_agrees"], true);
+    assert_eq!(v["in_flight"], 512);
+    // 512 events in flight for 200us at a mean spacing of 1.1us: about 93,000 events.
+    let events = v["events"].as_u64().unwrap();
+    assert!((80_000..110_000).contains(&events), "{events}");
+}
+
+#[test]
+fn compare_prints_one_row_per_fidelity() {
+    let out = sortsim(&[
+        "netsim",
+        "machines/snooping-bus.json",
+        "tests/patterns/bus-broadcasts-8.json",
+        "--compare",
+    ]);
+    let stdout = String::from_utf8(out.stdout).unwrap();
+    let rows: Vec<&str> = stdout
+        .lines()
+        .skip(1)
+        .map(|l| l.split_whitespace().next().unwrap())
+        .collect();
+    assert_eq!(rows, ["ideal", "hops", "flow", "packet"], "{stdout}");
+}

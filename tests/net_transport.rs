@@ -1,0 +1,248 @@
+//! Transport levels against the contention-free formula: a lone message is exact at every
+//! level, messages that share no link do not see each other, equal flows sharing a link
+//! split it exactly, and the pathological cases (0 bytes, self, broadcast) behave.
+
+use sortsim::net::pattern::{drive, ParsedMessage};
+use sortsim::net::{Dest, Fidelity, Network, NetworkConfig, Switching, TopologyKind};
+use sortsim::units::{Bandwidth, Bytes, SimTime};
+
+const PACKET: u64 = 1024;
+
+fn cfg(
+    topology: TopologyKind,
+    dims: &[u32],
+    fidelity: Fidelity,
+    switching: Switching,
+) -> NetworkConfig {
+    NetworkConfig {
+        topology,
+        dims: dims.to_vec(),
+        // 17 MB/s: T(1 KiB) is not a whole number of picoseconds, so rounding shows.
+        link_bandwidth: "17MB/s".parse().unwrap(),
+        hop_latency: SimTime::from_ns(1_500),
+        switching,
+        packet_size: Bytes::new(PACKET),
+        fidelity,
+    }
+}
+
+fn msg(src: u32, dst: u32, bytes: u64, start_ps: u64) -> ParsedMessage {
+    ParsedMessage {
+        src,
+        dest: Dest::Node(dst),
+        bytes: Bytes::new(bytes),
+        start: SimTime::from_ps(start_ps),
+    }
+}
+
+fn run(cfg: &NetworkConfig, messages: &[ParsedMessage]) -> Vec<SimTime> {
+    drive(&mut Network::new(cfg).unwrap(), messages)
+}
+
+/// (topology, dims, a far pair) covering every topology.
+const SHAPES: [(TopologyKind, &[u32], u32, u32); 8] = [
+    (TopologyKind::Ring, &[8], 6, 2),
+    (TopologyKind::Pipeline, &[5], 0, 4),
+    (TopologyKind::Torus, &[4, 4], 15, 5),
+    (TopologyKind::Torus, &[3, 3, 3], 0, 26),
+    (TopologyKind::Mesh, &[4, 3], 11, 0),
+    (TopologyKind::Hypercube, &[16], 3, 12),
+    (TopologyKind::Bus, &[4], 3, 0),
+    (TopologyKind::Crossbar, &[4], 2, 1),
+];
+
+const SIZES: [u64; 7] = [
+    1,
+    7,
+    PACKET - 1,
+    PACKET,
+    PACKET + 1,
+    3 * PACKET + 5,
+    64 * 1024,
+];
+
+#[test]
+fn a_lone_message_takes_exactly_the_formula_at_every_level() {
+    for (topology, dims, src, dst) in SHAPES {
+        for switching in [Switching::Wormhole, Switching::StoreAndForward] {
+            for fidelity in Fidelity::ALL {
+                let c = cfg(topology, dims, fidelity, switching);
+                let net = Network::new(&c).unwrap();
+                let hops = net.hops(src, dst);
+                let timing = net.timing();
+                for bytes in SIZES {
+                    let start = 1_234_567;
+                    let got = run(&c, &[msg(src, dst, bytes, start)])[0];
+                    let want = match fidelity {
+                        Fidelity::Ideal => timing.ideal(hops, Bytes::new(bytes)),
+                        _ => timing.contention_free(hops, Bytes::new(bytes)),
+                    };
+                    assert_eq!(
+                        got.ps() - start,
+                        want.ps(),
+                        "{topology:?} {dims:?} {switching:?} {fidelity:?} {bytes} B"
+                    );
+                }
+            }
+        }
+    }
+}
+
+/// Ideal ignores switching: under store-and-forward it is early by exactly the pipeline
+/// term (h-1)*T(first packet); every other level agrees exactly when no link is shared.
+#[test]
+fn messages_that_share_no_link_do_not_see_each_other() {
+    // Ring of 8: three messages on disjoint clockwise arcs, staggered starts.
+    let messages = [
+        msg(0, 2, 5000, 0),
+        msg(2, 5, 3 * PACKET, 10),
+        msg(6, 7, 1, 20),
+        msg(7, 6, 9000, 0),
+    ];
+    for switching in [Switching::Wormhole, Switching::StoreAndForward] {
+        let at = |f| run(&cfg(TopologyKind::Ring, &[8], f, switching), &messages);
+        let hops = at(Fidelity::Hops);
+        assert_eq!(at(Fidelity::Flow), hops, "{switching:?}");
+        assert_eq!(at(Fidelity::Packet), hops, "{switching:?}");
+        let ideal = at(Fidelity::Ideal);
+        let net = Network::new(&cfg(TopologyKind::Ring, &[8], Fidelity::Ideal, switching)).unwrap();
+        let timing = net.timing();
+        for (i, m) in messages.iter().enumerate() {
+            let Dest::Node(d) = m.dest else {
+                unreachable!()
+            };
+            let h = net.hops(m.src, d) as u64;
+            let saf = match switching {
+                Switching::Wormhole => SimTime::ZERO,
+                Switching::StoreAndForward => timing
+                    .serialization(timing.first_packet(m.bytes))
+                    .times(h - 1),
+            };
+            assert_eq!(hops[i] - ideal[i], saf, "{switching:?} message {i}");
+        }
+    }
+}
+
+#[test]
+fn two_equal_flows_sharing_a_link_take_exactly_twice_the_transfer_time() {
+    for switching in [Switching::Wormhole, Switching::StoreAndForward] {
+        let c = cfg(TopologyKind::Pipeline, &[3], Fidelity::Flow, switching);
+        let timing = Network::new(&c).unwrap().timing();
+        let bytes = 100_000;
+        let got = run(&c, &[msg(0, 2, bytes, 0), msg(1, 2, bytes, 0)]);
+        // Each gets exactly half of 136e6 bit/s on link 1->2, so the fluid part is T(2b).
+        let twice = timing.serialization(Bytes::new(2 * bytes));
+        assert_eq!(got[0], twice + timing.fixed_part(2, Bytes::new(bytes)));
+        assert_eq!(got[1], twice + timing.fixed_part(1, Bytes::new(bytes)));
+    }
+}
+
+#[test]
+fn a_late_sharer_slows_the_first_flow_only_while_both_run() {
+    let c = cfg(TopologyKind::Bus, &[3], Fidelity::Flow, Switching::Wormhole);
+    let timing = Network::new(&c).unwrap().timing();
+    let b = 17_000; // 1 ms alone at 17 MB/s.
+    let half_ms = 500_000_000;
+    let got = run(&c, &[msg(0, 1, b, 0), msg(2, 1, b, half_ms)]);
+    // First: 0.5 ms alone, then half rate for the other half: ends at 1.5 ms.
+    let l = timing.hop_latency;
+    assert_eq!(got[0], SimTime::from_us(1500) + l);
+    // Second: 0.5 ms of its data at half rate during [0.5, 1.5], then alone 0.5 ms.
+    assert_eq!(got[1], SimTime::from_us(2000) + l);
+}
+
+#[test]
+fn pathological_messages() {
+    for fidelity in Fidelity::ALL {
+        for switching in [Switching::Wormhole, Switching::StoreAndForward] {
+            let c = cfg(TopologyKind::Torus, &[4, 4], fidelity, switching);
+            let mut net = Network::new(&c).unwrap();
+            let now = SimTime::from_us(7);
+            // To self: delivered at `now`, no link touched.
+            assert_eq!(
+                net.inject(now, 1, 5, Dest::Node(5), Bytes::new(999)),
+                Some(now)
+            );
+            assert!(net.link_stats().iter().all(|s| s.messages == 0));
+            // 0 bytes: pays the route latency only.
+            let zero = run(&c, &[msg(0, 10, 0, 0)])[0];
+            assert_eq!(zero, c.hop_latency.times(4), "{fidelity:?} {switching:?}");
+            // Broadcast needs a bus.
+            let e = net
+                .check_message(0, Dest::Broadcast)
+                .unwrap_err()
+                .to_string();
+            assert!(e.contains("broadcast needs a bus"), "{e}");
+            let e = net
+                .check_message(0, Dest::Node(16))
+                .unwrap_err()
+                .to_string();
+            assert!(e.contains("valid nodes are 0..=15"), "{e}");
+        }
+    }
+}
+
+#[test]
+fn a_bus_broadcast_is_one_transmission() {
+    for fidelity in Fidelity::ALL {
+        let c = cfg(
+            TopologyKind::Bus,
+            &[6],
+            fidelity,
+            Switching::StoreAndForward,
+        );
+        let m = ParsedMessage {
+            src: 2,
+            dest: Dest::Broadcast,
+            bytes: Bytes::new(4096),
+            start: SimTime::ZERO,
+        };
+        let mut net = Network::new(&c).unwrap();
+        let got = drive(&mut net, &[m])[0];
+        assert_eq!(
+            got,
+            net.timing().contention_free(1, Bytes::new(4096)),
+            "{fidelity:?}"
+        );
+        let stats = net.link_stats();
+        assert_eq!((stats[0].messages, stats[0].bytes), (1, Bytes::new(4096)));
+    }
+}
+
+#[test]
+fn packet_queues_and_flow_concurrency_show_in_link_stats() {
+    let messages: Vec<_> = (1..4).map(|s| msg(s, 0, 10 * PACKET, 0)).collect();
+    let c = cfg(
+        TopologyKind::Crossbar,
+        &[4],
+        Fidelity::Flow,
+        Switching::Wormhole,
+    );
+    let mut net = Network::new(&c).unwrap();
+    drive(&mut net, &messages);
+    let in0 = &net.link_stats()[4];
+    assert_eq!(
+        (in0.name.as_str(), in0.messages, in0.peak_queue),
+        ("in0", 3, 3)
+    );
+    // Three flows share in0 for the whole transfer, each at floor(136e6 / 3) bit/s (the
+    // floor leaves 1 bit/s unused), so busy = ceil(work(10 KiB) / floor(C / 3)) exactly.
+    let rate = (c.link_bandwidth.bits_per_s() / 3) as u128;
+    let work = Bandwidth::work_of(Bytes::new(10 * PACKET));
+    assert_eq!(in0.busy.ps() as u128, work.div_ceil(rate));
+    let c = cfg(
+        TopologyKind::Crossbar,
+        &[4],
+        Fidelity::Packet,
+        Switching::Wormhole,
+    );
+    let mut net = Network::new(&c).unwrap();
+    drive(&mut net, &messages);
+    let in0 = &net.link_stats()[4];
+    assert!(in0.peak_queue >= 2, "{in0:?}");
+    // Busy = time transmitting = every packet's share, which telescopes to T(10 KiB) each.
+    assert_eq!(
+        in0.busy,
+        net.timing().serialization(Bytes::new(10 * PACKET)).times(3)
+    );
+}
