@@ -199,5 +199,6 @@ fn polio_shell_builds_and_transforms_quickly() {
     let took = t.elapsed();
     assert_eq!(frame.triangles.len(), 806_640);
     // Budget 1 s for load plus one frame on a shared 2-core machine; typical is far less.
+    eprintln!("polio shell: load + one frame {took:?}");
     assert!(took.as_secs_f64() < 1.0, "polio shell took {took:?}");
 }
