@@ -30,17 +30,27 @@ fn corpus() -> Vec<(PathBuf, String)> {
         .collect();
     listed.sort();
     present.sort();
-    assert_eq!(listed, present, "every corpus spec has an expectation and every expectation a spec");
+    assert_eq!(
+        listed, present,
+        "every corpus spec has an expectation and every expectation a spec"
+    );
     cases
 }
 
 fn check(file: &Path, fragment: &str) {
     let err = match Scene::load(file) {
-        Ok(_) => panic!("{}: loaded, but should be refused with {fragment:?}", file.display()),
+        Ok(_) => panic!(
+            "{}: loaded, but should be refused with {fragment:?}",
+            file.display()
+        ),
         Err(e) => e.to_string(),
     };
     eprintln!("{err}");
-    assert!(err.contains(fragment), "{}: expected {fragment:?} in: {err}", file.display());
+    assert!(
+        err.contains(fragment),
+        "{}: expected {fragment:?} in: {err}",
+        file.display()
+    );
     let spec_name = file.file_name().unwrap().to_string_lossy();
     let names_a_file = err.contains(&*spec_name) || err.contains(".obj");
     assert!(names_a_file, "the message names the file: {err}");
@@ -63,7 +73,22 @@ fn frame_index_out_of_range_names_the_valid_range() {
     assert_eq!(scene.frame_count(), 20);
     assert!(scene.frame(19).is_ok());
     let err = scene.frame(20).unwrap_err();
-    assert!(matches!(err, SceneError::FrameOutOfRange { frame: 20, count: 20, .. }), "{err:?}");
+    assert!(
+        matches!(
+            err,
+            SceneError::FrameOutOfRange {
+                frame: 20,
+                count: 20,
+                ..
+            }
+        ),
+        "{err:?}"
+    );
     let msg = err.to_string();
-    assert!(msg.contains("p000-letter-b.json") && msg.contains("frame 20 is out of range") && msg.contains("valid 0..=19"), "{msg}");
+    assert!(
+        msg.contains("p000-letter-b.json")
+            && msg.contains("frame 20 is out of range")
+            && msg.contains("valid 0..=19"),
+        "{msg}"
+    );
 }

@@ -13,7 +13,8 @@ fn scenes_dir() -> PathBuf {
 }
 
 fn stats_of(name: &str) -> (Scene, GeometricStats) {
-    let scene = Scene::load(&scenes_dir().join(format!("{name}.json"))).unwrap_or_else(|e| panic!("{name}: {e}"));
+    let scene = Scene::load(&scenes_dir().join(format!("{name}.json")))
+        .unwrap_or_else(|e| panic!("{name}: {e}"));
     let frame = scene.frame(0).unwrap();
     let stats = geometric(&frame);
     (scene, stats)
@@ -31,13 +32,29 @@ fn every_scene_file_loads_and_draws_its_first_and_last_frame() {
         .filter(|p| p.extension().is_some_and(|x| x == "json"))
         .collect();
     names.sort();
-    assert!(names.len() >= 22, "expected all stand-ins under scenes/, found {}", names.len());
+    assert!(
+        names.len() >= 22,
+        "expected all stand-ins under scenes/, found {}",
+        names.len()
+    );
     for path in names {
         let scene = Scene::load(&path).unwrap_or_else(|e| panic!("{e}"));
         let first = scene.frame(0).unwrap();
         let last = scene.frame(scene.frame_count() - 1).unwrap();
-        assert_eq!(first.triangles.len(), last.triangles.len(), "{}", path.display());
-        assert!(first.vertices.iter().all(|v| v.clip.is_finite() && v.color.is_finite()), "{}", path.display());
+        assert_eq!(
+            first.triangles.len(),
+            last.triangles.len(),
+            "{}",
+            path.display()
+        );
+        assert!(
+            first
+                .vertices
+                .iter()
+                .all(|v| v.clip.is_finite() && v.color.is_finite()),
+            "{}",
+            path.display()
+        );
     }
 }
 
@@ -49,10 +66,22 @@ fn triangle_counts_match_the_papers() {
         let (scene, _) = stats_of(r.scene);
         let n = scene.triangle_count() as f64;
         if r.exact {
-            assert_eq!(scene.triangle_count() as u64, r.triangles, "{} ({} {})", r.scene, r.paper, r.source);
+            assert_eq!(
+                scene.triangle_count() as u64,
+                r.triangles,
+                "{} ({} {})",
+                r.scene,
+                r.paper,
+                r.source
+            );
         } else {
             // Paper 000 says "about 800": held to 5%.
-            assert!(within(n, r.triangles as f64, 0.05), "{}: {n} triangles vs about {}", r.scene, r.triangles);
+            assert!(
+                within(n, r.triangles as f64, 0.05),
+                "{}: {n} triangles vs about {}",
+                r.scene,
+                r.triangles
+            );
         }
     }
 }
@@ -62,15 +91,26 @@ fn triangle_counts_match_the_papers() {
 #[test]
 fn paper_002_standins_match_mean_triangle_area_within_5_percent() {
     let mut failures = Vec::new();
-    for name in ["plb-head-standin", "polio-standin", "terrain-standin", "ct-head-standin"] {
+    for name in [
+        "plb-head-standin",
+        "polio-standin",
+        "terrain-standin",
+        "ct-head-standin",
+    ] {
         let r = reference(name).unwrap();
         let (scene, s) = stats_of(name);
         let paper = r.mean_area_px.unwrap();
         // The rasterizer's pixels per set-up triangle must agree too (same 5%).
         let raster = sortsim::scene::stats::rasterized(&scene.frame(0).unwrap());
-        eprintln!("{name}: mean {:.3} px, rasterized {:.3} px (paper {paper}), drawn {}", s.mean_area_px, raster.mean_area_px, s.on_screen);
+        eprintln!(
+            "{name}: mean {:.3} px, rasterized {:.3} px (paper {paper}), drawn {}",
+            s.mean_area_px, raster.mean_area_px, s.on_screen
+        );
         if !within(s.mean_area_px, paper, 0.05) || !within(raster.mean_area_px, paper, 0.05) {
-            failures.push(format!("{name}: mean {:.3} px (rasterized {:.3}) vs paper {paper} px ({})", s.mean_area_px, raster.mean_area_px, r.source));
+            failures.push(format!(
+                "{name}: mean {:.3} px (rasterized {:.3}) vs paper {paper} px ({})",
+                s.mean_area_px, raster.mean_area_px, r.source
+            ));
         }
     }
     assert!(failures.is_empty(), "{failures:#?}");
@@ -83,10 +123,28 @@ fn paper_003_standins_match_primitives_size_and_depth_within_10_percent() {
     for r in REFERENCES.iter().filter(|r| r.paper == "003") {
         let (_, s) = stats_of(r.scene);
         let (mean, d) = (r.mean_area_px.unwrap(), r.depth_complexity.unwrap());
-        eprintln!("{}: drawn {} mean {:.2} (paper {mean}) d {:.3} (paper {d})", r.scene, s.on_screen, s.mean_area_px, s.depth_complexity);
-        assert!(within(s.on_screen as f64, r.triangles as f64, 0.10), "{}: {} primitives drawn", r.scene, s.on_screen);
-        assert!(within(s.mean_area_px, mean, 0.10), "{}: mean {:.2} px vs {mean}", r.scene, s.mean_area_px);
-        assert!(within(s.depth_complexity, d, 0.10), "{}: d {:.3} vs {d}", r.scene, s.depth_complexity);
+        eprintln!(
+            "{}: drawn {} mean {:.2} (paper {mean}) d {:.3} (paper {d})",
+            r.scene, s.on_screen, s.mean_area_px, s.depth_complexity
+        );
+        assert!(
+            within(s.on_screen as f64, r.triangles as f64, 0.10),
+            "{}: {} primitives drawn",
+            r.scene,
+            s.on_screen
+        );
+        assert!(
+            within(s.mean_area_px, mean, 0.10),
+            "{}: mean {:.2} px vs {mean}",
+            r.scene,
+            s.mean_area_px
+        );
+        assert!(
+            within(s.depth_complexity, d, 0.10),
+            "{}: d {:.3} vs {d}",
+            r.scene,
+            s.depth_complexity
+        );
     }
 }
 
@@ -101,14 +159,36 @@ fn paper_003_standins_rasterized_depth_complexity_within_10_percent() {
         let frame = scene.frame(0).unwrap();
         let s = rasterized(&frame);
         let (mean, d) = (r.mean_area_px.unwrap(), r.depth_complexity.unwrap());
-        eprintln!("{}: set up {} mean {:.2} (paper {mean}) d {:.3} (paper {d}) active {}", r.scene, s.counters.triangles_set_up, s.mean_area_px, s.depth_complexity, s.active_pixels);
-        if !within(s.mean_area_px, mean, 0.10) || !within(s.depth_complexity, d, 0.10) || !within(s.counters.triangles_set_up as f64, r.triangles as f64, 0.10) {
-            failures.push(format!("{}: {} set up, mean {:.2} vs {mean}, d {:.3} vs {d}", r.scene, s.counters.triangles_set_up, s.mean_area_px, s.depth_complexity));
+        eprintln!(
+            "{}: set up {} mean {:.2} (paper {mean}) d {:.3} (paper {d}) active {}",
+            r.scene,
+            s.counters.triangles_set_up,
+            s.mean_area_px,
+            s.depth_complexity,
+            s.active_pixels
+        );
+        if !within(s.mean_area_px, mean, 0.10)
+            || !within(s.depth_complexity, d, 0.10)
+            || !within(s.counters.triangles_set_up as f64, r.triangles as f64, 0.10)
+        {
+            failures.push(format!(
+                "{}: {} set up, mean {:.2} vs {mean}, d {:.3} vs {d}",
+                r.scene, s.counters.triangles_set_up, s.mean_area_px, s.depth_complexity
+            ));
         }
         let p = s.p_d(frame.width, frame.height);
-        assert!((p.iter().sum::<f64>() - 1.0).abs() < 1e-9, "{}: p_d sums to {}", r.scene, p.iter().sum::<f64>());
+        assert!(
+            (p.iter().sum::<f64>() - 1.0).abs() < 1e-9,
+            "{}: p_d sums to {}",
+            r.scene,
+            p.iter().sum::<f64>()
+        );
         let a = (frame.width * frame.height) as f64;
-        assert!((s.active_pixels as f64 - a * (1.0 - p[0])).abs() < 0.5, "{}", r.scene);
+        assert!(
+            (s.active_pixels as f64 - a * (1.0 - p[0])).abs() < 0.5,
+            "{}",
+            r.scene
+        );
     }
     assert!(failures.is_empty(), "{failures:#?}");
 }
@@ -119,10 +199,18 @@ fn paper_003_standins_rasterized_depth_complexity_within_10_percent() {
 #[test]
 fn paper_002_standins_overlap_factor_for_256_regions_in_published_range() {
     use sortsim::scene::stats::raster_overlap_factor;
-    for name in ["plb-head-standin", "polio-standin", "terrain-standin", "ct-head-standin"] {
+    for name in [
+        "plb-head-standin",
+        "polio-standin",
+        "terrain-standin",
+        "ct-head-standin",
+    ] {
         let (scene, _) = stats_of(name);
         let o = raster_overlap_factor(&scene.frame(0).unwrap(), 40, 32);
         eprintln!("{name}: overlap factor {o:.3}");
-        assert!((1.09 * 0.9..=1.4 * 1.1).contains(&o), "{name}: overlap factor {o:.3} outside 1.09..1.4 (paper 002)");
+        assert!(
+            (1.09 * 0.9..=1.4 * 1.1).contains(&o),
+            "{name}: overlap factor {o:.3} outside 1.09..1.4 (paper 002)"
+        );
     }
 }

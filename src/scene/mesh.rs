@@ -44,7 +44,11 @@ impl Mesh {
     /// from `inside` (faceted solids: each face keeps its own normal).
     pub fn facet(&mut self, a: Vec3, b: Vec3, c: Vec3, inside: Vec3, part: u32) {
         let n = (b - a).cross(c - a);
-        let (b, c) = if n.dot(a - inside) >= 0.0 { (b, c) } else { (c, b) };
+        let (b, c) = if n.dot(a - inside) >= 0.0 {
+            (b, c)
+        } else {
+            (c, b)
+        };
         let i = self.vertex(a, part);
         let j = self.vertex(b, part);
         let k = self.vertex(c, part);
@@ -67,7 +71,8 @@ impl Mesh {
         self.normals = merge_attr(self.normals.take(), n_self, other.normals, n_other, Vec3::Y);
         self.positions.extend(other.positions);
         self.part.extend(other.part.iter().map(|p| p + parts));
-        self.triangles.extend(other.triangles.iter().map(|t| t.map(|i| i + base)));
+        self.triangles
+            .extend(other.triangles.iter().map(|t| t.map(|i| i + base)));
     }
 
     /// Applies a static transform: positions by `m`, normals by its inverse transpose.
@@ -106,11 +111,21 @@ impl Mesh {
     /// Axis-aligned bounding box, or None for a mesh without vertices.
     pub fn bounds(&self) -> Option<(Vec3, Vec3)> {
         let first = *self.positions.first()?;
-        Some(self.positions.iter().fold((first, first), |(lo, hi), p| (lo.min(*p), hi.max(*p))))
+        Some(
+            self.positions
+                .iter()
+                .fold((first, first), |(lo, hi), p| (lo.min(*p), hi.max(*p))),
+        )
     }
 }
 
-fn merge_attr(a: Option<Vec<Vec3>>, na: usize, b: Option<Vec<Vec3>>, nb: usize, fill: Vec3) -> Option<Vec<Vec3>> {
+fn merge_attr(
+    a: Option<Vec<Vec3>>,
+    na: usize,
+    b: Option<Vec<Vec3>>,
+    nb: usize,
+    fill: Vec3,
+) -> Option<Vec<Vec3>> {
     match (a, b) {
         (None, None) => None,
         (a, b) => {
@@ -124,7 +139,8 @@ fn merge_attr(a: Option<Vec<Vec3>>, na: usize, b: Option<Vec<Vec3>>, nb: usize, 
 /// Deterministic hash of a seed and two integers to a uniform number in [0, 1); used where a
 /// value must depend only on *which* edge or cell it belongs to, not on visiting order.
 pub fn hash01(seed: u64, a: u64, b: u64) -> f32 {
-    let mut x = seed ^ a.wrapping_mul(0x9E37_79B9_7F4A_7C15) ^ b.wrapping_mul(0xC2B2_AE3D_27D4_EB4F);
+    let mut x =
+        seed ^ a.wrapping_mul(0x9E37_79B9_7F4A_7C15) ^ b.wrapping_mul(0xC2B2_AE3D_27D4_EB4F);
     // splitmix64 finalizer
     x = (x ^ (x >> 30)).wrapping_mul(0xBF58_476D_1CE4_E5B9);
     x = (x ^ (x >> 27)).wrapping_mul(0x94D0_49BB_1331_11EB);

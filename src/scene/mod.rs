@@ -26,7 +26,9 @@ use rand::{Rng, SeedableRng};
 use rand_chacha::ChaCha8Rng;
 
 use crate::raster::Vertex;
-use crate::spec::scene::{AnimationSpec, CameraSpec, MotionSpec, ObjectSpec, SceneSpec, ShadingSpec};
+use crate::spec::scene::{
+    AnimationSpec, CameraSpec, MotionSpec, ObjectSpec, SceneSpec, ShadingSpec,
+};
 use crate::spec::SpecError;
 use mesh::Mesh;
 
@@ -56,9 +58,17 @@ pub enum SceneError {
     #[error("{}: cannot read OBJ file: {message}", file.display())]
     ObjRead { file: PathBuf, message: String },
     #[error("{}:{line}: malformed OBJ: {message}", file.display())]
-    Obj { file: PathBuf, line: usize, message: String },
+    Obj {
+        file: PathBuf,
+        line: usize,
+        message: String,
+    },
     #[error("{}: frame {frame} is out of range: the scene has {count} frames (valid 0..={})", file.display(), count.saturating_sub(1))]
-    FrameOutOfRange { file: PathBuf, frame: u32, count: u32 },
+    FrameOutOfRange {
+        file: PathBuf,
+        frame: u32,
+        count: u32,
+    },
 }
 
 /// A loaded scene: meshes built once, frames computed on demand.
@@ -82,7 +92,11 @@ struct Object {
 enum Motion {
     Still,
     /// Rotation about an axis through `centre`, `radians` per frame.
-    Spin { centre: Vec3, axis: Vec3, radians: f32 },
+    Spin {
+        centre: Vec3,
+        axis: Vec3,
+        radians: f32,
+    },
     /// Per part: centroid, axis, radians per frame.
     Tumble(Vec<(Vec3, Vec3, f32)>),
 }
@@ -96,14 +110,21 @@ impl Scene {
 
     /// Builds a scene from a validated spec; `file` locates OBJ files and names errors.
     pub fn from_spec(file: &Path, spec: SceneSpec) -> Result<Scene, SceneError> {
-        let ctx = gen::GenContext { width: spec.resolution[0], height: spec.resolution[1] };
+        let ctx = gen::GenContext {
+            width: spec.resolution[0],
+            height: spec.resolution[1],
+        };
         let objects = spec
             .geometry
             .iter()
             .enumerate()
             .map(|(i, o)| build_object(file, i, o, ctx))
             .collect::<Result<Vec<_>, _>>()?;
-        Ok(Scene { file: file.to_path_buf(), spec, objects })
+        Ok(Scene {
+            file: file.to_path_buf(),
+            spec,
+            objects,
+        })
     }
 
     pub fn spec(&self) -> &SceneSpec {
@@ -126,7 +147,11 @@ impl Scene {
     /// The geometry of frame `n` (0-based), transformed to clip space and lit.
     pub fn frame(&self, n: u32) -> Result<FrameGeometry, SceneError> {
         if n >= self.spec.frames {
-            return Err(SceneError::FrameOutOfRange { file: self.file.clone(), frame: n, count: self.spec.frames });
+            return Err(SceneError::FrameOutOfRange {
+                file: self.file.clone(),
+                frame: n,
+                count: self.spec.frames,
+            });
         }
         let [w, h] = self.spec.resolution;
         let to_clip = self.view_projection(n);
@@ -139,18 +164,43 @@ impl Scene {
             object.emit(n, &to_clip, &light, &mut vertices);
             triangles.extend(object.mesh.triangles.iter().map(|t| t.map(|i| i + base)));
         }
-        Ok(FrameGeometry { width: w, height: h, vertices, triangles, cull_backfaces: self.spec.cull_backfaces, background: self.spec.background })
+        Ok(FrameGeometry {
+            width: w,
+            height: h,
+            vertices,
+            triangles,
+            cull_backfaces: self.spec.cull_backfaces,
+            background: self.spec.background,
+        })
     }
 
     fn view_projection(&self, n: u32) -> ToClip {
         let [w, h] = self.spec.resolution;
         match &self.spec.camera {
-            CameraSpec::Screen => ToClip::Screen { width: w as f32, height: h as f32 },
-            CameraSpec::Perspective { eye, target, up, fov_deg, near, far } => {
+            CameraSpec::Screen => ToClip::Screen {
+                width: w as f32,
+                height: h as f32,
+            },
+            CameraSpec::Perspective {
+                eye,
+                target,
+                up,
+                fov_deg,
+                near,
+                far,
+            } => {
                 let (eye, target, up) = match &self.spec.animation {
-                    AnimationSpec::Still => (Vec3::from(*eye), Vec3::from(*target), Vec3::from(*up)),
-                    AnimationSpec::Orbit { axis, degrees_per_frame } => {
-                        let q = Quat::from_axis_angle(Vec3::from(*axis).normalize(), (degrees_per_frame * n as f32).to_radians());
+                    AnimationSpec::Still => {
+                        (Vec3::from(*eye), Vec3::from(*target), Vec3::from(*up))
+                    }
+                    AnimationSpec::Orbit {
+                        axis,
+                        degrees_per_frame,
+                    } => {
+                        let q = Quat::from_axis_angle(
+                            Vec3::from(*axis).normalize(),
+                            (degrees_per_frame * n as f32).to_radians(),
+                        );
                         let t = Vec3::from(*target);
                         (t + q * (Vec3::from(*eye) - t), t, q * Vec3::from(*up))
                     }
@@ -160,7 +210,8 @@ impl Scene {
                     }
                 };
                 let view = Mat4::look_at_rh(eye, target, up);
-                let proj = Mat4::perspective_rh(fov_deg.to_radians(), w as f32 / h as f32, *near, *far);
+                let proj =
+                    Mat4::perspective_rh(fov_deg.to_radians(), w as f32 / h as f32, *near, *far);
                 ToClip::Perspective(proj * view)
             }
         }
@@ -171,14 +222,19 @@ impl Scene {
 enum ToClip {
     Perspective(Mat4),
     /// Pixels (x right, y down, depth z) to clip space with w = 1.
-    Screen { width: f32, height: f32 },
+    Screen {
+        width: f32,
+        height: f32,
+    },
 }
 
 impl ToClip {
     fn apply(&self, p: Vec3) -> Vec4 {
         match self {
             ToClip::Perspective(m) => *m * p.extend(1.0),
-            ToClip::Screen { width, height } => Vec4::new(2.0 * p.x / width - 1.0, 1.0 - 2.0 * p.y / height, p.z, 1.0),
+            ToClip::Screen { width, height } => {
+                Vec4::new(2.0 * p.x / width - 1.0, 1.0 - 2.0 * p.y / height, p.z, 1.0)
+            }
         }
     }
 }
@@ -186,16 +242,26 @@ impl ToClip {
 /// Per-vertex lighting in world space.
 enum Lighting {
     Flat,
-    Lambert { to_light: Vec3, ambient: f32, diffuse: f32 },
+    Lambert {
+        to_light: Vec3,
+        ambient: f32,
+        diffuse: f32,
+    },
 }
 
 impl From<&ShadingSpec> for Lighting {
     fn from(s: &ShadingSpec) -> Lighting {
         match s {
             ShadingSpec::Flat => Lighting::Flat,
-            ShadingSpec::Gouraud { light_dir, ambient, diffuse } => {
-                Lighting::Lambert { to_light: Vec3::from(*light_dir).normalize(), ambient: *ambient, diffuse: *diffuse }
-            }
+            ShadingSpec::Gouraud {
+                light_dir,
+                ambient,
+                diffuse,
+            } => Lighting::Lambert {
+                to_light: Vec3::from(*light_dir).normalize(),
+                ambient: *ambient,
+                diffuse: *diffuse,
+            },
         }
     }
 }
@@ -204,9 +270,12 @@ impl Lighting {
     fn shade(&self, base: Vec3, normal: Vec3) -> Vec3 {
         match self {
             Lighting::Flat => base,
-            Lighting::Lambert { to_light, ambient, diffuse } => {
-                (base * (ambient + diffuse * normal.dot(*to_light).max(0.0))).clamp(Vec3::ZERO, Vec3::ONE)
-            }
+            Lighting::Lambert {
+                to_light,
+                ambient,
+                diffuse,
+            } => (base * (ambient + diffuse * normal.dot(*to_light).max(0.0)))
+                .clamp(Vec3::ZERO, Vec3::ONE),
         }
     }
 }
@@ -217,16 +286,28 @@ impl Object {
         let mut put = |i: usize, rot: Quat, about: Vec3| {
             let p = about + rot * (m.positions[i] - about);
             let normal = rot * self.normals[i];
-            out.push(Vertex { clip: to_clip.apply(p), color: light.shade(self.colors[i], normal) });
+            out.push(Vertex {
+                clip: to_clip.apply(p),
+                color: light.shade(self.colors[i], normal),
+            });
         };
         match &self.motion {
-            Motion::Still => (0..m.positions.len()).for_each(|i| put(i, Quat::IDENTITY, Vec3::ZERO)),
-            Motion::Spin { centre, axis, radians } => {
+            Motion::Still => {
+                (0..m.positions.len()).for_each(|i| put(i, Quat::IDENTITY, Vec3::ZERO))
+            }
+            Motion::Spin {
+                centre,
+                axis,
+                radians,
+            } => {
                 let q = Quat::from_axis_angle(*axis, radians * n as f32);
                 (0..m.positions.len()).for_each(|i| put(i, q, *centre));
             }
             Motion::Tumble(parts) => {
-                let qs: Vec<Quat> = parts.iter().map(|(_, axis, r)| Quat::from_axis_angle(*axis, r * n as f32)).collect();
+                let qs: Vec<Quat> = parts
+                    .iter()
+                    .map(|(_, axis, r)| Quat::from_axis_angle(*axis, r * n as f32))
+                    .collect();
                 for i in 0..m.positions.len() {
                     let p = m.part[i] as usize;
                     put(i, qs[p], parts[p].0);
@@ -236,7 +317,12 @@ impl Object {
     }
 }
 
-fn build_object(file: &Path, index: usize, spec: &ObjectSpec, ctx: gen::GenContext) -> Result<Object, SceneError> {
+fn build_object(
+    file: &Path,
+    index: usize,
+    spec: &ObjectSpec,
+    ctx: gen::GenContext,
+) -> Result<Object, SceneError> {
     let mut mesh = match (&spec.generator, &spec.obj) {
         (Some(g), _) => gen::build(g, ctx),
         (None, Some(obj)) => obj::load(&file.parent().unwrap_or(Path::new(".")).join(obj))?,
@@ -245,7 +331,11 @@ fn build_object(file: &Path, index: usize, spec: &ObjectSpec, ctx: gen::GenConte
     let t = &spec.transform;
     let r = Vec3::from(t.rotate_deg) * std::f32::consts::PI / 180.0;
     let rot = Quat::from_rotation_z(r.z) * Quat::from_rotation_y(r.y) * Quat::from_rotation_x(r.x);
-    mesh.transform(Mat4::from_scale_rotation_translation(Vec3::from(t.scale), rot, Vec3::from(t.translate)));
+    mesh.transform(Mat4::from_scale_rotation_translation(
+        Vec3::from(t.scale),
+        rot,
+        Vec3::from(t.translate),
+    ));
     if let Some(target) = spec.triangles {
         refine::refine_to(&mut mesh, target as usize).map_err(|base| {
             SpecError::invalid(
@@ -255,20 +345,41 @@ fn build_object(file: &Path, index: usize, spec: &ObjectSpec, ctx: gen::GenConte
             )
         })?;
     }
-    let normals = mesh.normals.clone().unwrap_or_else(|| mesh.smooth_normals());
-    let colors = mesh.colors.clone().unwrap_or_else(|| vec![Vec3::from(spec.color); mesh.positions.len()]);
+    let normals = mesh
+        .normals
+        .clone()
+        .unwrap_or_else(|| mesh.smooth_normals());
+    let colors = mesh
+        .colors
+        .clone()
+        .unwrap_or_else(|| vec![Vec3::from(spec.color); mesh.positions.len()]);
     let motion = motion(&spec.motion, &mesh);
-    Ok(Object { mesh, normals, colors, motion })
+    Ok(Object {
+        mesh,
+        normals,
+        colors,
+        motion,
+    })
 }
 
 fn motion(spec: &MotionSpec, mesh: &Mesh) -> Motion {
     match spec {
         MotionSpec::Still => Motion::Still,
-        MotionSpec::Spin { axis, degrees_per_frame } => {
+        MotionSpec::Spin {
+            axis,
+            degrees_per_frame,
+        } => {
             let (lo, hi) = mesh.bounds().unwrap_or((Vec3::ZERO, Vec3::ZERO));
-            Motion::Spin { centre: (lo + hi) * 0.5, axis: Vec3::from(*axis).normalize(), radians: degrees_per_frame.to_radians() }
+            Motion::Spin {
+                centre: (lo + hi) * 0.5,
+                axis: Vec3::from(*axis).normalize(),
+                radians: degrees_per_frame.to_radians(),
+            }
         }
-        MotionSpec::Tumble { seed, degrees_per_frame } => {
+        MotionSpec::Tumble {
+            seed,
+            degrees_per_frame,
+        } => {
             let parts = mesh.part_count() as usize;
             let mut sum = vec![(Vec3::ZERO, 0u32); parts];
             for (p, part) in mesh.positions.iter().zip(&mesh.part) {

@@ -60,7 +60,9 @@ impl PartialOrd for Entry {
 impl Ord for Entry {
     // Largest area first; ties go to the lower index so the result is deterministic.
     fn cmp(&self, other: &Self) -> Ordering {
-        self.area.total_cmp(&other.area).then_with(|| other.tri.cmp(&self.tri))
+        self.area
+            .total_cmp(&other.area)
+            .then_with(|| other.tri.cmp(&self.tri))
     }
 }
 
@@ -71,9 +73,18 @@ impl<'a> Refiner<'a> {
             .positions
             .iter()
             .enumerate()
-            .map(|(i, p)| *first.entry(p.to_array().map(f32::to_bits)).or_insert(i as u32))
+            .map(|(i, p)| {
+                *first
+                    .entry(p.to_array().map(f32::to_bits))
+                    .or_insert(i as u32)
+            })
             .collect();
-        let mut r = Refiner { mesh, pid, edges: HashMap::new(), heap: BinaryHeap::new() };
+        let mut r = Refiner {
+            mesh,
+            pid,
+            edges: HashMap::new(),
+            heap: BinaryHeap::new(),
+        };
         for t in 0..r.mesh.triangles.len() as u32 {
             let tri = r.mesh.triangles[t as usize];
             for k in 0..3 {
@@ -130,7 +141,9 @@ impl<'a> Refiner<'a> {
 
     fn run(&mut self, target: usize) {
         while self.mesh.triangles.len() < target {
-            let Some(Entry { area, tri }) = self.heap.pop() else { return };
+            let Some(Entry { area, tri }) = self.heap.pop() else {
+                return;
+            };
             if area != self.area(tri) {
                 continue; // stale: this triangle was split since
             }

@@ -14,7 +14,9 @@
 use glam::{DVec2, DVec4};
 
 use super::FrameGeometry;
-use crate::raster::{self, CountingTarget, Counters, CullMode, RasterOptions, ScreenTriangle, Viewport};
+use crate::raster::{
+    self, Counters, CountingTarget, CullMode, RasterOptions, ScreenTriangle, Viewport,
+};
 
 /// What the rasterizer made of one frame (every fragment counted, before any depth test).
 #[derive(Clone, Debug, Default, PartialEq)]
@@ -48,7 +50,13 @@ pub fn rasterized(frame: &FrameGeometry) -> RasterStats {
         return RasterStats::default();
     };
     let mut target = CountingTarget::new(viewport);
-    let counters = raster::draw_mesh(&frame.vertices, &frame.triangles, viewport, &options(frame), &mut target);
+    let counters = raster::draw_mesh(
+        &frame.vertices,
+        &frame.triangles,
+        viewport,
+        &options(frame),
+        &mut target,
+    );
     let mut histogram: Vec<u64> = Vec::new();
     let mut pixels = 0u64;
     for &c in target.counts() {
@@ -63,7 +71,11 @@ pub fn rasterized(frame: &FrameGeometry) -> RasterStats {
     RasterStats {
         counters,
         pixels_rendered: pixels,
-        mean_area_px: if set_up > 0 { pixels as f64 / set_up as f64 } else { 0.0 },
+        mean_area_px: if set_up > 0 {
+            pixels as f64 / set_up as f64
+        } else {
+            0.0
+        },
         depth_complexity: pixels as f64 / viewport.pixels() as f64,
         active_pixels: viewport.pixels() as u64 - histogram.first().copied().unwrap_or(0),
         depth_histogram: histogram,
@@ -79,7 +91,13 @@ pub fn raster_overlap_factor(frame: &FrameGeometry, region_w: u32, region_h: u32
         return 0.0;
     };
     let mut tris: Vec<ScreenTriangle> = Vec::new();
-    raster::setup_mesh(&frame.vertices, &frame.triangles, viewport, &options(frame), &mut tris);
+    raster::setup_mesh(
+        &frame.vertices,
+        &frame.triangles,
+        viewport,
+        &options(frame),
+        &mut tris,
+    );
     if tris.is_empty() {
         return 0.0;
     }
@@ -89,15 +107,27 @@ pub fn raster_overlap_factor(frame: &FrameGeometry, region_w: u32, region_h: u32
     for t in &tris {
         let v = t.vertices();
         let px = |s: raster::Sub| s.pixel();
-        let (x0, x1) = (v.iter().map(|p| px(p.x)).min().unwrap().clamp(0, maxx), v.iter().map(|p| px(p.x)).max().unwrap().clamp(0, maxx));
-        let (y0, y1) = (v.iter().map(|p| px(p.y)).min().unwrap().clamp(0, maxy), v.iter().map(|p| px(p.y)).max().unwrap().clamp(0, maxy));
+        let (x0, x1) = (
+            v.iter().map(|p| px(p.x)).min().unwrap().clamp(0, maxx),
+            v.iter().map(|p| px(p.x)).max().unwrap().clamp(0, maxx),
+        );
+        let (y0, y1) = (
+            v.iter().map(|p| px(p.y)).min().unwrap().clamp(0, maxy),
+            v.iter().map(|p| px(p.y)).max().unwrap().clamp(0, maxy),
+        );
         touched += ((x1 / rw - x0 / rw + 1) * (y1 / rh - y0 / rh + 1)) as u64;
     }
     touched as f64 / tris.len() as f64
 }
 
 fn options(frame: &FrameGeometry) -> RasterOptions {
-    RasterOptions { cull: if frame.cull_backfaces { CullMode::Back } else { CullMode::None } }
+    RasterOptions {
+        cull: if frame.cull_backfaces {
+            CullMode::Back
+        } else {
+            CullMode::None
+        },
+    }
 }
 
 /// Geometric statistics of one frame.
@@ -121,7 +151,10 @@ pub struct GeometricStats {
 /// Measures `frame` geometrically (see the module doc).
 pub fn geometric(frame: &FrameGeometry) -> GeometricStats {
     let (w, h) = (frame.width as f64, frame.height as f64);
-    let mut s = GeometricStats { triangles_in: frame.triangles.len(), ..Default::default() };
+    let mut s = GeometricStats {
+        triangles_in: frame.triangles.len(),
+        ..Default::default()
+    };
     for t in &frame.triangles {
         let Some(m) = measure(frame, t) else { continue };
         if m.front {
@@ -132,7 +165,11 @@ pub fn geometric(frame: &FrameGeometry) -> GeometricStats {
             s.sum_area_px += m.screen_area;
         }
     }
-    s.mean_area_px = if s.on_screen > 0 { s.sum_area_px / s.on_screen as f64 } else { 0.0 };
+    s.mean_area_px = if s.on_screen > 0 {
+        s.sum_area_px / s.on_screen as f64
+    } else {
+        0.0
+    };
     s.depth_complexity = s.sum_area_px / (w * h);
     s
 }
@@ -169,18 +206,31 @@ struct Measured {
 /// None when the triangle is wholly in front of the near plane or behind the far plane.
 fn measure(frame: &FrameGeometry, t: &[u32; 3]) -> Option<Measured> {
     let (w, h) = (frame.width as f64, frame.height as f64);
-    let clip: Vec<DVec4> = t.iter().map(|&i| frame.vertices[i as usize].clip.as_dvec4()).collect();
+    let clip: Vec<DVec4> = t
+        .iter()
+        .map(|&i| frame.vertices[i as usize].clip.as_dvec4())
+        .collect();
     // Near: z >= 0; far: z <= w (glam's perspective_rh depth range).
     let poly = clip_homogeneous(clip, |v| v.z);
     let poly = clip_homogeneous(poly, |v| v.w - v.z);
     if poly.len() < 3 || poly.iter().any(|v| v.w <= 0.0) {
         return None;
     }
-    let px: Vec<DVec2> = poly.iter().map(|v| DVec2::new((v.x / v.w + 1.0) * 0.5 * w, (1.0 - v.y / v.w) * 0.5 * h)).collect();
+    let px: Vec<DVec2> = poly
+        .iter()
+        .map(|v| DVec2::new((v.x / v.w + 1.0) * 0.5 * w, (1.0 - v.y / v.w) * 0.5 * h))
+        .collect();
     let signed = shoelace(&px);
     let inside = clip_rect(px, w, h);
-    let bbox = inside.iter().fold((DVec2::splat(f64::MAX), DVec2::splat(f64::MIN)), |(lo, hi), p| (lo.min(*p), hi.max(*p)));
-    Some(Measured { front: signed < 0.0, screen_area: shoelace(&inside).abs(), bbox })
+    let bbox = inside.iter().fold(
+        (DVec2::splat(f64::MAX), DVec2::splat(f64::MIN)),
+        |(lo, hi), p| (lo.min(*p), hi.max(*p)),
+    );
+    Some(Measured {
+        front: signed < 0.0,
+        screen_area: shoelace(&inside).abs(),
+        bbox,
+    })
 }
 
 /// Signed area with y down: negative means counter-clockwise to the viewer.
@@ -209,7 +259,11 @@ fn clip_rect(poly: Vec<DVec2>, w: f64, h: f64) -> Vec<DVec2> {
     clip_generic(p, |v| h - v.y, lerp)
 }
 
-fn clip_generic<T: Copy>(poly: Vec<T>, dist: impl Fn(T) -> f64, lerp: impl Fn(T, T, f64) -> T) -> Vec<T> {
+fn clip_generic<T: Copy>(
+    poly: Vec<T>,
+    dist: impl Fn(T) -> f64,
+    lerp: impl Fn(T, T, f64) -> T,
+) -> Vec<T> {
     if poly.is_empty() {
         return poly;
     }

@@ -7,8 +7,8 @@
 
 pub mod check;
 pub mod machine;
-pub mod scene;
 mod quantity;
+pub mod scene;
 
 use std::path::{Path, PathBuf};
 

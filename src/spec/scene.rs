@@ -173,7 +173,11 @@ fn unit_scale() -> [f32; 3] {
 
 impl Default for TransformSpec {
     fn default() -> Self {
-        TransformSpec { scale: unit_scale(), rotate_deg: [0.0; 3], translate: [0.0; 3] }
+        TransformSpec {
+            scale: unit_scale(),
+            rotate_deg: [0.0; 3],
+            translate: [0.0; 3],
+        }
     }
 }
 
@@ -185,7 +189,10 @@ pub enum MotionSpec {
     Still,
     /// Turns about `axis` through the centre of its bounding box (paper 002's PLB head turns
     /// 4.5 degrees left per frame).
-    Spin { axis: [f32; 3], degrees_per_frame: f32 },
+    Spin {
+        axis: [f32; 3],
+        degrees_per_frame: f32,
+    },
     /// Every connected part (each tetrahedron of a random-tetrahedra cloud, or the whole
     /// letter B) turns about its own centroid, about a random axis at a random speed in
     /// [0.5, 1] x `degrees_per_frame` (paper 000's objects "rotate randomly").
@@ -202,7 +209,11 @@ pub enum GeneratorSpec {
     Gears { grid: u32, teeth: u32 },
     /// SPD-style `mountain`: a square recursively subdivided `levels` times with random
     /// midpoint displacement, 2 * 4^levels triangles.
-    Mountain { levels: u32, roughness: f32, seed: u64 },
+    Mountain {
+        levels: u32,
+        roughness: f32,
+        seed: u64,
+    },
     /// Newell's teapot, 32 bicubic Bezier patches tessellated n x n (2 n^2 triangles per
     /// patch, minus those that collapse at the lid and bottom poles).
     Teapot { n: u32 },
@@ -214,7 +225,12 @@ pub enum GeneratorSpec {
     UvSphere { rings: u32, segments: u32 },
     /// A count_x x count_y x count_z lattice of UV spheres of radius `radius` in the cube
     /// [-1, 1]^3.
-    SphereLattice { count: [u32; 3], radius: f32, rings: u32, segments: u32 },
+    SphereLattice {
+        count: [u32; 3],
+        radius: f32,
+        rings: u32,
+        segments: u32,
+    },
     /// Letter "B" extruded: a stem, three bars and two bowls of `segments` steps each.
     LetterB { segments: u32, depth: f32 },
     /// `count` regular tetrahedra of edge `size` placed uniformly in the cube [-1, 1]^3 with
@@ -222,13 +238,22 @@ pub enum GeneratorSpec {
     RandomTetrahedra { count: u32, size: f32, seed: u64 },
     /// A head-like closed surface (skull, nose, ears, chin by smooth displacement of a UV
     /// sphere): 2 * segments * (rings - 1) triangles.
-    Head { rings: u32, segments: u32, seed: u64 },
+    Head {
+        rings: u32,
+        segments: u32,
+        seed: u64,
+    },
     /// An icosahedral virus-like shell: geodesic sphere of frequency f (20 f^2 triangles)
     /// with icosahedrally symmetric bumps.
     IcosaShell { frequency: u32, bump: f32 },
     /// A fractal height field on cols x rows quads of the square [-1, 1]^2: 2 * cols * rows
     /// triangles.
-    Terrain { cols: u32, rows: u32, relief: f32, seed: u64 },
+    Terrain {
+        cols: u32,
+        rows: u32,
+        relief: f32,
+        seed: u64,
+    },
     /// Screen-space scatter for paper 003 stand-ins (use with the `screen` camera): `count`
     /// triangles with log-normal areas rescaled to a mean of exactly `mean_area_px`, placed
     /// uniformly inside the screen at random depths; optionally a first large "background"
@@ -264,20 +289,31 @@ impl SceneSpec {
         let bad = |field: &str, msg: String| Err(SpecError::invalid(file, field, msg));
         let [w, h] = self.resolution;
         if w == 0 || h == 0 || w > 16384 || h > 16384 {
-            return bad("resolution", format!("must be [width, height] with each in 1..=16384 pixels, got [{w}, {h}]"));
+            return bad(
+                "resolution",
+                format!("must be [width, height] with each in 1..=16384 pixels, got [{w}, {h}]"),
+            );
         }
         if self.frames == 0 {
             return bad("frames", "must be at least 1".into());
         }
         self.validate_camera(file)?;
         self.validate_animation(file)?;
-        if let ShadingSpec::Gouraud { light_dir, ambient, diffuse } = &self.shading {
+        if let ShadingSpec::Gouraud {
+            light_dir,
+            ambient,
+            diffuse,
+        } = &self.shading
+        {
             check_dir(file, "shading.light_dir", *light_dir)?;
             check_range(file, "shading.ambient", *ambient, 0.0, 1.0)?;
             check_range(file, "shading.diffuse", *diffuse, 0.0, 1.0)?;
         }
         if self.geometry.is_empty() {
-            return bad("geometry", "must list at least one object (a `generator` or an `obj` file)".into());
+            return bad(
+                "geometry",
+                "must list at least one object (a `generator` or an `obj` file)".into(),
+            );
         }
         for (i, object) in self.geometry.iter().enumerate() {
             object.validate(file, &format!("geometry[{i}]"))?;
@@ -286,19 +322,39 @@ impl SceneSpec {
     }
 
     fn validate_camera(&self, file: &Path) -> Result<(), SpecError> {
-        if let CameraSpec::Perspective { eye, target, up, fov_deg, near, far } = &self.camera {
+        if let CameraSpec::Perspective {
+            eye,
+            target,
+            up,
+            fov_deg,
+            near,
+            far,
+        } = &self.camera
+        {
             check_finite(file, "camera.eye", eye)?;
             check_finite(file, "camera.target", target)?;
             check_dir(file, "camera.up", *up)?;
             check_view(file, "camera", *eye, *target, *up)?;
             if !(*fov_deg > 0.0 && *fov_deg < 180.0) {
-                return Err(SpecError::invalid(file, "camera.fov_deg", format!("must be in (0, 180) degrees, got {fov_deg}")));
+                return Err(SpecError::invalid(
+                    file,
+                    "camera.fov_deg",
+                    format!("must be in (0, 180) degrees, got {fov_deg}"),
+                ));
             }
             if !(*near > 0.0 && near.is_finite()) {
-                return Err(SpecError::invalid(file, "camera.near", format!("must be a positive distance, got {near}")));
+                return Err(SpecError::invalid(
+                    file,
+                    "camera.near",
+                    format!("must be a positive distance, got {near}"),
+                ));
             }
             if !(*far > *near && far.is_finite()) {
-                return Err(SpecError::invalid(file, "camera.far", format!("must be finite and greater than near ({near}), got {far}")));
+                return Err(SpecError::invalid(
+                    file,
+                    "camera.far",
+                    format!("must be finite and greater than near ({near}), got {far}"),
+                ));
             }
         }
         Ok(())
@@ -307,19 +363,34 @@ impl SceneSpec {
     fn validate_animation(&self, file: &Path) -> Result<(), SpecError> {
         match &self.animation {
             AnimationSpec::Still => Ok(()),
-            AnimationSpec::Orbit { axis, degrees_per_frame } => {
+            AnimationSpec::Orbit {
+                axis,
+                degrees_per_frame,
+            } => {
                 if matches!(self.camera, CameraSpec::Screen) {
-                    return Err(SpecError::invalid(file, "animation", "a `screen` camera cannot orbit; use `still`"));
+                    return Err(SpecError::invalid(
+                        file,
+                        "animation",
+                        "a `screen` camera cannot orbit; use `still`",
+                    ));
                 }
                 check_dir(file, "animation.axis", *axis)?;
                 check_finite(file, "animation.degrees_per_frame", &[*degrees_per_frame])
             }
             AnimationSpec::Views { views } => {
                 if matches!(self.camera, CameraSpec::Screen) {
-                    return Err(SpecError::invalid(file, "animation", "a `screen` camera has no views; use `still`"));
+                    return Err(SpecError::invalid(
+                        file,
+                        "animation",
+                        "a `screen` camera has no views; use `still`",
+                    ));
                 }
                 if views.is_empty() {
-                    return Err(SpecError::invalid(file, "animation.views", "must list at least one view"));
+                    return Err(SpecError::invalid(
+                        file,
+                        "animation.views",
+                        "must list at least one view",
+                    ));
                 }
                 for (i, v) in views.iter().enumerate() {
                     let at = format!("animation.views[{i}]");
@@ -353,8 +424,12 @@ impl ObjectSpec {
         }
         let t = &self.transform;
         check_finite(file, &format!("{at}.transform.scale"), &t.scale)?;
-        if t.scale.iter().any(|s| *s == 0.0) {
-            return Err(SpecError::invalid(file, format!("{at}.transform.scale"), "must be non-zero on every axis"));
+        if t.scale.contains(&0.0) {
+            return Err(SpecError::invalid(
+                file,
+                format!("{at}.transform.scale"),
+                "must be non-zero on every axis",
+            ));
         }
         check_finite(file, &format!("{at}.transform.rotate_deg"), &t.rotate_deg)?;
         check_finite(file, &format!("{at}.transform.translate"), &t.translate)?;
@@ -362,17 +437,32 @@ impl ObjectSpec {
             check_range(file, &format!("{at}.color[{k}]"), *c, 0.0, 1.0)?;
         }
         if self.triangles == Some(0) {
-            return Err(SpecError::invalid(file, format!("{at}.triangles"), "must be at least 1 (or left out)"));
+            return Err(SpecError::invalid(
+                file,
+                format!("{at}.triangles"),
+                "must be at least 1 (or left out)",
+            ));
         }
         match &self.motion {
             MotionSpec::Still => Ok(()),
-            MotionSpec::Spin { axis, degrees_per_frame } => {
+            MotionSpec::Spin {
+                axis,
+                degrees_per_frame,
+            } => {
                 check_dir(file, &format!("{at}.motion.axis"), *axis)?;
-                check_finite(file, &format!("{at}.motion.degrees_per_frame"), &[*degrees_per_frame])
+                check_finite(
+                    file,
+                    &format!("{at}.motion.degrees_per_frame"),
+                    &[*degrees_per_frame],
+                )
             }
-            MotionSpec::Tumble { degrees_per_frame, .. } => {
-                check_finite(file, &format!("{at}.motion.degrees_per_frame"), &[*degrees_per_frame])
-            }
+            MotionSpec::Tumble {
+                degrees_per_frame, ..
+            } => check_finite(
+                file,
+                &format!("{at}.motion.degrees_per_frame"),
+                &[*degrees_per_frame],
+            ),
         }
     }
 }
@@ -381,19 +471,27 @@ impl GeneratorSpec {
     fn validate(&self, file: &Path, at: &str) -> Result<(), SpecError> {
         let count = |field: &str, v: u32, lo: u32, hi: u32| -> Result<(), SpecError> {
             if v < lo || v > hi {
-                Err(SpecError::invalid(file, format!("{at}.{field}"), format!("must be in {lo}..={hi}, got {v}")))
+                Err(SpecError::invalid(
+                    file,
+                    format!("{at}.{field}"),
+                    format!("must be in {lo}..={hi}, got {v}"),
+                ))
             } else {
                 Ok(())
             }
         };
-        let real = |field: &str, v: f64, lo: f64, hi: f64| check_range(file, &format!("{at}.{field}"), v, lo, hi);
+        let real = |field: &str, v: f64, lo: f64, hi: f64| {
+            check_range(file, &format!("{at}.{field}"), v, lo, hi)
+        };
         match self {
             GeneratorSpec::SpdTetra { size_factor } => count("size_factor", *size_factor, 0, 9),
             GeneratorSpec::Gears { grid, teeth } => {
                 count("grid", *grid, 1, 64)?;
                 count("teeth", *teeth, 4, 1000)
             }
-            GeneratorSpec::Mountain { levels, roughness, .. } => {
+            GeneratorSpec::Mountain {
+                levels, roughness, ..
+            } => {
                 count("levels", *levels, 0, 10)?;
                 real("roughness", *roughness as f64, 0.0, 2.0)
             }
@@ -403,7 +501,12 @@ impl GeneratorSpec {
                 count("rings", *rings, 2, 4096)?;
                 count("segments", *segments, 3, 4096)
             }
-            GeneratorSpec::SphereLattice { count: c, radius, rings, segments } => {
+            GeneratorSpec::SphereLattice {
+                count: c,
+                radius,
+                rings,
+                segments,
+            } => {
                 for (k, n) in c.iter().enumerate() {
                     count(&format!("count[{k}]"), *n, 1, 256)?;
                 }
@@ -419,7 +522,9 @@ impl GeneratorSpec {
                 count("count", *c, 1, 10_000_000)?;
                 real("size", *size as f64, 1e-6, 2.0)
             }
-            GeneratorSpec::Head { rings, segments, .. } => {
+            GeneratorSpec::Head {
+                rings, segments, ..
+            } => {
                 count("rings", *rings, 8, 4096)?;
                 count("segments", *segments, 8, 4096)
             }
@@ -427,12 +532,20 @@ impl GeneratorSpec {
                 count("frequency", *frequency, 1, 2048)?;
                 real("bump", *bump as f64, 0.0, 0.5)
             }
-            GeneratorSpec::Terrain { cols, rows, relief, .. } => {
+            GeneratorSpec::Terrain {
+                cols, rows, relief, ..
+            } => {
                 count("cols", *cols, 1, 8192)?;
                 count("rows", *rows, 1, 8192)?;
                 real("relief", *relief as f64, 0.0, 10.0)
             }
-            GeneratorSpec::ScreenScatter { count: c, mean_area_px, sigma, background_fraction, .. } => {
+            GeneratorSpec::ScreenScatter {
+                count: c,
+                mean_area_px,
+                sigma,
+                background_fraction,
+                ..
+            } => {
                 count("count", *c, 1, 50_000_000)?;
                 real("mean_area_px", *mean_area_px, 0.01, 1e7)?;
                 real("sigma", *sigma, 0.0, 3.0)?;
@@ -446,34 +559,70 @@ fn check_finite(file: &Path, field: &str, v: &[f32]) -> Result<(), SpecError> {
     if v.iter().all(|x| x.is_finite()) {
         Ok(())
     } else {
-        Err(SpecError::invalid(file, field, format!("must be finite numbers, got {v:?}")))
+        Err(SpecError::invalid(
+            file,
+            field,
+            format!("must be finite numbers, got {v:?}"),
+        ))
     }
 }
 
 fn check_dir(file: &Path, field: &str, v: [f32; 3]) -> Result<(), SpecError> {
     check_finite(file, field, &v)?;
     if v.iter().all(|x| *x == 0.0) {
-        return Err(SpecError::invalid(file, field, "must be a non-zero direction"));
+        return Err(SpecError::invalid(
+            file,
+            field,
+            "must be a non-zero direction",
+        ));
     }
     Ok(())
 }
 
-fn check_view(file: &Path, at: &str, eye: [f32; 3], target: [f32; 3], up: [f32; 3]) -> Result<(), SpecError> {
+fn check_view(
+    file: &Path,
+    at: &str,
+    eye: [f32; 3],
+    target: [f32; 3],
+    up: [f32; 3],
+) -> Result<(), SpecError> {
     let d = glam::Vec3::from(target) - glam::Vec3::from(eye);
     if d.length_squared() == 0.0 {
-        return Err(SpecError::invalid(file, format!("{at}.target"), "must differ from the eye"));
+        return Err(SpecError::invalid(
+            file,
+            format!("{at}.target"),
+            "must differ from the eye",
+        ));
     }
-    if d.normalize().cross(glam::Vec3::from(up).normalize()).length() < 1e-4 {
-        return Err(SpecError::invalid(file, format!("{at}.up"), "must not be parallel to the viewing direction"));
+    if d.normalize()
+        .cross(glam::Vec3::from(up).normalize())
+        .length()
+        < 1e-4
+    {
+        return Err(SpecError::invalid(
+            file,
+            format!("{at}.up"),
+            "must not be parallel to the viewing direction",
+        ));
     }
     Ok(())
 }
 
-fn check_range(file: &Path, field: &str, v: impl Into<f64>, lo: f64, hi: f64) -> Result<(), SpecError> {
+fn check_range(
+    file: &Path,
+    field: &str,
+    v: impl Into<f64>,
+    lo: f64,
+    hi: f64,
+) -> Result<(), SpecError> {
     let v = v.into();
     if v.is_finite() && v >= lo && v <= hi {
         Ok(())
     } else {
-        Err(SpecError::invalid(file, field, format!("must be in [{lo}, {hi}], got {v}")))
+        Err(SpecError::invalid(
+            file,
+            field,
+            format!("must be in [{lo}, {hi}], got {v}"),
+        ))
     }
 }

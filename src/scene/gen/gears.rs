@@ -18,7 +18,11 @@ pub fn build(grid: u32, teeth: u32) -> Mesh {
     let pitch = 1.0 / grid as f32; // radius of the pitch circle
     for j in 0..grid {
         for i in 0..grid {
-            let centre = Vec3::new(-1.0 + pitch * (2 * i + 1) as f32, 0.0, -1.0 + pitch * (2 * j + 1) as f32);
+            let centre = Vec3::new(
+                -1.0 + pitch * (2 * i + 1) as f32,
+                0.0,
+                -1.0 + pitch * (2 * j + 1) as f32,
+            );
             let phase = if (i + j) % 2 == 1 { 0.5 } else { 0.0 };
             gear(&mut m, centre, pitch, teeth, phase);
         }
@@ -34,8 +38,14 @@ fn gear(m: &mut Mesh, centre: Vec3, pitch: f32, teeth: u32, phase: f32) {
     let outline: Vec<Vec3> = (0..teeth * 4)
         .map(|k| {
             // Four points per tooth: root, tip, tip, root at quarter steps of the tooth angle.
-            let a = std::f32::consts::TAU * ((k / 4) as f32 + phase + [0.0, 0.2, 0.5, 0.7][(k % 4) as usize]) / teeth as f32;
-            let r = if k % 4 == 1 || k % 4 == 2 { r_tip } else { r_root };
+            let a = std::f32::consts::TAU
+                * ((k / 4) as f32 + phase + [0.0, 0.2, 0.5, 0.7][(k % 4) as usize])
+                / teeth as f32;
+            let r = if k % 4 == 1 || k % 4 == 2 {
+                r_tip
+            } else {
+                r_root
+            };
             Vec3::new(a.cos() * r, 0.0, -a.sin() * r)
         })
         .collect();

@@ -26,8 +26,11 @@ fn shape(d: Vec3, seed: u64) -> Vec3 {
     r -= 0.05 * bump(d, Vec3::new(0.45, 0.2, 0.85), 0.01); // eye sockets
     r -= 0.05 * bump(d, Vec3::new(-0.45, 0.2, 0.85), 0.01);
     r -= 0.12 * bump(d, Vec3::new(0.0, -1.0, 0.0), 0.3); // neck cut
-    // Skin roughness: a fixed function of direction so every seed gives a closed surface.
-    let cell = ((d.x * 40.0).floor() as i64 as u64, ((d.y * 40.0).floor() as i64 as u64) ^ (((d.z * 40.0).floor() as i64 as u64) << 20));
+                                                         // Skin roughness: a fixed function of direction so every seed gives a closed surface.
+    let cell = (
+        (d.x * 40.0).floor() as i64 as u64,
+        ((d.y * 40.0).floor() as i64 as u64) ^ (((d.z * 40.0).floor() as i64 as u64) << 20),
+    );
     r += 0.004 * (hash01(seed, cell.0, cell.1) - 0.5);
     d * base * r
 }

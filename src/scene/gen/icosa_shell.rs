@@ -14,7 +14,10 @@ use crate::scene::mesh::Mesh;
 
 pub fn build(frequency: u32, bump: f32) -> Mesh {
     let (corners, faces) = icosahedron();
-    let centres: Vec<Vec3> = faces.iter().map(|f| (corners[f[0]] + corners[f[1]] + corners[f[2]]).normalize()).collect();
+    let centres: Vec<Vec3> = faces
+        .iter()
+        .map(|f| (corners[f[0]] + corners[f[1]] + corners[f[2]]).normalize())
+        .collect();
     let f = frequency;
     let mut m = Mesh::new();
     let mut merged: HashMap<[i32; 3], u32> = HashMap::new();
@@ -26,7 +29,9 @@ pub fn build(frequency: u32, bump: f32) -> Mesh {
                 let p = a + (b - a) * (i as f32 / f as f32) + (c - a) * (j as f32 / f as f32);
                 let d = p.normalize();
                 let key = (d * (1 << 20) as f32).round().to_array().map(|x| x as i32);
-                let id = *merged.entry(key).or_insert_with(|| m.vertex(d * radius(d, &corners, &centres, bump), 0));
+                let id = *merged
+                    .entry(key)
+                    .or_insert_with(|| m.vertex(d * radius(d, &corners, &centres, bump), 0));
                 ids.push(id);
             }
         }
@@ -46,7 +51,10 @@ pub fn build(frequency: u32, bump: f32) -> Mesh {
 }
 
 fn radius(d: Vec3, corners: &[Vec3], centres: &[Vec3], bump: f32) -> f32 {
-    let five = corners.iter().map(|c| d.dot(c.normalize())).fold(-1.0f32, f32::max);
+    let five = corners
+        .iter()
+        .map(|c| d.dot(c.normalize()))
+        .fold(-1.0f32, f32::max);
     let three = centres.iter().map(|c| d.dot(*c)).fold(-1.0f32, f32::max);
     let knob = (-(1.0 - five) / 0.004).exp();
     let ridge = (-((1.0 - three) - 0.02).powi(2) / 0.0002).exp();
@@ -73,7 +81,11 @@ fn icosahedron() -> (Vec<Vec3>, Vec<[usize; 3]>) {
             for c in b + 1..12 {
                 if edge(a, b) && edge(b, c) && edge(a, c) {
                     let n = (v[b] - v[a]).cross(v[c] - v[a]);
-                    faces.push(if n.dot(v[a]) > 0.0 { [a, b, c] } else { [a, c, b] });
+                    faces.push(if n.dot(v[a]) > 0.0 {
+                        [a, b, c]
+                    } else {
+                        [a, c, b]
+                    });
                 }
             }
         }

@@ -47,17 +47,45 @@ fn bowl(m: &mut Mesh, c: [f32; 2], r_out: f32, r_in: f32, segments: u32, z: f32)
     let r_mid = (r_out + r_in) * 0.5;
     for k in 0..segments {
         // A point inside this step of the bowl tells each facet which way is out.
-        let a = -std::f32::consts::FRAC_PI_2 + std::f32::consts::PI * (k as f32 + 0.5) / segments as f32;
+        let a = -std::f32::consts::FRAC_PI_2
+            + std::f32::consts::PI * (k as f32 + 0.5) / segments as f32;
         let inside = centre + Vec3::new(a.cos() * r_mid, a.sin() * r_mid, 0.0);
         for s in [1.0, -1.0] {
-            m.facet_quad([at(r_in, k, s), at(r_out, k, s), at(r_out, k + 1, s), at(r_in, k + 1, s)], inside, 0);
+            m.facet_quad(
+                [
+                    at(r_in, k, s),
+                    at(r_out, k, s),
+                    at(r_out, k + 1, s),
+                    at(r_in, k + 1, s),
+                ],
+                inside,
+                0,
+            );
         }
         for r in [r_out, r_in] {
-            m.facet_quad([at(r, k, -1.0), at(r, k + 1, -1.0), at(r, k + 1, 1.0), at(r, k, 1.0)], inside, 0);
+            m.facet_quad(
+                [
+                    at(r, k, -1.0),
+                    at(r, k + 1, -1.0),
+                    at(r, k + 1, 1.0),
+                    at(r, k, 1.0),
+                ],
+                inside,
+                0,
+            );
         }
         if k == 0 || k == segments - 1 {
             let e = if k == 0 { 0 } else { segments };
-            m.facet_quad([at(r_in, e, -1.0), at(r_out, e, -1.0), at(r_out, e, 1.0), at(r_in, e, 1.0)], inside, 0);
+            m.facet_quad(
+                [
+                    at(r_in, e, -1.0),
+                    at(r_out, e, -1.0),
+                    at(r_out, e, 1.0),
+                    at(r_in, e, 1.0),
+                ],
+                inside,
+                0,
+            );
         }
     }
 }

@@ -34,21 +34,50 @@ pub fn build(spec: &GeneratorSpec, ctx: GenContext) -> Mesh {
     match spec {
         GeneratorSpec::SpdTetra { size_factor } => spd_tetra::build(*size_factor),
         GeneratorSpec::Gears { grid, teeth } => gears::build(*grid, *teeth),
-        GeneratorSpec::Mountain { levels, roughness, seed } => mountain::build(*levels, *roughness, *seed),
+        GeneratorSpec::Mountain {
+            levels,
+            roughness,
+            seed,
+        } => mountain::build(*levels, *roughness, *seed),
         GeneratorSpec::Teapot { n } => teapot::build(*n),
         GeneratorSpec::Plane => primitives::plane(),
         GeneratorSpec::BigTriangle => primitives::big_triangle(),
         GeneratorSpec::UvSphere { rings, segments } => primitives::uv_sphere(*rings, *segments, 0),
-        GeneratorSpec::SphereLattice { count, radius, rings, segments } => {
-            primitives::sphere_lattice(*count, *radius, *rings, *segments)
-        }
+        GeneratorSpec::SphereLattice {
+            count,
+            radius,
+            rings,
+            segments,
+        } => primitives::sphere_lattice(*count, *radius, *rings, *segments),
         GeneratorSpec::LetterB { segments, depth } => letter_b::build(*segments, *depth),
-        GeneratorSpec::RandomTetrahedra { count, size, seed } => random_tetrahedra::build(*count, *size, *seed),
-        GeneratorSpec::Head { rings, segments, seed } => head::build(*rings, *segments, *seed),
-        GeneratorSpec::IcosaShell { frequency, bump } => icosa_shell::build(*frequency, *bump),
-        GeneratorSpec::Terrain { cols, rows, relief, seed } => terrain::build(*cols, *rows, *relief, *seed),
-        GeneratorSpec::ScreenScatter { count, mean_area_px, sigma, seed, background_fraction } => {
-            screen_scatter::build(*count, *mean_area_px, *sigma, *seed, *background_fraction, ctx)
+        GeneratorSpec::RandomTetrahedra { count, size, seed } => {
+            random_tetrahedra::build(*count, *size, *seed)
         }
+        GeneratorSpec::Head {
+            rings,
+            segments,
+            seed,
+        } => head::build(*rings, *segments, *seed),
+        GeneratorSpec::IcosaShell { frequency, bump } => icosa_shell::build(*frequency, *bump),
+        GeneratorSpec::Terrain {
+            cols,
+            rows,
+            relief,
+            seed,
+        } => terrain::build(*cols, *rows, *relief, *seed),
+        GeneratorSpec::ScreenScatter {
+            count,
+            mean_area_px,
+            sigma,
+            seed,
+            background_fraction,
+        } => screen_scatter::build(
+            *count,
+            *mean_area_px,
+            *sigma,
+            *seed,
+            *background_fraction,
+            ctx,
+        ),
     }
 }

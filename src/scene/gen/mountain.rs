@@ -15,7 +15,8 @@ use crate::scene::mesh::{hash01, Mesh};
 
 pub fn build(levels: u32, roughness: f32, seed: u64) -> Mesh {
     let mut m = Mesh::new();
-    let v = [(-1.0, -1.0), (-1.0, 1.0), (1.0, 1.0), (1.0, -1.0)].map(|(x, z)| m.vertex(Vec3::new(x, 0.0, z), 0));
+    let v = [(-1.0, -1.0), (-1.0, 1.0), (1.0, 1.0), (1.0, -1.0)]
+        .map(|(x, z)| m.vertex(Vec3::new(x, 0.0, z), 0));
     let mut tris = vec![[v[0], v[1], v[2]], [v[0], v[2], v[3]]];
     // A peak in the middle so the mountain is a mountain and not a rough plain.
     let mut scale = roughness;
@@ -41,14 +42,24 @@ pub fn build(levels: u32, roughness: f32, seed: u64) -> Mesh {
     m
 }
 
-fn midpoint(m: &mut Mesh, mids: &mut HashMap<(u32, u32), u32>, a: u32, b: u32, scale: f32, seed: u64, level: u32) -> u32 {
+fn midpoint(
+    m: &mut Mesh,
+    mids: &mut HashMap<(u32, u32), u32>,
+    a: u32,
+    b: u32,
+    scale: f32,
+    seed: u64,
+    level: u32,
+) -> u32 {
     let key = (a.min(b), a.max(b));
     if let Some(i) = mids.get(&key) {
         return *i;
     }
     let p = (m.positions[a as usize] + m.positions[b as usize]) * 0.5;
     // Sum of two uniforms: a cheap bell-shaped displacement in [-scale, scale].
-    let r = hash01(seed ^ level as u64, key.0 as u64, key.1 as u64) + hash01(!seed, key.0 as u64, key.1 as u64) - 1.0;
+    let r = hash01(seed ^ level as u64, key.0 as u64, key.1 as u64)
+        + hash01(!seed, key.0 as u64, key.1 as u64)
+        - 1.0;
     let i = m.vertex(p + Vec3::Y * (r * scale), 0);
     mids.insert(key, i);
     i

@@ -9,7 +9,8 @@ use crate::scene::mesh::Mesh;
 /// Square [-1, 1]^2 in the xz plane facing +y: 2 triangles.
 pub fn plane() -> Mesh {
     let mut m = Mesh::new();
-    let v = [(-1.0, -1.0), (-1.0, 1.0), (1.0, 1.0), (1.0, -1.0)].map(|(x, z)| m.vertex(Vec3::new(x, 0.0, z), 0));
+    let v = [(-1.0, -1.0), (-1.0, 1.0), (1.0, 1.0), (1.0, -1.0)]
+        .map(|(x, z)| m.vertex(Vec3::new(x, 0.0, z), 0));
     // (a, a + z, a + x) winds counter-clockwise seen from +y.
     m.tri(v[0], v[1], v[2]);
     m.tri(v[0], v[2], v[3]);
@@ -41,7 +42,11 @@ pub fn uv_surface(rings: u32, segments: u32, part: u32, f: impl Fn(Vec3) -> Vec3
         let theta = std::f32::consts::PI * r as f32 / rings as f32;
         for s in 0..segments {
             let phi = std::f32::consts::TAU * s as f32 / segments as f32;
-            let d = Vec3::new(theta.sin() * phi.cos(), theta.cos(), -theta.sin() * phi.sin());
+            let d = Vec3::new(
+                theta.sin() * phi.cos(),
+                theta.cos(),
+                -theta.sin() * phi.sin(),
+            );
             m.vertex(f(d), part);
         }
     }
@@ -54,7 +59,12 @@ pub fn uv_surface(rings: u32, segments: u32, part: u32, f: impl Fn(Vec3) -> Vec3
     }
     for r in 1..rings - 1 {
         for s in 0..segments {
-            let (a, b, c, d) = (ring(r, s), ring(r, s + 1), ring(r + 1, s), ring(r + 1, s + 1));
+            let (a, b, c, d) = (
+                ring(r, s),
+                ring(r, s + 1),
+                ring(r + 1, s),
+                ring(r + 1, s + 1),
+            );
             m.tri(a, c, d);
             m.tri(a, d, b);
         }
@@ -65,7 +75,13 @@ pub fn uv_surface(rings: u32, segments: u32, part: u32, f: impl Fn(Vec3) -> Vec3
 /// count[0] x count[1] x count[2] spheres of `radius` evenly spread in [-1, 1]^3, one part each.
 pub fn sphere_lattice(count: [u32; 3], radius: f32, rings: u32, segments: u32) -> Mesh {
     let mut m = Mesh::new();
-    let at = |i: u32, n: u32| if n == 1 { 0.0 } else { -1.0 + 2.0 * i as f32 / (n - 1) as f32 };
+    let at = |i: u32, n: u32| {
+        if n == 1 {
+            0.0
+        } else {
+            -1.0 + 2.0 * i as f32 / (n - 1) as f32
+        }
+    };
     for k in 0..count[2] {
         for j in 0..count[1] {
             for i in 0..count[0] {

@@ -21,7 +21,14 @@ use rand_distr::{Distribution, LogNormal};
 use super::GenContext;
 use crate::scene::mesh::Mesh;
 
-pub fn build(count: u32, mean_area_px: f64, sigma: f64, seed: u64, background_fraction: f64, ctx: GenContext) -> Mesh {
+pub fn build(
+    count: u32,
+    mean_area_px: f64,
+    sigma: f64,
+    seed: u64,
+    background_fraction: f64,
+    ctx: GenContext,
+) -> Mesh {
     let mut rng = ChaCha8Rng::seed_from_u64(seed);
     let (w, h) = (ctx.width as f64, ctx.height as f64);
     let mut m = Mesh::new();
@@ -31,7 +38,12 @@ pub fn build(count: u32, mean_area_px: f64, sigma: f64, seed: u64, background_fr
     if background_fraction > 0.0 && count >= 2 {
         let top = (h * (1.0 - background_fraction)) as f32;
         let grey = Vec3::splat(0.3);
-        let quad = [Vec3::new(0.0, top, 0.999), Vec3::new(w as f32, top, 0.999), Vec3::new(w as f32, h as f32, 0.999), Vec3::new(0.0, h as f32, 0.999)];
+        let quad = [
+            Vec3::new(0.0, top, 0.999),
+            Vec3::new(w as f32, top, 0.999),
+            Vec3::new(w as f32, h as f32, 0.999),
+            Vec3::new(0.0, h as f32, 0.999),
+        ];
         // Front-facing on screen means negative signed area with y down: (0,top) -> (0,h) -> (w,h).
         push_tri(&mut m, &mut colors, [quad[0], quad[3], quad[2]], grey);
         push_tri(&mut m, &mut colors, [quad[0], quad[2], quad[1]], grey);
@@ -78,15 +90,25 @@ fn place(rng: &mut ChaCha8Rng, area: f64, w: f64, h: f64) -> [Vec3; 3] {
             // viewer, which is what front-facing means here.
             let a = -(k as f64) * std::f64::consts::TAU / 3.0;
             let (x, y) = (a.cos() * r * stretch, a.sin() * r / stretch);
-            (x * turn.cos() - y * turn.sin(), x * turn.sin() + y * turn.cos())
+            (
+                x * turn.cos() - y * turn.sin(),
+                x * turn.sin() + y * turn.cos(),
+            )
         })
         .collect();
-    let (lo_x, hi_x) = pts.iter().fold((f64::MAX, f64::MIN), |(l, hh), p| (l.min(p.0), hh.max(p.0)));
-    let (lo_y, hi_y) = pts.iter().fold((f64::MAX, f64::MIN), |(l, hh), p| (l.min(p.1), hh.max(p.1)));
+    let (lo_x, hi_x) = pts
+        .iter()
+        .fold((f64::MAX, f64::MIN), |(l, hh), p| (l.min(p.0), hh.max(p.0)));
+    let (lo_y, hi_y) = pts
+        .iter()
+        .fold((f64::MAX, f64::MIN), |(l, hh), p| (l.min(p.1), hh.max(p.1)));
     let cx = pick(rng, -lo_x, w - hi_x);
     let cy = pick(rng, -lo_y, h - hi_y);
     let z: f32 = rng.gen_range(0.02..0.98);
-    let p = pts.iter().map(|(x, y)| Vec3::new((cx + x) as f32, (cy + y) as f32, z)).collect::<Vec<_>>();
+    let p = pts
+        .iter()
+        .map(|(x, y)| Vec3::new((cx + x) as f32, (cy + y) as f32, z))
+        .collect::<Vec<_>>();
     [p[0], p[1], p[2]]
 }
 

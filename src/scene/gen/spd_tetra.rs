@@ -12,7 +12,12 @@ use crate::scene::mesh::Mesh;
 
 pub fn build(size_factor: u32) -> Mesh {
     let mut m = Mesh::new();
-    let corners = [Vec3::new(1.0, 1.0, 1.0), Vec3::new(-1.0, -1.0, 1.0), Vec3::new(-1.0, 1.0, -1.0), Vec3::new(1.0, -1.0, -1.0)];
+    let corners = [
+        Vec3::new(1.0, 1.0, 1.0),
+        Vec3::new(-1.0, -1.0, 1.0),
+        Vec3::new(-1.0, 1.0, -1.0),
+        Vec3::new(1.0, -1.0, -1.0),
+    ];
     recurse(&mut m, corners, size_factor);
     m
 }

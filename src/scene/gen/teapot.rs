@@ -17,7 +17,10 @@ pub fn build(n: u32) -> Mesh {
     let mut m = Mesh::new();
     let mut merged: HashMap<[i32; 3], u32> = HashMap::new();
     for patch in &PATCHES {
-        let cp: Vec<Vec3> = patch.iter().map(|&i| Vec3::from(POINTS[i as usize - 1])).collect();
+        let cp: Vec<Vec3> = patch
+            .iter()
+            .map(|&i| Vec3::from(POINTS[i as usize - 1]))
+            .collect();
         let mut grid = Vec::with_capacity(((n + 1) * (n + 1)) as usize);
         for i in 0..=n {
             for j in 0..=n {

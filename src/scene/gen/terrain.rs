@@ -12,7 +12,10 @@ pub fn build(cols: u32, rows: u32, relief: f32, seed: u64) -> Mesh {
     let mut m = Mesh::new();
     for j in 0..=rows {
         for i in 0..=cols {
-            let (x, z) = (-1.0 + 2.0 * i as f32 / cols as f32, -1.0 + 2.0 * j as f32 / rows as f32);
+            let (x, z) = (
+                -1.0 + 2.0 * i as f32 / cols as f32,
+                -1.0 + 2.0 * j as f32 / rows as f32,
+            );
             m.vertex(Vec3::new(x, relief * fbm(x, z, seed), z), 0);
         }
     }
