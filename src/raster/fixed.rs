@@ -58,9 +58,8 @@ impl Sub {
         if pixels.is_nan() {
             return None;
         }
-        let scaled = (pixels * SUBPIXEL_ONE as f64).round();
-        let clamped = scaled.clamp(-(Self::LIMIT as f64), Self::LIMIT as f64);
-        Some(Sub(clamped as i32))
+        let scaled = round_f64(pixels * SUBPIXEL_ONE as f64);
+        Some(Sub(scaled.clamp(-Self::LIMIT, Self::LIMIT) as i32))
     }
 
     /// From raw subpixel steps; `None` outside the representable range.
@@ -176,11 +175,14 @@ impl FloorDda {
     /// `d > 0` is the caller's guarantee (edges with `dy == 0` never get a DDA).
     pub fn new(n: i64, step: i64, d: i64) -> FloorDda {
         debug_assert!(d > 0);
+        // One division each; the remainder follows by multiplication.
+        let q = n.div_euclid(d);
+        let q_step = step.div_euclid(d);
         FloorDda {
-            q: n.div_euclid(d),
-            r: n.rem_euclid(d),
-            q_step: step.div_euclid(d),
-            r_step: step.rem_euclid(d),
+            q,
+            r: n - q * d,
+            q_step,
+            r_step: step - q_step * d,
             d,
         }
     }
@@ -217,7 +219,7 @@ impl Depth {
         if z.is_nan() {
             return None;
         }
-        let scaled = (z.clamp(0.0, 1.0) * Depth::FAR.0 as f64).round();
+        let scaled = round_f64(z.clamp(0.0, 1.0) * Depth::FAR.0 as f64);
         Some(Depth(scaled as u32))
     }
 
@@ -237,7 +239,7 @@ pub fn channel_to_u8(c: f64) -> u8 {
     if c.is_nan() {
         return 0;
     }
-    (c.clamp(0.0, 1.0) * 255.0).round() as u8
+    round_f64(c.clamp(0.0, 1.0) * 255.0) as u8
 }
 
 /// Fractional bits of the depth plane (`i128`): the error of a rounded gradient over the
@@ -250,6 +252,13 @@ pub const COLOR_FRAC: u32 = 20;
 /// gradient) so the `i64` plane can never overflow on degenerate slivers; the result is then
 /// clamped to the triangle's colour range anyway.
 const COLOR_GRADIENT_LIMIT: i64 = 1 << 42;
+
+/// Rounds to the nearest integer, halves away from zero, saturating (NaN gives 0). Inline
+/// arithmetic instead of `f64::round`, which is a library call on baseline x86-64.
+#[inline]
+pub fn round_f64(v: f64) -> i64 {
+    (v + 0.5f64.copysign(v)) as i64
+}
 
 /// Division of `n` by `d > 0` rounded to nearest (ties up), exact in `i128`.
 fn round_div_i128(n: i128, d: i128) -> i128 {
@@ -277,20 +286,14 @@ pub struct PlaneBasis {
     pub d1: (i64, i64),
     pub d2: (i64, i64),
     pub area2: i64,
+    /// `1 / area2`, computed once per triangle and shared by every plane.
+    pub inv_area2: f64,
     /// The pixel whose centre anchors the plane (the pixel containing vertex 0).
     pub ox: i64,
     pub oy: i64,
 }
 
 impl PlaneBasis {
-    /// Numerators of the gradient per subpixel step of a value with vertex offsets
-    /// `v1 - v0 = f1`, `v2 - v0 = f2`: `grad = (nx, ny) / area2`.
-    fn numerators(&self, f1: i128, f2: i128) -> (i128, i128) {
-        let (dx1, dy1) = (i128::from(self.d1.0), i128::from(self.d1.1));
-        let (dx2, dy2) = (i128::from(self.d2.0), i128::from(self.d2.1));
-        (f1 * dy2 - f2 * dy1, dx1 * f2 - dx2 * f1)
-    }
-
     /// Offset of the anchor pixel's centre from vertex 0, in subpixel steps (|.| <= 128).
     fn anchor_offset(&self) -> (i128, i128) {
         (
@@ -301,25 +304,63 @@ impl PlaneBasis {
 }
 
 impl DepthPlane {
+    /// Fits the depth plane. The gradient is computed in f64 when that is provably as good
+    /// as exact rounding for this triangle, and with exact `i128` division otherwise.
+    ///
+    /// Why the f64 path is safe: with |G| < 2^62 (fixed-point units per pixel), one f64
+    /// rounding adds at most |G| * 2^-52 < 2^10 units per pixel; over the 2^18 px a
+    /// triangle can span that is < 2^28 units = 1/16 depth unit, so the plane still rounds
+    /// to the exact depth at a vertex. Steeper planes (slivers whose depth changes by more
+    /// than 2^30 per pixel) take the exact path. Either way the plane is an exactly linear
+    /// integer function, so depth stays monotone along any line.
     pub fn new(basis: &PlaneBasis, z: [u32; 3]) -> DepthPlane {
-        let z0 = i128::from(z[0]);
-        let f1 = i128::from(z[1]) - z0;
-        let f2 = i128::from(z[2]) - z0;
-        let area = i128::from(basis.area2);
-        let (nx, ny) = basis.numerators(f1, f2);
-        let (cx, cy) = basis.anchor_offset();
+        let min = z[0].min(z[1]).min(z[2]);
+        let max = z[0].max(z[1]).max(z[2]);
         let one = 1i128 << DEPTH_FRAC;
+        let z0 = i64::from(z[0]);
+        let base = (i128::from(z0) << DEPTH_FRAC) + one / 2;
+        if min == max {
+            return DepthPlane {
+                origin: base,
+                gx: 0,
+                gy: 0,
+                min,
+                max,
+            };
+        }
+        // |f| < 2^32 and |d| <= 2^26: the numerators stay below 2^59.
+        let (f1, f2) = (i64::from(z[1]) - z0, i64::from(z[2]) - z0);
+        let (dx1, dy1) = basis.d1;
+        let (dx2, dy2) = basis.d2;
+        let (nx, ny) = (f1 * dy2 - f2 * dy1, dx1 * f2 - dx2 * f1);
+        let per_step = (one as f64) * basis.inv_area2;
+        let per_pixel = per_step * SUBPIXEL_ONE as f64;
+        let (gxf, gyf) = (nx as f64 * per_pixel, ny as f64 * per_pixel);
+        const FAST_LIMIT: f64 = (1u64 << 62) as f64;
+        if gxf.abs() < FAST_LIMIT && gyf.abs() < FAST_LIMIT {
+            let (cx, cy) = (centre(basis.ox) - basis.x0, centre(basis.oy) - basis.y0);
+            let offset = (nx as f64 * cx as f64 + ny as f64 * cy as f64) * per_step;
+            return DepthPlane {
+                origin: base + i128::from(round_f64(offset)),
+                gx: i128::from(round_f64(gxf)),
+                gy: i128::from(round_f64(gyf)),
+                min,
+                max,
+            };
+        }
+        let area = i128::from(basis.area2);
+        let (nx, ny) = (i128::from(nx), i128::from(ny));
+        let (cx, cy) = basis.anchor_offset();
         // Per-pixel gradients: one pixel is 256 subpixel steps. |n| < 2^60, so n << 40 fits.
         let gx = round_div_i128(nx * SUBPIXEL_ONE as i128 * one, area);
         let gy = round_div_i128(ny * SUBPIXEL_ONE as i128 * one, area);
-        // +one/2 makes the final shift round to nearest instead of flooring.
-        let origin = (z0 << DEPTH_FRAC) + one / 2 + round_div_i128((nx * cx + ny * cy) * one, area);
+        let origin = base + round_div_i128((nx * cx + ny * cy) * one, area);
         DepthPlane {
             origin,
             gx,
             gy,
-            min: z.iter().copied().min().unwrap_or(0),
-            max: z.iter().copied().max().unwrap_or(0),
+            min,
+            max,
         }
     }
 
@@ -356,6 +397,10 @@ pub struct ColorPlane {
 }
 
 impl ColorPlane {
+    /// Fits the plane through the three vertex values of one channel. The gradients are
+    /// computed in f64 (IEEE, no fused operations, so every node gets the same bits) from
+    /// exact integer numerators; only flatness needs to be exact, and a flat channel never
+    /// reaches the float path.
     pub fn new(basis: &PlaneBasis, c: [u8; 3]) -> ColorPlane {
         let min = c.iter().copied().min().unwrap_or(0);
         let max = c.iter().copied().max().unwrap_or(0);
@@ -370,20 +415,20 @@ impl ColorPlane {
                 max,
             };
         }
-        let f1 = i128::from(c[1]) - i128::from(c[0]);
-        let f2 = i128::from(c[2]) - i128::from(c[0]);
-        let (nx, ny) = basis.numerators(f1, f2);
-        let (cx, cy) = basis.anchor_offset();
-        let one = 1i128 << COLOR_FRAC;
-        let area = i128::from(basis.area2);
-        let lim = i128::from(COLOR_GRADIENT_LIMIT);
-        let gx = round_div_i128(nx * SUBPIXEL_ONE as i128 * one, area).clamp(-lim, lim);
-        let gy = round_div_i128(ny * SUBPIXEL_ONE as i128 * one, area).clamp(-lim, lim);
-        let offset = round_div_i128((nx * cx + ny * cy) * one, area).clamp(-lim, lim);
+        // |f| <= 255 and |d| <= 2^26, so the numerators stay below 2^35.
+        let (f1, f2) = (i64::from(c[1]) - i64::from(c[0]), i64::from(c[2]) - i64::from(c[0]));
+        let (dx1, dy1) = basis.d1;
+        let (dx2, dy2) = basis.d2;
+        let (nx, ny) = (f1 * dy2 - f2 * dy1, dx1 * f2 - dx2 * f1);
+        let (cx, cy) = (centre(basis.ox) - basis.x0, centre(basis.oy) - basis.y0);
+        let per_step = (1i64 << COLOR_FRAC) as f64 * basis.inv_area2;
+        let per_pixel = per_step * SUBPIXEL_ONE as f64;
+        let lim = COLOR_GRADIENT_LIMIT as f64;
+        let fix = |v: f64| round_f64(v.clamp(-lim, lim));
         ColorPlane {
-            origin: base + offset as i64,
-            gx: gx as i64,
-            gy: gy as i64,
+            origin: base + fix((nx * cx + ny * cy) as f64 * per_step),
+            gx: fix(nx as f64 * per_pixel),
+            gy: fix(ny as f64 * per_pixel),
             min,
             max,
         }

@@ -22,11 +22,31 @@ enum Bound {
     Flat { k: i64, step: i64 },
 }
 
+/// How a walk finds each row's span. Both give identical spans (both are exact); they
+/// differ only in cost.
+#[derive(Clone, Copy, Debug)]
+enum Mode {
+    /// Wide or tall triangles: span ends from division-free DDAs (six divisions at start).
+    Dda([Bound; 3]),
+    /// Small triangles: test the few pixel centres of each row directly, which is cheaper
+    /// than the divisions a DDA needs to start. `k` holds each biased edge function at the
+    /// row's first column; it grows by `row_step` per row and `x_step` per column.
+    Probe {
+        k: [i64; 3],
+        row_step: [i64; 3],
+        x_step: [i64; 3],
+    },
+}
+
+/// Triangles whose clipped extent is at most this many columns and rows use `Mode::Probe`.
+const PROBE_MAX_COLS: i64 = 8;
+const PROBE_MAX_ROWS: i64 = 16;
+
 /// Walks the rows of one triangle inside one rectangle, top to bottom.
 #[derive(Clone, Debug)]
 pub struct RowWalker<'a> {
     tri: &'a RasterTriangle,
-    bounds: [Bound; 3],
+    mode: Mode,
     y: i64,
     y_last: i64,
     x_lo: i64,
@@ -43,6 +63,11 @@ pub struct Row<'a> {
 impl<'a> RowWalker<'a> {
     /// `None` when no pixel centre of the rectangle lies within the triangle's extent.
     pub fn new(tri: &'a RasterTriangle, rect: ScreenRect) -> Option<RowWalker<'a>> {
+        Self::with_probe(tri, rect, true)
+    }
+
+    /// `allow_probe = false` forces the DDA, so tests can check both modes agree.
+    fn with_probe(tri: &'a RasterTriangle, rect: ScreenRect, allow_probe: bool) -> Option<RowWalker<'a>> {
         let y = tri.rows.0.max(i64::from(rect.y0()));
         let y_last = tri.rows.1.min(i64::from(rect.y1()) - 1);
         let x_lo = tri.cols.0.max(i64::from(rect.x0()));
@@ -50,7 +75,23 @@ impl<'a> RowWalker<'a> {
         if y > y_last || x_lo > x_hi {
             return None;
         }
-        let bounds = tri.edges.map(|e| {
+        if allow_probe && x_hi - x_lo < PROBE_MAX_COLS && y_last - y < PROBE_MAX_ROWS {
+            let e = &tri.edges;
+            let at = |i: usize| e[i].row_constant(y) - SUBPIXEL_ONE * e[i].dy * x_lo;
+            return Some(RowWalker {
+                tri,
+                mode: Mode::Probe {
+                    k: [at(0), at(1), at(2)],
+                    row_step: [SUBPIXEL_ONE * e[0].dx, SUBPIXEL_ONE * e[1].dx, SUBPIXEL_ONE * e[2].dx],
+                    x_step: [-SUBPIXEL_ONE * e[0].dy, -SUBPIXEL_ONE * e[1].dy, -SUBPIXEL_ONE * e[2].dy],
+                },
+                y,
+                y_last,
+                x_lo,
+                x_hi,
+            });
+        }
+        let bound = |e: &super::fixed::Edge| {
             let k = e.row_constant(y);
             let step = SUBPIXEL_ONE * e.dx;
             let d = SUBPIXEL_ONE * e.dy.abs();
@@ -59,10 +100,11 @@ impl<'a> RowWalker<'a> {
                 1 => Bound::Right(FloorDda::new(k, step, d)),
                 _ => Bound::Flat { k, step },
             }
-        });
+        };
+        let bounds = [bound(&tri.edges[0]), bound(&tri.edges[1]), bound(&tri.edges[2])];
         Some(RowWalker {
             tri,
-            bounds,
+            mode: Mode::Dda(bounds),
             y,
             y_last,
             x_lo,
@@ -76,25 +118,16 @@ impl<'a> RowWalker<'a> {
         if self.y > self.y_last {
             return None;
         }
-        let (mut lo, mut hi) = (self.x_lo, self.x_hi);
-        for b in &mut self.bounds {
-            match b {
-                Bound::Left(d) => {
-                    lo = lo.max(-d.value());
-                    d.step();
+        let (lo, hi) = match &mut self.mode {
+            Mode::Dda(bounds) => dda_row(bounds, self.x_lo, self.x_hi),
+            Mode::Probe { k, row_step, x_step } => {
+                let r = probe_row(k, x_step, self.x_lo, self.x_hi);
+                for i in 0..3 {
+                    k[i] += row_step[i];
                 }
-                Bound::Right(d) => {
-                    hi = hi.min(d.value());
-                    d.step();
-                }
-                Bound::Flat { k, step } => {
-                    if *k < 0 {
-                        hi = lo - 1;
-                    }
-                    *k += *step;
-                }
+                r
             }
-        }
+        };
         let y = self.y as u32;
         self.y += 1;
         let span = (lo <= hi).then(|| Span {
@@ -115,6 +148,54 @@ impl<'a> RowWalker<'a> {
     pub fn last_y(&self) -> i64 {
         self.y_last
     }
+}
+
+/// Span ends of one row from the DDAs, then steps them to the next row.
+#[inline]
+fn dda_row(bounds: &mut [Bound; 3], x_lo: i64, x_hi: i64) -> (i64, i64) {
+    let (mut lo, mut hi) = (x_lo, x_hi);
+    for b in bounds {
+        match b {
+            Bound::Left(d) => {
+                lo = lo.max(-d.value());
+                d.step();
+            }
+            Bound::Right(d) => {
+                hi = hi.min(d.value());
+                d.step();
+            }
+            Bound::Flat { k, step } => {
+                if *k < 0 {
+                    hi = lo - 1;
+                }
+                *k += *step;
+            }
+        }
+    }
+    (lo, hi)
+}
+
+/// Span ends of one row by testing each centre; the covered centres of a row of a convex
+/// triangle are contiguous, so the first run is the span. Empty is `lo > hi`.
+#[inline]
+fn probe_row(k: &[i64; 3], x_step: &[i64; 3], x_lo: i64, x_hi: i64) -> (i64, i64) {
+    let mut e = *k;
+    let (mut lo, mut hi) = (x_hi + 1, x_hi);
+    let mut x = x_lo;
+    while x <= x_hi {
+        let inside = e[0] >= 0 && e[1] >= 0 && e[2] >= 0;
+        if inside && lo > x_hi {
+            lo = x;
+        } else if !inside && lo <= x_hi {
+            hi = x - 1;
+            break;
+        }
+        for i in 0..3 {
+            e[i] += x_step[i];
+        }
+        x += 1;
+    }
+    (lo, hi)
 }
 
 /// A run of covered pixels `[x0, x1)` on row `y`, in screen pixels, inside one target rect.
@@ -172,8 +253,8 @@ impl<'a> Span<'a> {
             end: self.x1,
             z: t.depth.at(dx, dy),
             z_step: t.depth.step_x(),
-            c: [0, 1, 2].map(|i| t.color[i].at(dx, dy)),
-            c_step: [0, 1, 2].map(|i| t.color[i].step_x()),
+            c: [t.color[0].at(dx, dy), t.color[1].at(dx, dy), t.color[2].at(dx, dy)],
+            c_step: [t.color[0].step_x(), t.color[1].step_x(), t.color[2].step_x()],
         }
     }
 }
@@ -227,4 +308,53 @@ impl ExactSizeIterator for Fragments<'_> {}
 /// Centre of pixel `(px, py)` in subpixel steps; for tests and coverage targets.
 pub fn pixel_centre(px: i64, py: i64) -> (i64, i64) {
     (centre(px), centre(py))
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::raster::fixed::{Depth, Sub};
+    use crate::raster::setup::{ScreenTriangle, ScreenVertex};
+
+    fn spans(t: &RasterTriangle, rect: ScreenRect, probe: bool) -> Vec<(u32, u32, u32)> {
+        let mut out = Vec::new();
+        if let Some(mut w) = RowWalker::with_probe(t, rect, probe) {
+            while let Some(row) = w.next_row() {
+                if let Some(s) = row.span {
+                    out.push((s.y(), s.x0(), s.x1()));
+                }
+            }
+        }
+        out
+    }
+
+    #[test]
+    fn probe_and_dda_find_identical_spans() {
+        // A small deterministic generator (xorshift) over subpixel coordinates.
+        let mut state = 0x9e37_79b9_7f4a_7c15u64;
+        let mut next = |m: i32| {
+            state ^= state << 13;
+            state ^= state >> 7;
+            state ^= state << 17;
+            (state % m as u64) as i32
+        };
+        let rect = ScreenRect::new(0, 0, 64, 64).unwrap();
+        let mut compared = 0;
+        for _ in 0..20_000 {
+            let base = (next(50 * 256), next(50 * 256));
+            let v = |dx: i32, dy: i32| ScreenVertex {
+                x: Sub::from_raw(base.0 + dx).unwrap(),
+                y: Sub::from_raw(base.1 + dy).unwrap(),
+                z: Depth::NEAR,
+                rgb: [0; 3],
+            };
+            let size = 1 + next(12 * 256);
+            let (a, b, c) = (v(0, 0), v(next(size) - size / 2, next(size)), v(next(size), next(size) - size / 2));
+            let Some(t) = ScreenTriangle::new([a, b, c], 0) else { continue };
+            let rt = RasterTriangle::new(&t);
+            assert_eq!(spans(&rt, rect, true), spans(&rt, rect, false), "{t:?}");
+            compared += 1;
+        }
+        assert!(compared > 15_000);
+    }
 }

@@ -36,13 +36,14 @@ pub fn render_scanlines(
     }
 
     let mut active: Vec<(usize, RowWalker<'_>)> = Vec::new();
+    let mut spare: Vec<(usize, RowWalker<'_>)> = Vec::new();
     let Some(mut line) = ScanlineBuffer::new(viewport, 0) else {
         return c;
     };
     for (y, bucket) in buckets.into_iter().enumerate() {
         if !bucket.is_empty() {
             c.active_inserts += bucket.len() as u64;
-            active = merge_in_order(active, bucket, &setups, viewport);
+            merge_in_order(&mut active, &mut spare, &bucket, &setups, viewport);
         }
         line.reset(y as u32, clear);
         for (_, walker) in &mut active {
@@ -72,22 +73,24 @@ pub fn render_scanlines_into(tris: &[ScreenTriangle], fb: &mut Framebuffer, clea
 
 /// Merges newly active triangles (ascending drawing order) into the active list (also
 /// ascending), so each scanline visits triangles in drawing order.
+/// `spare` is scratch space reused across scanlines so merging never allocates once warm.
 fn merge_in_order<'a>(
-    active: Vec<(usize, RowWalker<'a>)>,
-    incoming: Vec<usize>,
+    active: &mut Vec<(usize, RowWalker<'a>)>,
+    spare: &mut Vec<(usize, RowWalker<'a>)>,
+    incoming: &[usize],
     setups: &'a [RasterTriangle],
     viewport: Viewport,
-) -> Vec<(usize, RowWalker<'a>)> {
-    let mut out = Vec::with_capacity(active.len() + incoming.len());
-    let mut old = active.into_iter().peekable();
-    for i in incoming {
+) {
+    spare.clear();
+    let mut old = active.drain(..).peekable();
+    for &i in incoming {
         while let Some(a) = old.next_if(|(j, _)| *j < i) {
-            out.push(a);
+            spare.push(a);
         }
         if let Some(w) = RowWalker::new(&setups[i], viewport.rect()) {
-            out.push((i, w));
+            spare.push((i, w));
         }
     }
-    out.extend(old);
-    out
+    spare.extend(old);
+    std::mem::swap(active, spare);
 }

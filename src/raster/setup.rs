@@ -134,12 +134,14 @@ fn project(v: &ClipVertex, viewport: Viewport) -> Option<ScreenVertex> {
     if w.partial_cmp(&0.0) != Some(std::cmp::Ordering::Greater) {
         return None;
     }
-    let sx = (x / w + 1.0) * 0.5 * f64::from(viewport.width());
-    let sy = (1.0 - y / w) * 0.5 * f64::from(viewport.height());
+    // One division per vertex; a shared vertex still projects to the same bits everywhere.
+    let inv = 1.0 / w;
+    let sx = (x * inv + 1.0) * 0.5 * f64::from(viewport.width());
+    let sy = (1.0 - y * inv) * 0.5 * f64::from(viewport.height());
     Some(ScreenVertex {
         x: Sub::snap(sx)?,
         y: Sub::snap(sy)?,
-        z: Depth::from_unit(z / w)?,
+        z: Depth::from_unit(z * inv)?,
         rgb: v.color.map(channel_to_u8),
     })
 }
@@ -276,11 +278,13 @@ impl RasterTriangle {
             d1: (v1.x.wide() - v0.x.wide(), v1.y.wide() - v0.y.wide()),
             d2: (v2.x.wide() - v0.x.wide(), v2.y.wide() - v0.y.wide()),
             area2: t.area2(),
+            inv_area2: 1.0 / t.area2() as f64,
             ox: anchor.0,
             oy: anchor.1,
         };
         let depth = DepthPlane::new(&basis, [v0.z.raw(), v1.z.raw(), v2.z.raw()]);
-        let color = [0, 1, 2].map(|ch| ColorPlane::new(&basis, [v0.rgb[ch], v1.rgb[ch], v2.rgb[ch]]));
+        let channel = |ch: usize| ColorPlane::new(&basis, [v0.rgb[ch], v1.rgb[ch], v2.rgb[ch]]);
+        let color = [channel(0), channel(1), channel(2)];
         let xs = [v0.x, v1.x, v2.x];
         let ys = [v0.y, v1.y, v2.y];
         let min = |a: [Sub; 3]| a[0].min(a[1]).min(a[2]);
@@ -298,6 +302,26 @@ impl RasterTriangle {
 
     pub fn prim(&self) -> u32 {
         self.prim
+    }
+
+    /// Depth of the triangle's plane at the centre of pixel `(px, py)`, clamped to the
+    /// triangle's depth range, whether or not the centre is covered (a coverage-mask target
+    /// needs it for edge pixels). Equals the depth of a fragment there.
+    pub fn depth_at(&self, px: i64, py: i64) -> u32 {
+        self.depth.resolve(self.depth.at(px - self.anchor.0, py - self.anchor.1))
+    }
+
+    /// Colour of the triangle's planes at the centre of pixel `(px, py)`, clamped per
+    /// channel to the vertices' range. Equals the colour of a fragment there.
+    pub fn color_at(&self, px: i64, py: i64) -> [u8; 3] {
+        let (dx, dy) = (px - self.anchor.0, py - self.anchor.1);
+        self.color.map(|c| c.resolve(c.at(dx, dy)))
+    }
+
+    /// True when the centre of pixel `(px, py)` is covered under the fill rule.
+    pub fn covers_pixel(&self, px: i64, py: i64) -> bool {
+        let (x, y) = (super::fixed::centre(px), super::fixed::centre(py));
+        self.edges.iter().all(|e| e.covers(x, y))
     }
 
     /// True when the sample at `(px * 256 + sx, py * 256 + sy)` subpixel steps (`sx`, `sy`
