@@ -224,3 +224,22 @@ fn paper_002_standins_overlap_factor_for_256_regions_in_published_range() {
         );
     }
 }
+
+/// The `scene-stats` summary puts achieved and published numbers side by side.
+#[test]
+fn summary_prints_achieved_next_to_paper_numbers() {
+    let scene = Scene::load(&scenes_dir().join("p003-cube.json")).unwrap();
+    let s = sortsim::scene::summary::summary(&scene, 0).unwrap();
+    let text = s.to_string();
+    eprintln!("{text}");
+    assert!(text.contains("stands in for paper 003"), "{text}");
+    let d_line = text
+        .lines()
+        .find(|l| l.starts_with("depth complexity d (rasterized)"))
+        .unwrap();
+    assert!(
+        d_line.contains("8.009") && d_line.trim_end().ends_with("8.01"),
+        "{d_line}"
+    );
+    assert!(text.contains("depth histogram: p0="), "{text}");
+}

@@ -18,6 +18,7 @@ pub mod obj;
 pub mod paper;
 pub mod refine;
 pub mod stats;
+pub mod summary;
 
 use std::path::{Path, PathBuf};
 
