@@ -280,3 +280,85 @@ fn clip_generic<T: Copy>(
     }
     out
 }
+
+#[cfg(test)]
+mod tests {
+    use glam::{Vec3, Vec4};
+
+    use super::*;
+    use crate::raster::Vertex;
+
+    /// A frame of one triangle given in pixels (x right, y down) at depth 0.5, w = 1.
+    fn frame(px: [[f32; 2]; 3], cull: bool) -> FrameGeometry {
+        let (w, h) = (100.0, 50.0);
+        let vertices = px
+            .iter()
+            .map(|p| Vertex {
+                clip: Vec4::new(2.0 * p[0] / w - 1.0, 1.0 - 2.0 * p[1] / h, 0.5, 1.0),
+                color: Vec3::ONE,
+            })
+            .collect();
+        FrameGeometry {
+            width: 100,
+            height: 50,
+            vertices,
+            triangles: vec![[0, 1, 2]],
+            cull_backfaces: cull,
+            background: [0; 3],
+        }
+    }
+
+    #[test]
+    fn counter_clockwise_to_the_viewer_is_front_facing() {
+        // (0,0) -> (0,10) -> (10,0): down then up-right, counter-clockwise on screen.
+        let s = geometric(&frame([[0.0, 0.0], [0.0, 10.0], [10.0, 0.0]], true));
+        assert_eq!((s.front_facing, s.on_screen), (1, 1));
+        assert!((s.sum_area_px - 50.0).abs() < 1e-3);
+        let back = geometric(&frame([[0.0, 0.0], [10.0, 0.0], [0.0, 10.0]], true));
+        assert_eq!(
+            (back.front_facing, back.on_screen),
+            (0, 0),
+            "a back face is not drawn with culling on"
+        );
+        let both = geometric(&frame([[0.0, 0.0], [10.0, 0.0], [0.0, 10.0]], false));
+        assert_eq!(both.on_screen, 1, "and is drawn with culling off");
+    }
+
+    #[test]
+    fn only_the_on_screen_part_counts() {
+        // A right triangle with legs 40 touching the right edge keeps all of its 800 px; moved
+        // 20 px further right, what stays inside is 40*40/2 - 20*20/2 = 600 px.
+        let s = geometric(&frame(
+            [[60.0, 0.0], [60.0, 40.0], [100.0 + 0.0, 0.0]],
+            true,
+        ));
+        assert!((s.sum_area_px - 800.0).abs() < 1e-3, "{s:?}");
+        let s = geometric(&frame([[80.0, 0.0], [80.0, 40.0], [120.0, 0.0]], true));
+        assert!((s.sum_area_px - 600.0).abs() < 1e-3, "{s:?}");
+        let off = geometric(&frame([[200.0, 0.0], [200.0, 40.0], [240.0, 0.0]], true));
+        assert_eq!(off.on_screen, 0);
+        assert_eq!(
+            off.front_facing, 1,
+            "facing is decided before the screen clip"
+        );
+    }
+
+    #[test]
+    fn triangles_behind_the_eye_are_clipped_not_counted() {
+        let mut f = frame([[0.0, 0.0], [0.0, 10.0], [10.0, 0.0]], true);
+        for v in &mut f.vertices {
+            v.clip.z = -1.0; // in front of the near plane (z < 0): invisible
+        }
+        let s = geometric(&f);
+        assert_eq!((s.front_facing, s.on_screen), (0, 0));
+        assert!(s.mean_area_px == 0.0 && s.sum_area_px == 0.0);
+    }
+
+    #[test]
+    fn overlap_factor_counts_regions_of_the_bounding_box() {
+        let f = frame([[5.0, 5.0], [5.0, 28.0], [28.0, 5.0]], true);
+        assert_eq!(overlap_factor(&f, 10, 10), 9.0);
+        assert_eq!(raster_overlap_factor(&f, 10, 10), 9.0);
+        assert_eq!(overlap_factor(&f, 100, 50), 1.0);
+    }
+}
