@@ -4,6 +4,9 @@
 //! Owns mesh assembly helpers (appending, orienting, smooth normals, static transforms).
 //! Must never project, light or rasterize: that happens per frame in `scene::frame`.
 
+use std::collections::HashMap;
+use std::hash::{BuildHasherDefault, Hasher};
+
 use glam::{Mat4, Vec3};
 
 /// Triangles in object space. Invariant: every index is < `positions.len()`, and
@@ -147,3 +150,28 @@ pub fn hash01(seed: u64, a: u64, b: u64) -> f32 {
     x ^= x >> 31;
     (x >> 40) as f32 / (1u64 << 24) as f32
 }
+
+/// Multiplicative hashing for integer keys: the scene's maps (vertex welding, edge midpoints,
+/// refinement adjacency) hold millions of small keys and are only looked up, never iterated
+/// into an output, so a fast fixed hash is safe; it keeps the 806,640-triangle shell quick.
+#[derive(Default)]
+pub struct IntHasher(u64);
+
+impl Hasher for IntHasher {
+    fn finish(&self) -> u64 {
+        self.0
+    }
+    fn write(&mut self, bytes: &[u8]) {
+        for b in bytes {
+            self.write_u64(*b as u64);
+        }
+    }
+    fn write_u32(&mut self, x: u32) {
+        self.write_u64(x as u64);
+    }
+    fn write_u64(&mut self, x: u64) {
+        self.0 = (self.0.rotate_left(5) ^ x).wrapping_mul(0x51_7C_C1_B7_27_22_0A_95);
+    }
+}
+
+pub type FastMap<K, V> = HashMap<K, V, BuildHasherDefault<IntHasher>>;

@@ -12,11 +12,11 @@
 //! T-junction (a closed surface can only have an even triangle count).
 
 use std::cmp::Ordering;
-use std::collections::{BinaryHeap, HashMap};
+use std::collections::BinaryHeap;
 
 use glam::Vec3;
 
-use super::mesh::Mesh;
+use super::mesh::{FastMap, Mesh};
 
 /// Refines `mesh` to exactly `target` triangles. Returns the mesh's own count as the error
 /// when it already has more than `target`.
@@ -42,7 +42,7 @@ const MANY: u32 = u32::MAX - 1;
 struct Refiner<'a> {
     mesh: &'a mut Mesh,
     pid: Vec<u32>,
-    edges: HashMap<EdgeKey, [u32; 2]>,
+    edges: FastMap<EdgeKey, [u32; 2]>,
     heap: BinaryHeap<Entry>,
 }
 
@@ -68,7 +68,9 @@ impl Ord for Entry {
 
 impl<'a> Refiner<'a> {
     fn new(mesh: &'a mut Mesh) -> Refiner<'a> {
-        let mut first: HashMap<[u32; 3], u32> = HashMap::new();
+        let n = mesh.positions.len();
+        let mut first: FastMap<[u32; 3], u32> =
+            FastMap::with_capacity_and_hasher(n, Default::default());
         let pid = mesh
             .positions
             .iter()
@@ -79,19 +81,27 @@ impl<'a> Refiner<'a> {
                     .or_insert(i as u32)
             })
             .collect();
+        let tris = mesh.triangles.len();
+        let edges = FastMap::with_capacity_and_hasher(tris * 3 / 2 + 16, Default::default());
         let mut r = Refiner {
             mesh,
             pid,
-            edges: HashMap::new(),
+            edges,
             heap: BinaryHeap::new(),
         };
-        for t in 0..r.mesh.triangles.len() as u32 {
+        let mut entries = Vec::with_capacity(tris);
+        for t in 0..tris as u32 {
             let tri = r.mesh.triangles[t as usize];
             for k in 0..3 {
                 r.link(tri[k], tri[(k + 1) % 3], t);
             }
-            r.push(t);
+            entries.push(Entry {
+                area: r.area(t),
+                tri: t,
+            });
         }
+        // Heapify in O(n) rather than n pushes.
+        r.heap = BinaryHeap::from(entries);
         r
     }
 

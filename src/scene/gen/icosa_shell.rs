@@ -6,11 +6,9 @@
 //!
 //! Owns this shape only. Must never place or light it.
 
-use std::collections::HashMap;
-
 use glam::Vec3;
 
-use crate::scene::mesh::Mesh;
+use crate::scene::mesh::{FastMap, Mesh};
 
 pub fn build(frequency: u32, bump: f32) -> Mesh {
     let (corners, faces) = icosahedron();
@@ -20,7 +18,7 @@ pub fn build(frequency: u32, bump: f32) -> Mesh {
         .collect();
     let f = frequency;
     let mut m = Mesh::new();
-    let mut merged: HashMap<[i32; 3], u32> = HashMap::new();
+    let mut merged: FastMap<[i32; 3], u32> = FastMap::default();
     for face in &faces {
         let [a, b, c] = face.map(|i| corners[i]);
         let mut ids = Vec::with_capacity(((f + 1) * (f + 2) / 2) as usize);

@@ -7,11 +7,9 @@
 //!
 //! Owns this shape only. Must never place or light it.
 
-use std::collections::HashMap;
-
 use glam::Vec3;
 
-use crate::scene::mesh::{hash01, Mesh};
+use crate::scene::mesh::{hash01, FastMap, Mesh};
 
 pub fn build(levels: u32, roughness: f32, seed: u64) -> Mesh {
     let mut m = Mesh::new();
@@ -21,7 +19,7 @@ pub fn build(levels: u32, roughness: f32, seed: u64) -> Mesh {
     // A peak in the middle so the mountain is a mountain and not a rough plain.
     let mut scale = roughness;
     for level in 0..levels {
-        let mut mids: HashMap<(u32, u32), u32> = HashMap::new();
+        let mut mids: FastMap<(u32, u32), u32> = FastMap::default();
         let mut next = Vec::with_capacity(tris.len() * 4);
         for t in &tris {
             let [a, b, c] = *t;
@@ -44,7 +42,7 @@ pub fn build(levels: u32, roughness: f32, seed: u64) -> Mesh {
 
 fn midpoint(
     m: &mut Mesh,
-    mids: &mut HashMap<(u32, u32), u32>,
+    mids: &mut FastMap<(u32, u32), u32>,
     a: u32,
     b: u32,
     scale: f32,

@@ -6,16 +6,14 @@
 //!
 //! Owns this shape only. Must never place or light it.
 
-use std::collections::HashMap;
-
 use glam::Vec3;
 
 use super::teapot_data::{PATCHES, POINTS};
-use crate::scene::mesh::Mesh;
+use crate::scene::mesh::{FastMap, Mesh};
 
 pub fn build(n: u32) -> Mesh {
     let mut m = Mesh::new();
-    let mut merged: HashMap<[i32; 3], u32> = HashMap::new();
+    let mut merged: FastMap<[i32; 3], u32> = FastMap::default();
     for patch in &PATCHES {
         let cp: Vec<Vec3> = patch
             .iter()
@@ -60,7 +58,7 @@ fn bernstein(t: f32) -> [f32; 4] {
 }
 
 /// One vertex per position (to 1e-5), so seams between patches share vertices.
-fn weld(m: &mut Mesh, merged: &mut HashMap<[i32; 3], u32>, p: Vec3) -> u32 {
+fn weld(m: &mut Mesh, merged: &mut FastMap<[i32; 3], u32>, p: Vec3) -> u32 {
     let key = (p * 1e5).round().to_array().map(|x| x as i32);
     *merged.entry(key).or_insert_with(|| m.vertex(p, 0))
 }
