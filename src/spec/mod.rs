@@ -8,6 +8,7 @@
 pub mod check;
 pub mod machine;
 mod quantity;
+pub mod scene;
 
 use std::path::{Path, PathBuf};
 

@@ -1,0 +1,130 @@
+//! What `sortsim scene-stats` prints: one frame's geometric and rasterized statistics next
+//! to the paper's numbers for the scene it stands in for (from `paper::REFERENCES`).
+//!
+//! Owns assembling and formatting that summary. Must never compute statistics itself (that
+//! is `stats`) nor hold paper numbers (that is `paper`).
+
+use std::fmt;
+
+use super::paper::{reference, PaperReference};
+use super::stats::{geometric, raster_overlap_factor, rasterized, GeometricStats, RasterStats};
+use super::{Scene, SceneError};
+
+/// One frame of one scene, measured, with its paper reference if it is a stand-in.
+#[derive(Clone, Debug)]
+pub struct Summary {
+    /// Scene file stem, e.g. `polio-standin`.
+    pub scene: String,
+    pub frame: u32,
+    pub width: u32,
+    pub height: u32,
+    pub geometric: GeometricStats,
+    pub raster: RasterStats,
+    /// Overlap factor for a 16 x 16 grid of regions (256 regions, as in paper 002).
+    pub overlap_256: f64,
+    pub reference: Option<&'static PaperReference>,
+}
+
+/// Measures frame `frame` of `scene`.
+pub fn summary(scene: &Scene, frame: u32) -> Result<Summary, SceneError> {
+    let geometry = scene.frame(frame)?;
+    let name = scene
+        .file()
+        .file_stem()
+        .map(|s| s.to_string_lossy().into_owned())
+        .unwrap_or_default();
+    let (w, h) = (geometry.width, geometry.height);
+    Ok(Summary {
+        reference: reference(&name),
+        scene: name,
+        frame,
+        width: w,
+        height: h,
+        geometric: geometric(&geometry),
+        raster: rasterized(&geometry),
+        overlap_256: raster_overlap_factor(&geometry, w.div_ceil(16), h.div_ceil(16)),
+    })
+}
+
+impl fmt::Display for Summary {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        let (g, r) = (&self.geometric, &self.raster);
+        let paper = self.reference;
+        let cell = |v: Option<String>| v.unwrap_or_else(|| "-".into());
+        writeln!(
+            f,
+            "{} frame {} ({}x{})",
+            self.scene, self.frame, self.width, self.height
+        )?;
+        if let Some(p) = paper {
+            writeln!(f, "stands in for paper {}: {}", p.paper, p.source)?;
+        }
+        writeln!(f, "{:<44} {:>14} {:>12}", "metric", "achieved", "paper")?;
+        let mut row = |name: &str, achieved: String, published: Option<String>| {
+            writeln!(f, "{name:<44} {achieved:>14} {:>12}", cell(published))
+        };
+        row(
+            "triangles in",
+            g.triangles_in.to_string(),
+            paper.map(|p| p.triangles.to_string()),
+        )?;
+        row("front-facing (geometric)", g.front_facing.to_string(), None)?;
+        row(
+            "drawn, on screen (geometric)",
+            g.on_screen.to_string(),
+            None,
+        )?;
+        row(
+            "set up by the rasterizer (after cull, clip)",
+            r.counters.triangles_set_up.to_string(),
+            None,
+        )?;
+        let mean = paper.and_then(|p| p.mean_area_px).map(|m| format!("{m}"));
+        row(
+            "mean area px (geometric)",
+            format!("{:.3}", g.mean_area_px),
+            mean.clone(),
+        )?;
+        row(
+            "mean area px (pixels per set-up triangle)",
+            format!("{:.3}", r.mean_area_px),
+            mean,
+        )?;
+        let d = paper
+            .and_then(|p| p.depth_complexity)
+            .map(|d| format!("{d}"));
+        row(
+            "depth complexity d (geometric)",
+            format!("{:.3}", g.depth_complexity),
+            d.clone(),
+        )?;
+        row(
+            "depth complexity d (rasterized)",
+            format!("{:.3}", r.depth_complexity),
+            d,
+        )?;
+        row("pixels rendered", r.pixels_rendered.to_string(), None)?;
+        row("active pixels", r.active_pixels.to_string(), None)?;
+        let overlap = paper
+            .filter(|p| p.paper == "002")
+            .map(|_| "1.09-1.4".to_string());
+        row(
+            "overlap factor, 256 regions",
+            format!("{:.3}", self.overlap_256),
+            overlap,
+        )?;
+        let p_d = r.p_d(self.width, self.height);
+        let shown: Vec<String> = p_d
+            .iter()
+            .take(9)
+            .enumerate()
+            .map(|(d, p)| format!("p{d}={p:.3}"))
+            .collect();
+        writeln!(
+            f,
+            "depth histogram: {}{}",
+            shown.join(" "),
+            if p_d.len() > 9 { " ..." } else { "" }
+        )
+    }
+}
