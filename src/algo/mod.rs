@@ -8,6 +8,7 @@
 
 pub mod charge;
 pub mod options;
+pub mod reference;
 pub mod sort_middle;
 
 use std::ops::Range;

@@ -13,9 +13,11 @@
 //!
 //! # Depth test
 //! Depth is a `u32`, smaller is nearer; a buffer is cleared to `u32::MAX`, which no fragment
-//! has. A fragment is written when its depth is *strictly less* than the stored depth: on a
-//! tie the earlier-drawn fragment stays, so drawing a mesh twice changes nothing and the
-//! scanline renderer, which keeps triangles in drawing order, makes the same choices.
+//! has. Fragments are ordered by (depth, primitive id): a fragment is written when its depth
+//! is strictly less than the stored one, or equal with a smaller primitive id. So a tie
+//! always goes to the lower primitive id whatever the drawing order: a parallel renderer that
+//! draws triangles as they arrive, or merges partial images, produces exactly the sequential
+//! image; drawing a mesh twice changes nothing.
 //!
 //! # Anti-aliasing targets (how paper 000's adaptive supersampling plugs in)
 //! A span carries its triangle ([`Span::triangle`]), which answers
@@ -46,14 +48,23 @@ pub trait Target {
     fn span(&mut self, rect: usize, span: &Span<'_>, counters: &mut Counters);
 }
 
+/// Whether a fragment (`z`, `prim`) is nearer than what a pixel holds: the (depth, primitive
+/// id) order of the module doc.
+#[inline]
+pub fn nearer(z: u32, prim: u32, stored_z: u32, stored_prim: u32) -> bool {
+    z < stored_z || (z == stored_z && prim < stored_prim)
+}
+
 /// Depth-tests a span into row slices that start at the span's first pixel and are exactly
 /// as long as the span. Returns the number of fragments written.
 #[inline]
-fn depth_test_span(span: &Span<'_>, color: &mut [[u8; 3]], depth: &mut [u32]) -> u64 {
+fn depth_test_span(span: &Span<'_>, color: &mut [[u8; 3]], depth: &mut [u32], prims: &mut [u32]) -> u64 {
     let mut written = 0;
-    for (f, (c, d)) in span.fragments().zip(color.iter_mut().zip(depth.iter_mut())) {
-        if f.z < *d {
+    let prim = span.prim();
+    for (f, ((c, d), p)) in span.fragments().zip(color.iter_mut().zip(depth.iter_mut()).zip(prims.iter_mut())) {
+        if nearer(f.z, prim, *d, *p) {
             *d = f.z;
+            *p = prim;
             *c = f.rgb;
             written += 1;
         }
@@ -73,6 +84,9 @@ pub struct PixelBuffer {
     rect: ScreenRect,
     color: Vec<[u8; 3]>,
     depth: Vec<u32>,
+    /// The primitive each pixel's fragment came from (`u32::MAX` when cleared): the depth
+    /// test's tie-break.
+    prim: Vec<u32>,
 }
 
 impl PixelBuffer {
@@ -81,6 +95,7 @@ impl PixelBuffer {
             rect,
             color: vec![clear; rect.pixels()],
             depth: vec![Depth::CLEARED; rect.pixels()],
+            prim: vec![u32::MAX; rect.pixels()],
         }
     }
 
@@ -92,6 +107,7 @@ impl PixelBuffer {
     pub fn clear(&mut self, clear: [u8; 3]) {
         self.color.fill(clear);
         self.depth.fill(Depth::CLEARED);
+        self.prim.fill(u32::MAX);
     }
 
     fn index(&self, x: u32, y: u32) -> Option<usize> {
@@ -129,6 +145,7 @@ impl PixelBuffer {
             span,
             &mut self.color[start..end],
             &mut self.depth[start..end],
+            &mut self.prim[start..end],
         );
         count_depth_tested(counters, span.len(), written);
     }
@@ -255,7 +272,8 @@ impl RegionSet {
                 let src = row * w..(row + 1) * w;
                 if let Some(dst) = fb.buf.index(r.x0(), y) {
                     fb.buf.color[dst..dst + w].copy_from_slice(&b.color[src.clone()]);
-                    fb.buf.depth[dst..dst + w].copy_from_slice(&b.depth[src]);
+                    fb.buf.depth[dst..dst + w].copy_from_slice(&b.depth[src.clone()]);
+                    fb.buf.prim[dst..dst + w].copy_from_slice(&b.prim[src]);
                 }
             }
         }
@@ -289,6 +307,9 @@ pub struct ActivePixel {
     pub y: u32,
     pub z: u32,
     pub rgb: [u8; 3],
+    /// The primitive of the nearest fragment (host-side tie-break; not part of
+    /// `ACTIVE_PIXEL_BYTES`).
+    pub prim: u32,
 }
 
 /// Bytes of one active pixel as sort-last sparse merging ships it: x, y (u16 each), z (u32),
@@ -371,13 +392,15 @@ impl Target for SparseBuffer {
                     y,
                     z: f.z,
                     rgb: f.rgb,
+                    prim: span.prim(),
                 });
                 written += 1;
             } else {
                 let p = &mut self.active[*slot as usize];
-                if f.z < p.z {
+                if nearer(f.z, span.prim(), p.z, p.prim) {
                     p.z = f.z;
                     p.rgb = f.rgb;
+                    p.prim = span.prim();
                     written += 1;
                 }
             }

@@ -32,7 +32,7 @@ use super::{FrameRecord, RunConfig, RunError, RunResult};
 use crate::engine::{Filter, Node, Payload, Sim, SimError};
 use crate::machine::{Counts, Op};
 use crate::raster::{
-    draw_screen_triangles, setup_subset, CullMode, Framebuffer, RasterOptions, RegionSet, ScreenTriangle, Viewport,
+    draw_screen_triangles, setup_subset, Framebuffer, RasterOptions, RegionSet, ScreenTriangle, Viewport,
 };
 use crate::scene::FrameGeometry;
 use crate::units::{Bytes, SimTime};
@@ -75,10 +75,12 @@ pub(crate) const TAG_ASSIGNED: u32 = 7;
 /// What sort-middle processors send each other.
 #[derive(Clone, Debug)]
 pub(crate) enum Msg {
-    /// Screen triangles for the receiver's regions; `last` ends the sender's stream.
-    Polygons { frame: u32, tris: Vec<ScreenTriangle>, last: bool },
+    /// Screen triangles for the receiver's regions. The last message of a sender's stream
+    /// says how many messages the stream had (`end`), since a network may deliver two
+    /// messages of one pair out of order (the flow model shares bandwidth between them).
+    Polygons { frame: u32, tris: Vec<ScreenTriangle>, end: Option<u32> },
     /// First step of two-step redistribution: triangles with their final destination.
-    Forward { frame: u32, tris: Vec<(u32, ScreenTriangle)>, last: bool },
+    Forward { frame: u32, tris: Vec<(u32, ScreenTriangle)>, end: Option<u32> },
     /// Per-region polygon counts on their way up the summing tree.
     Counts { frame: u32, counts: Vec<u32> },
     /// The start of a frame, down the tree from processor 0, with the region assignment when
@@ -343,14 +345,14 @@ async fn rasterize(
         let c = draw_screen_triangles(batch, &mut target);
         node.compute(&charge::back_end(&c)).await;
     }
-    let mut ended = 0;
-    while ended < streams {
+    let mut arrivals = redistribute::Streams::default();
+    while arrivals.ended() < streams {
         let env = node.recv(Filter::tag(TAG_POLYGONS)).await;
-        let Msg::Polygons { frame: f, tris, last } = env.payload else { unreachable!("filtered by tag") };
+        let Msg::Polygons { frame: f, tris, end } = env.payload else { unreachable!("filtered by tag") };
         debug_assert_eq!(f, frame, "a polygon message crossed a frame boundary");
         let c = draw_screen_triangles(&tris, &mut target);
         node.compute(&charge::back_end(&c)).await;
-        ended += last as u32;
+        arrivals.arrived(env.src, end);
     }
     let now = node.now();
     ctx.record(frame, |r| r.raster_finish[me as usize] = now);
@@ -436,7 +438,7 @@ fn two_step_pays(cfg: &RunConfig, buffer: Bytes) -> bool {
 /// Runs a sort-middle variant.
 pub fn run(cfg: &RunConfig, variant: Variant) -> Result<RunResult, RunError> {
     let first = cfg.scene.frame(cfg.frames.start)?;
-    let viewport = Viewport::new(first.width, first.height).expect("scenes have a non-zero resolution");
+    let viewport = super::reference::viewport(&first);
     let settings = settings(cfg, variant, viewport)?;
     let n = cfg.machine.nodes;
     let ctx = Rc::new(Ctx {
@@ -445,7 +447,7 @@ pub fn run(cfg: &RunConfig, variant: Variant) -> Result<RunResult, RunError> {
         cfg: cfg.clone(),
         viewport,
         background: first.background,
-        raster: RasterOptions { cull: if first.cull_backfaces { CullMode::Back } else { CullMode::None } },
+        raster: super::reference::raster_options(&first),
         geometry: RefCell::new(BTreeMap::from([(cfg.frames.start, Rc::new(first))])),
         records: RefCell::default(),
         next_assignment: RefCell::default(),

@@ -4,8 +4,9 @@
 //!
 //! A processor's streams: in one-step mode one stream to every other processor; in two-step
 //! mode one first-step stream to its forwarder in every other group and one stream to every
-//! member of its own group, which carries both its own polygons and those it forwards. Every
-//! stream ends with a message marked `last`, so a receiver knows how many to wait for.
+//! member of its own group, which carries both its own polygons and those it forwards. The
+//! last message of every stream carries the stream's length, so a receiver knows when it has
+//! everything even if the network reorders messages of one pair.
 //!
 //! Owns buffering and forwarding. Must never rasterize, and never hold the shared state
 //! borrowed across an `.await`.
@@ -35,6 +36,9 @@ pub(super) struct Redistributor {
     direct: Buffers<ScreenTriangle>,
     /// Per group, two-step only: triangles with their final destination, for the forwarder.
     first_step: Option<Buffers<(u32, ScreenTriangle)>>,
+    /// Messages sent so far per direct destination and per group (first step).
+    sent_direct: Vec<u32>,
+    sent_first: Vec<u32>,
     /// Triangles for this processor's own regions.
     pub local: Vec<ScreenTriangle>,
     /// Per-region triangle counts (the load-balancing input).
@@ -59,6 +63,8 @@ impl Redistributor {
             assignment,
             direct: Buffers::new(n, ctx.settings.buffer, TRIANGLE_BYTES),
             first_step: groups.as_ref().map(|g| Buffers::new(g.count() as usize, ctx.settings.buffer, ROUTED_TRIANGLE_BYTES)),
+            sent_direct: vec![0; n],
+            sent_first: vec![0; groups.as_ref().map_or(0, |g| g.count() as usize)],
             groups,
             local: Vec::new(),
             counts: vec![0; ctx.settings.grid.count() as usize],
@@ -104,16 +110,23 @@ impl Redistributor {
             (Some(groups), Some(first)) if groups.group_of(dst) != groups.group_of(self.me) => {
                 let group = groups.group_of(dst);
                 if let Some(tris) = first.push(group as usize, (dst, tri)) {
-                    out.push((groups.forwarder(self.me, group), Msg::Forward { frame, tris, last: false }));
+                    self.sent_first[group as usize] += 1;
+                    out.push((groups.forwarder(self.me, group), Msg::Forward { frame, tris, end: None }));
                 }
                 ROUTED_TRIANGLE_BYTES
             }
             _ => {
-                if let Some(tris) = self.direct.push(dst as usize, tri) {
-                    out.push((dst, Msg::Polygons { frame, tris, last: false }));
-                }
+                self.push_direct(dst, tri, out);
                 TRIANGLE_BYTES
             }
+        }
+    }
+
+    /// Adds a triangle to the direct stream to `dst`, sending the buffer when full.
+    fn push_direct(&mut self, dst: u32, tri: ScreenTriangle, out: &mut Vec<Outgoing>) {
+        if let Some(tris) = self.direct.push(dst as usize, tri) {
+            self.sent_direct[dst as usize] += 1;
+            out.push((dst, Msg::Polygons { frame: self.frame, tris, end: None }));
         }
     }
 
@@ -125,7 +138,8 @@ impl Redistributor {
             let mine = groups.group_of(self.me);
             for group in (0..groups.count()).filter(|&k| k != mine) {
                 let tris = first.take(group as usize);
-                out.push((groups.forwarder(self.me, group), Msg::Forward { frame: self.frame, tris, last: true }));
+                let end = Some(self.sent_first[group as usize] + 1);
+                out.push((groups.forwarder(self.me, group), Msg::Forward { frame: self.frame, tris, end }));
             }
         }
         out.extend(self.condition_met());
@@ -138,9 +152,13 @@ impl Redistributor {
         if self.pending > 0 {
             return Vec::new();
         }
+        let (me, frame) = (self.me, self.frame);
         self.direct_destinations()
-            .filter(|&d| d != self.me)
-            .map(|d| (d, Msg::Polygons { frame: self.frame, tris: self.direct.take(d as usize), last: true }))
+            .filter(|&d| d != me)
+            .map(|d| {
+                let end = Some(self.sent_direct[d as usize] + 1);
+                (d, Msg::Polygons { frame, tris: self.direct.take(d as usize), end })
+            })
             .collect()
     }
 
@@ -177,14 +195,15 @@ pub(super) async fn send_all(node: &Node<Msg>, ctx: &Ctx, out: Vec<Outgoing>) {
 /// its last message. Polygons for this processor itself are posted to its own rasterizer.
 pub(super) async fn forward(node: Node<Msg>, ctx: Rc<Ctx>, state: Rc<RefCell<Redistributor>>) -> Result<(), SimError> {
     let me = node.id();
-    let (frame, mut sources) = {
+    let (frame, sources) = {
         let s = state.borrow();
         (s.frame, s.groups.as_ref().map_or(0, |g| g.forwarded_sources(me)))
     };
     let mut for_me = Vec::new();
-    while sources > 0 {
+    let mut arrivals = Streams::default();
+    while arrivals.ended() < sources {
         let env = node.recv(Filter::tag(TAG_FORWARD)).await;
-        let Msg::Forward { frame: f, tris, last } = env.payload else { unreachable!("filtered by tag") };
+        let Msg::Forward { frame: f, tris, end } = env.payload else { unreachable!("filtered by tag") };
         debug_assert_eq!(f, frame, "a first-step message crossed a frame boundary");
         let mut out = Vec::new();
         {
@@ -192,19 +211,45 @@ pub(super) async fn forward(node: Node<Msg>, ctx: Rc<Ctx>, state: Rc<RefCell<Red
             for (dst, tri) in tris.iter().copied() {
                 if dst == me {
                     for_me.push(tri);
-                } else if let Some(full) = s.direct.push(dst as usize, tri) {
-                    out.push((dst, Msg::Polygons { frame, tris: full, last: false }));
+                } else {
+                    s.push_direct(dst, tri, &mut out);
                 }
             }
         }
         node.compute(&Counts::of(Op::ByteCopy, tris.len() as u64 * TRIANGLE_BYTES)).await;
         send_all(&node, &ctx, out).await;
-        sources -= last as u32;
+        arrivals.arrived(env.src, end);
     }
-    node.post(me, crate::units::SimTime::ZERO, Msg::Polygons { frame, tris: for_me, last: true });
+    node.post(me, crate::units::SimTime::ZERO, Msg::Polygons { frame, tris: for_me, end: Some(1) });
     let out = state.borrow_mut().condition_met();
     send_all(&node, &ctx, out).await;
     Ok(())
+}
+
+/// Counts the messages of incoming streams until each has delivered as many messages as its
+/// last one announced.
+#[derive(Default)]
+pub(super) struct Streams {
+    /// Per sender: messages seen, and the stream's length once known.
+    seen: std::collections::BTreeMap<u32, (u32, Option<u32>)>,
+    ended: u32,
+}
+
+impl Streams {
+    pub fn arrived(&mut self, src: u32, end: Option<u32>) {
+        let (seen, total) = self.seen.entry(src).or_default();
+        *seen += 1;
+        if end.is_some() {
+            *total = end;
+        }
+        if *total == Some(*seen) {
+            self.ended += 1;
+        }
+    }
+
+    pub fn ended(&self) -> u32 {
+        self.ended
+    }
 }
 
 /// The size of a polygon-carrying message.

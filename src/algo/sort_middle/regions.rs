@@ -59,8 +59,10 @@ impl RegionGrid {
     /// Appends the regions that `tri`'s pixel bounding box touches, in index order.
     pub fn touched_by(&self, tri: &ScreenTriangle, out: &mut Vec<u32>) {
         let Some((x0, y0, x1, y1)) = pixel_bounds(tri, self.viewport) else { return };
-        let col = |x: u32| (x as u64 * self.cols as u64 / self.viewport.width() as u64) as u32;
-        let row = |y: u32| (y as u64 * self.rows as u64 / self.viewport.height() as u64) as u32;
+        // Region c starts at floor(c * W / cols); pixel x lies in the last region starting at
+        // or before it, c = floor(((x + 1) * cols - 1) / W).
+        let col = |x: u32| (((x as u64 + 1) * self.cols as u64 - 1) / self.viewport.width() as u64) as u32;
+        let row = |y: u32| (((y as u64 + 1) * self.rows as u64 - 1) / self.viewport.height() as u64) as u32;
         for r in row(y0)..=row(y1) {
             for c in col(x0)..=col(x1) {
                 out.push(r * self.cols + c);
@@ -82,4 +84,36 @@ pub fn pixel_bounds(tri: &ScreenTriangle, viewport: Viewport) -> Option<(u32, u3
     let x1 = max_x.last_centre_at_or_before().min(viewport.width() as i64 - 1);
     let y1 = max_y.last_centre_at_or_before().min(viewport.height() as i64 - 1);
     (x0 <= x1 && y0 <= y1).then_some((x0 as u32, y0 as u32, x1 as u32, y1 as u32))
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn every_pixel_maps_to_the_region_whose_rectangle_holds_it() {
+        for (w, h, count) in [(512, 512, 24), (640, 512, 4096), (7, 5, 6), (640, 512, 40)] {
+            let grid = RegionGrid::with_count(Viewport::new(w, h).unwrap(), count).unwrap();
+            assert_eq!(grid.count(), count);
+            let col = |x: u32| (((x as u64 + 1) * grid.cols() as u64 - 1) / w as u64) as u32;
+            let row = |y: u32| (((y as u64 + 1) * grid.rows() as u64 - 1) / h as u64) as u32;
+            for y in 0..h {
+                for x in 0..w {
+                    let r = row(y) * grid.cols() + col(x);
+                    assert!(grid.rect(r).contains(x, y), "{w}x{h}/{count}: ({x},{y}) -> {r}");
+                }
+            }
+        }
+    }
+
+    #[test]
+    fn region_counts_are_as_square_as_possible() {
+        let vp = Viewport::new(640, 512).unwrap();
+        let g = RegionGrid::with_count(vp, 8 * 512).unwrap();
+        assert_eq!((g.cols(), g.rows()), (64, 64));
+        let g = RegionGrid::with_count(vp, 8 * 3).unwrap();
+        assert_eq!((g.cols(), g.rows()), (6, 4));
+        assert_eq!(RegionGrid::of_size(Viewport::new(512, 512).unwrap(), 64).count(), 64);
+        assert_eq!(RegionGrid::with_count(Viewport::new(4, 4).unwrap(), 17), None);
+    }
 }
