@@ -177,7 +177,9 @@ fn shared_vertex_cache_changes_nothing() {
     for dist in [3.0f32, 1.3, 1.25] {
         let verts = to_clip(&pos, random_rotation(&mut r), dist, 1.3);
         let v = vp(90, 70);
-        let opts = RasterOptions { cull: CullMode::Back };
+        let opts = RasterOptions {
+            cull: CullMode::Back,
+        };
         let mut whole = Framebuffer::new(v);
         let cw = draw_mesh(&verts, &tris, v, &opts, &mut whole);
         let mut single = Framebuffer::new(v);

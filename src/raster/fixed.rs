@@ -158,6 +158,16 @@ impl Edge {
     pub fn row_constant(&self, py: i64) -> i64 {
         self.eval(PIXEL_CENTRE, centre(py)) - self.bias
     }
+
+    /// `K` for conservative sampling: a pixel's closed square reaches the edge's half-plane
+    /// exactly when the edge function at its centre is at least `-128 * (|dx| + |dy|)`,
+    /// the most the function can grow from the centre to a corner. No fill-rule bias: a
+    /// pixel that only touches the edge is kept, and its coverage mask (which does obey the
+    /// rule) then decides.
+    #[inline]
+    pub fn row_constant_conservative(&self, py: i64) -> i64 {
+        self.eval(PIXEL_CENTRE, centre(py)) + PIXEL_CENTRE * (self.dx.abs() + self.dy.abs())
+    }
 }
 
 /// `floor(n / d)` tracked exactly while `n` grows by a constant step: the end of a span on

@@ -10,6 +10,19 @@ use super::fixed::{centre, FloorDda, SUBPIXEL_ONE};
 use super::screen::ScreenRect;
 use super::setup::RasterTriangle;
 
+/// Which pixels a walk generates.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub enum Sampling {
+    /// Pixels whose centre is covered under the top-left rule (every target but an
+    /// anti-aliasing one): a mesh covers each pixel exactly once.
+    #[default]
+    Centre,
+    /// Every pixel whose square touches the triangle, plus possibly a few near its corners
+    /// that do not: for coverage-mask targets, which evaluate the samples of each pixel with
+    /// `RasterTriangle::coverage_mask` and drop pixels whose mask is empty.
+    Conservative,
+}
+
 /// How one edge bounds a row: as a lower bound on x (`E` grows to the right), an upper
 /// bound (`E` shrinks to the right), or for a horizontal edge all-or-nothing per row.
 #[derive(Clone, Copy, Debug)]
@@ -63,25 +76,43 @@ pub struct Row<'a> {
 impl<'a> RowWalker<'a> {
     /// `None` when no pixel centre of the rectangle lies within the triangle's extent.
     pub fn new(tri: &'a RasterTriangle, rect: ScreenRect) -> Option<RowWalker<'a>> {
-        Self::with_probe(tri, rect, true)
+        Self::with_probe(tri, rect, Sampling::Centre, true)
+    }
+
+    /// A walk with the given sampling.
+    pub fn sampled(
+        tri: &'a RasterTriangle,
+        rect: ScreenRect,
+        sampling: Sampling,
+    ) -> Option<RowWalker<'a>> {
+        Self::with_probe(tri, rect, sampling, true)
     }
 
     /// `allow_probe = false` forces the DDA, so tests can check both modes agree.
     fn with_probe(
         tri: &'a RasterTriangle,
         rect: ScreenRect,
+        sampling: Sampling,
         allow_probe: bool,
     ) -> Option<RowWalker<'a>> {
-        let y = tri.rows.0.max(i64::from(rect.y0()));
-        let y_last = tri.rows.1.min(i64::from(rect.y1()) - 1);
-        let x_lo = tri.cols.0.max(i64::from(rect.x0()));
-        let x_hi = tri.cols.1.min(i64::from(rect.x1()) - 1);
+        let (rows, cols) = match sampling {
+            Sampling::Centre => (tri.rows, tri.cols),
+            Sampling::Conservative => (tri.touched_rows, tri.touched_cols),
+        };
+        let row_constant = |e: &super::fixed::Edge, y: i64| match sampling {
+            Sampling::Centre => e.row_constant(y),
+            Sampling::Conservative => e.row_constant_conservative(y),
+        };
+        let y = rows.0.max(i64::from(rect.y0()));
+        let y_last = rows.1.min(i64::from(rect.y1()) - 1);
+        let x_lo = cols.0.max(i64::from(rect.x0()));
+        let x_hi = cols.1.min(i64::from(rect.x1()) - 1);
         if y > y_last || x_lo > x_hi {
             return None;
         }
         if allow_probe && x_hi - x_lo < PROBE_MAX_COLS && y_last - y < PROBE_MAX_ROWS {
             let e = &tri.edges;
-            let at = |i: usize| e[i].row_constant(y) - SUBPIXEL_ONE * e[i].dy * x_lo;
+            let at = |i: usize| row_constant(&e[i], y) - SUBPIXEL_ONE * e[i].dy * x_lo;
             return Some(RowWalker {
                 tri,
                 mode: Mode::Probe {
@@ -104,7 +135,7 @@ impl<'a> RowWalker<'a> {
             });
         }
         let bound = |e: &super::fixed::Edge| {
-            let k = e.row_constant(y);
+            let k = row_constant(e, y);
             let step = SUBPIXEL_ONE * e.dx;
             let d = SUBPIXEL_ONE * e.dy.abs();
             match e.dy.signum() {
@@ -344,9 +375,14 @@ mod tests {
     use crate::raster::fixed::{Depth, Sub};
     use crate::raster::setup::{ScreenTriangle, ScreenVertex};
 
-    fn spans(t: &RasterTriangle, rect: ScreenRect, probe: bool) -> Vec<(u32, u32, u32)> {
+    fn spans(
+        t: &RasterTriangle,
+        rect: ScreenRect,
+        sampling: Sampling,
+        probe: bool,
+    ) -> Vec<(u32, u32, u32)> {
         let mut out = Vec::new();
-        if let Some(mut w) = RowWalker::with_probe(t, rect, probe) {
+        if let Some(mut w) = RowWalker::with_probe(t, rect, sampling, probe) {
             while let Some(row) = w.next_row() {
                 if let Some(s) = row.span {
                     out.push((s.y(), s.x0(), s.x1()));
@@ -386,7 +422,11 @@ mod tests {
                 continue;
             };
             let rt = RasterTriangle::new(&t);
-            assert_eq!(spans(&rt, rect, true), spans(&rt, rect, false), "{t:?}");
+            for sampling in [Sampling::Centre, Sampling::Conservative] {
+                let probe = spans(&rt, rect, sampling, true);
+                let dda = spans(&rt, rect, sampling, false);
+                assert_eq!(probe, dda, "{sampling:?} {t:?}");
+            }
             compared += 1;
         }
         assert!(compared > 15_000);

@@ -174,7 +174,9 @@ pub fn setup_triangle(
 ) {
     let fetch = |i: u32| vertices.get(i as usize).and_then(|v| prepare(v, viewport));
     let prepared = [fetch(tri[0]), fetch(tri[1]), fetch(tri[2])];
-    setup_prepared(vertices, tri, prepared, prim, viewport, options, counters, &mut emit);
+    setup_prepared(
+        vertices, tri, prepared, prim, viewport, options, counters, &mut emit,
+    );
 }
 
 /// A vertex with the front-end work that depends only on the vertex done: validity,
@@ -198,7 +200,11 @@ pub fn prepare(v: &Vertex, viewport: Viewport) -> Option<PreparedVertex> {
     Some(PreparedVertex {
         outcode: outcode(&clip),
         planes,
-        screen: if planes == 0 { project(&clip, viewport) } else { None },
+        screen: if planes == 0 {
+            project(&clip, viewport)
+        } else {
+            None
+        },
     })
 }
 
@@ -251,7 +257,9 @@ pub fn setup_triangle_cached(
     mut emit: impl FnMut(ScreenTriangle),
 ) {
     let prepared = tri.map(|i| cache.get(vertices, i, viewport));
-    setup_prepared(vertices, tri, prepared, prim, viewport, options, counters, &mut emit);
+    setup_prepared(
+        vertices, tri, prepared, prim, viewport, options, counters, &mut emit,
+    );
 }
 
 #[allow(clippy::too_many_arguments)]
@@ -382,7 +390,17 @@ pub struct RasterTriangle {
     /// Inclusive pixel rows and columns whose centres lie within the vertices' extent.
     pub(crate) rows: (i64, i64),
     pub(crate) cols: (i64, i64),
+    /// Inclusive pixel rows and columns whose squares overlap the vertices' extent (for
+    /// conservative sampling).
+    pub(crate) touched_rows: (i64, i64),
+    pub(crate) touched_cols: (i64, i64),
     prim: u32,
+}
+
+/// Pixels whose half-open squares `[p, p+1)` overlap the closed extent `[lo, hi]`, as an
+/// inclusive range.
+fn touched(lo: Sub, hi: Sub) -> (i64, i64) {
+    (lo.pixel(), hi.pixel())
 }
 
 impl RasterTriangle {
@@ -424,6 +442,8 @@ impl RasterTriangle {
                 min(xs).first_centre_at_or_after(),
                 max(xs).last_centre_at_or_before(),
             ),
+            touched_rows: touched(min(ys), max(ys)),
+            touched_cols: touched(min(xs), max(xs)),
             prim: t.prim,
         }
     }

@@ -18,17 +18,19 @@
 //! scanline renderer, which keeps triangles in drawing order, makes the same choices.
 //!
 //! # Anti-aliasing targets (how paper 000's adaptive supersampling plugs in)
-//! A span carries its triangle ([`Span::triangle`]), which answers
-//! `fully_covers_pixel(x, y)` (an interior pixel: store one 12-byte Pixel) and
-//! `coverage_mask(x, y, samples)` / `covers_sample` (an edge pixel: store a coverage mask in
-//! a 7-byte Subpixel record). Samples obey the same top-left rule as centres, so coverage
-//! masks of a mesh are watertight too. A target that also needs pixels whose centre is not
-//! covered would widen its rectangles' spans by one pixel at each end and keep those whose
-//! mask is non-empty; no change to the trait is needed for that.
+//! Such a target returns [`Sampling::Conservative`] from [`Target::sampling`], so its spans
+//! hold every pixel the triangle touches, not only covered centres. A span carries its
+//! triangle ([`Span::triangle`]), which answers `fully_covers_pixel(x, y)` (an interior
+//! pixel: store one 12-byte Pixel record) and `coverage_mask(x, y, samples)` (an edge
+//! pixel: store its mask in a 7-byte Subpixel record; an empty mask means the pixel was
+//! only near a corner, skip it). The span's fragments give depth and colour at the pixel
+//! centre, clamped to the triangle's range even where the centre lies outside it. Samples
+//! obey the same top-left rule as centres, so the coverage masks of a mesh are watertight
+//! too (tests/raster_coverage.rs checks this with a mask-counting target).
 
 use super::counters::Counters;
 use super::fixed::Depth;
-use super::scan::Span;
+use super::scan::{Sampling, Span};
 use super::screen::{ScreenRect, Viewport};
 
 /// Bytes read by one depth test (a `u32`).
@@ -40,6 +42,12 @@ const WRITE_BYTES: u64 = 4 + 3;
 pub trait Target {
     /// Disjoint rectangles, in viewport pixels, that this target accepts.
     fn rects(&self) -> &[ScreenRect];
+
+    /// Which pixels spans contain: covered centres (the default), or every touched pixel
+    /// for a coverage-mask target.
+    fn sampling(&self) -> Sampling {
+        Sampling::Centre
+    }
 
     /// One span inside `self.rects()[rect]`. The target consumes its fragments and adds
     /// what it did to `counters` (`pixels_tested`, `pixels_written`, `bytes_touched`).
