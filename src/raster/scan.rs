@@ -59,6 +59,13 @@ const PROBE_MAX_ROWS: i64 = 16;
 #[derive(Clone, Debug)]
 pub struct RowWalker<'a> {
     tri: &'a RasterTriangle,
+    state: RowState,
+}
+
+/// The position of a walk without the triangle it walks, so that a renderer can keep many
+/// walks next to the triangles they belong to (the scanline renderer's active list).
+#[derive(Clone, Copy, Debug)]
+pub struct RowState {
     mode: Mode,
     y: i64,
     y_last: i64,
@@ -76,7 +83,7 @@ pub struct Row<'a> {
 impl<'a> RowWalker<'a> {
     /// `None` when no pixel centre of the rectangle lies within the triangle's extent.
     pub fn new(tri: &'a RasterTriangle, rect: ScreenRect) -> Option<RowWalker<'a>> {
-        Self::with_probe(tri, rect, Sampling::Centre, true)
+        Self::sampled(tri, rect, Sampling::Centre)
     }
 
     /// A walk with the given sampling.
@@ -85,16 +92,36 @@ impl<'a> RowWalker<'a> {
         rect: ScreenRect,
         sampling: Sampling,
     ) -> Option<RowWalker<'a>> {
-        Self::with_probe(tri, rect, sampling, true)
+        let state = RowState::new(tri, rect, sampling, true)?;
+        Some(RowWalker { tri, state })
     }
 
+    /// The next row of the walk, or `None` after the last row.
+    #[inline]
+    pub fn next_row(&mut self) -> Option<Row<'a>> {
+        self.state.next_row(self.tri)
+    }
+
+    /// Row the next call to [`RowWalker::next_row`] returns.
+    pub fn next_y(&self) -> i64 {
+        self.state.y
+    }
+
+    /// Last row of the walk.
+    pub fn last_y(&self) -> i64 {
+        self.state.y_last
+    }
+}
+
+impl RowState {
+    /// `None` when no sampled pixel of the rectangle lies within the triangle's extent.
     /// `allow_probe = false` forces the DDA, so tests can check both modes agree.
-    fn with_probe(
-        tri: &'a RasterTriangle,
+    pub fn new(
+        tri: &RasterTriangle,
         rect: ScreenRect,
         sampling: Sampling,
         allow_probe: bool,
-    ) -> Option<RowWalker<'a>> {
+    ) -> Option<RowState> {
         let (rows, cols) = match sampling {
             Sampling::Centre => (tri.rows, tri.cols),
             Sampling::Conservative => (tri.touched_rows, tri.touched_cols),
@@ -110,48 +137,37 @@ impl<'a> RowWalker<'a> {
         if y > y_last || x_lo > x_hi {
             return None;
         }
-        if allow_probe && x_hi - x_lo < PROBE_MAX_COLS && y_last - y < PROBE_MAX_ROWS {
-            let e = &tri.edges;
+        let e = &tri.edges;
+        let mode = if allow_probe && x_hi - x_lo < PROBE_MAX_COLS && y_last - y < PROBE_MAX_ROWS {
             let at = |i: usize| row_constant(&e[i], y) - SUBPIXEL_ONE * e[i].dy * x_lo;
-            return Some(RowWalker {
-                tri,
-                mode: Mode::Probe {
-                    k: [at(0), at(1), at(2)],
-                    row_step: [
-                        SUBPIXEL_ONE * e[0].dx,
-                        SUBPIXEL_ONE * e[1].dx,
-                        SUBPIXEL_ONE * e[2].dx,
-                    ],
-                    x_step: [
-                        -SUBPIXEL_ONE * e[0].dy,
-                        -SUBPIXEL_ONE * e[1].dy,
-                        -SUBPIXEL_ONE * e[2].dy,
-                    ],
-                },
-                y,
-                y_last,
-                x_lo,
-                x_hi,
-            });
-        }
-        let bound = |e: &super::fixed::Edge| {
-            let k = row_constant(e, y);
-            let step = SUBPIXEL_ONE * e.dx;
-            let d = SUBPIXEL_ONE * e.dy.abs();
-            match e.dy.signum() {
-                -1 => Bound::Left(FloorDda::new(k, step, d)),
-                1 => Bound::Right(FloorDda::new(k, step, d)),
-                _ => Bound::Flat { k, step },
+            Mode::Probe {
+                k: [at(0), at(1), at(2)],
+                row_step: [
+                    SUBPIXEL_ONE * e[0].dx,
+                    SUBPIXEL_ONE * e[1].dx,
+                    SUBPIXEL_ONE * e[2].dx,
+                ],
+                x_step: [
+                    -SUBPIXEL_ONE * e[0].dy,
+                    -SUBPIXEL_ONE * e[1].dy,
+                    -SUBPIXEL_ONE * e[2].dy,
+                ],
             }
+        } else {
+            let bound = |e: &super::fixed::Edge| {
+                let k = row_constant(e, y);
+                let step = SUBPIXEL_ONE * e.dx;
+                let d = SUBPIXEL_ONE * e.dy.abs();
+                match e.dy.signum() {
+                    -1 => Bound::Left(FloorDda::new(k, step, d)),
+                    1 => Bound::Right(FloorDda::new(k, step, d)),
+                    _ => Bound::Flat { k, step },
+                }
+            };
+            Mode::Dda([bound(&e[0]), bound(&e[1]), bound(&e[2])])
         };
-        let bounds = [
-            bound(&tri.edges[0]),
-            bound(&tri.edges[1]),
-            bound(&tri.edges[2]),
-        ];
-        Some(RowWalker {
-            tri,
-            mode: Mode::Dda(bounds),
+        Some(RowState {
+            mode,
             y,
             y_last,
             x_lo,
@@ -159,9 +175,9 @@ impl<'a> RowWalker<'a> {
         })
     }
 
-    /// The next row of the walk, or `None` after the last row.
+    /// The next row of the walk over `tri` (the triangle this state was made for).
     #[inline]
-    pub fn next_row(&mut self) -> Option<Row<'a>> {
+    pub fn next_row<'a>(&mut self, tri: &'a RasterTriangle) -> Option<Row<'a>> {
         if self.y > self.y_last {
             return None;
         }
@@ -182,7 +198,7 @@ impl<'a> RowWalker<'a> {
         let y = self.y as u32;
         self.y += 1;
         let span = (lo <= hi).then(|| Span {
-            tri: self.tri,
+            tri,
             y,
             x0: lo as u32,
             x1: hi as u32 + 1,
@@ -190,14 +206,14 @@ impl<'a> RowWalker<'a> {
         Some(Row { y, span })
     }
 
-    /// Row the next call to [`RowWalker::next_row`] returns.
-    pub fn next_y(&self) -> i64 {
-        self.y
+    /// True once every row has been returned.
+    pub fn is_done(&self) -> bool {
+        self.y > self.y_last
     }
 
-    /// Last row of the walk.
-    pub fn last_y(&self) -> i64 {
-        self.y_last
+    /// Row the next call to [`RowState::next_row`] returns.
+    pub fn next_y(&self) -> i64 {
+        self.y
     }
 }
 
@@ -382,8 +398,8 @@ mod tests {
         probe: bool,
     ) -> Vec<(u32, u32, u32)> {
         let mut out = Vec::new();
-        if let Some(mut w) = RowWalker::with_probe(t, rect, sampling, probe) {
-            while let Some(row) = w.next_row() {
+        if let Some(mut w) = RowState::new(t, rect, sampling, probe) {
+            while let Some(row) = w.next_row(t) {
                 if let Some(s) = row.span {
                     out.push((s.y(), s.x0(), s.x1()));
                 }

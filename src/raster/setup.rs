@@ -88,6 +88,18 @@ impl ScreenTriangle {
         self.prim
     }
 
+    /// Inclusive pixel rows and columns whose centres lie within the vertices' extent
+    /// (empty when first > last). Cheap: no edge or plane setup.
+    pub fn centre_extent(&self) -> ((i64, i64), (i64, i64)) {
+        let [a, b, c] = self.v;
+        let (ymin, ymax) = (a.y.min(b.y).min(c.y), a.y.max(b.y).max(c.y));
+        let (xmin, xmax) = (a.x.min(b.x).min(c.x), a.x.max(b.x).max(c.x));
+        (
+            (ymin.first_centre_at_or_after(), ymax.last_centre_at_or_before()),
+            (xmin.first_centre_at_or_after(), xmax.last_centre_at_or_before()),
+        )
+    }
+
     /// Twice the area in square subpixel steps (> 0).
     pub fn area2(&self) -> i64 {
         signed_area2(&self.v[0], &self.v[1], &self.v[2])
@@ -429,19 +441,14 @@ impl RasterTriangle {
         let ys = [v0.y, v1.y, v2.y];
         let min = |a: [Sub; 3]| a[0].min(a[1]).min(a[2]);
         let max = |a: [Sub; 3]| a[0].max(a[1]).max(a[2]);
+        let (rows, cols) = t.centre_extent();
         RasterTriangle {
             edges,
             depth,
             color,
             anchor,
-            rows: (
-                min(ys).first_centre_at_or_after(),
-                max(ys).last_centre_at_or_before(),
-            ),
-            cols: (
-                min(xs).first_centre_at_or_after(),
-                max(xs).last_centre_at_or_before(),
-            ),
+            rows,
+            cols,
             touched_rows: touched(min(ys), max(ys)),
             touched_cols: touched(min(xs), max(xs)),
             prim: t.prim,
