@@ -14,6 +14,24 @@
 //! * `scanline`: the scanline z-buffer renderer over the same spans;
 //! * `counters`, `screen`, `image`: counts, screen coordinate types, PNG and image hash.
 //!
+//! Entry points, by the stage an algorithm runs on a node:
+//! * whole pipeline: [`draw_mesh`], [`draw_subset`] (the triangles one node owns);
+//! * geometry stage only (sort-middle senders): [`setup_mesh`], [`setup_subset`] produce
+//!   [`ScreenTriangle`]s, shipped as [`ScreenTriangle::PAYLOAD_BYTES`]-byte messages
+//!   ([`ScreenTriangle::to_bytes`] / [`ScreenTriangle::from_bytes`]);
+//! * rasterization stage only (sort-middle receivers): [`draw_screen_triangles`];
+//! * scanline z-buffer: [`render_scanlines`] (one finished scanline at a time).
+//!
+//! Every call returns [`Counters`] for the machine's cost model. Winding: triangles running
+//! counter-clockwise on screen are front-facing ([`CullMode::Back`] drops the others).
+//!
+//! **Invariant:** the same triangles give the same pixels, bit for bit, whichever route
+//! they take (whole screen, regions, scanlines, setup on one node and scan on another):
+//! coverage, depth and colour are pure integer functions of the snapped triangle and the
+//! pixel.
+//!
+//! **Invariant:** nothing here reads a clock, knows about nodes, or iterates a hash map.
+//!
 //! ```
 //! use glam::{Vec3, Vec4};
 //! use sortsim::raster::{draw_mesh, Framebuffer, RasterOptions, Vertex, Viewport};

@@ -138,7 +138,11 @@ fn activate(
         // Bucketing used the same extent, so the walk always exists.
         if let Some(walk) = RowState::new(&rt, viewport.rect(), Sampling::Centre, true) {
             let slot = slab.insert(rt);
-            spare.push(Active { order: i, slot, walk });
+            spare.push(Active {
+                order: i,
+                slot,
+                walk,
+            });
         }
     }
     spare.extend(old);

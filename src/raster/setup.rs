@@ -95,8 +95,14 @@ impl ScreenTriangle {
         let (ymin, ymax) = (a.y.min(b.y).min(c.y), a.y.max(b.y).max(c.y));
         let (xmin, xmax) = (a.x.min(b.x).min(c.x), a.x.max(b.x).max(c.x));
         (
-            (ymin.first_centre_at_or_after(), ymax.last_centre_at_or_before()),
-            (xmin.first_centre_at_or_after(), xmax.last_centre_at_or_before()),
+            (
+                ymin.first_centre_at_or_after(),
+                ymax.last_centre_at_or_before(),
+            ),
+            (
+                xmin.first_centre_at_or_after(),
+                xmax.last_centre_at_or_before(),
+            ),
         )
     }
 
