@@ -54,6 +54,7 @@ impl Sub {
 
     /// Rounds a pixel coordinate to the nearest 1/256 pixel (ties away from zero), clamping
     /// to the representable range. `None` for NaN.
+    #[inline]
     pub fn snap(pixels: f64) -> Option<Sub> {
         if pixels.is_nan() {
             return None;
@@ -67,26 +68,31 @@ impl Sub {
         (i64::from(raw).abs() <= Self::LIMIT).then_some(Sub(raw))
     }
 
+    #[inline]
     pub fn raw(self) -> i32 {
         self.0
     }
 
+    #[inline]
     pub(crate) fn wide(self) -> i64 {
         i64::from(self.0)
     }
 
     /// The first pixel index whose centre is at or after this coordinate.
+    #[inline]
     pub fn first_centre_at_or_after(self) -> i64 {
         ceil_div(self.wide() - PIXEL_CENTRE, SUBPIXEL_ONE)
     }
 
     /// The last pixel index whose centre is at or before this coordinate.
+    #[inline]
     pub fn last_centre_at_or_before(self) -> i64 {
         floor_div(self.wide() - PIXEL_CENTRE, SUBPIXEL_ONE)
     }
 
     /// The pixel containing this coordinate (a coordinate on a pixel border belongs to the
     /// pixel to its right / below).
+    #[inline]
     pub fn pixel(self) -> i64 {
         floor_div(self.wide(), SUBPIXEL_ONE)
     }
@@ -127,6 +133,7 @@ pub struct Edge {
 }
 
 impl Edge {
+    #[inline]
     pub fn new(ax: Sub, ay: Sub, bx: Sub, by: Sub) -> Edge {
         let dx = bx.wide() - ax.wide();
         let dy = by.wide() - ay.wide();
@@ -183,6 +190,7 @@ pub struct FloorDda {
 
 impl FloorDda {
     /// `d > 0` is the caller's guarantee (edges with `dy == 0` never get a DDA).
+    #[inline]
     pub fn new(n: i64, step: i64, d: i64) -> FloorDda {
         debug_assert!(d > 0);
         // One division each; the remainder follows by multiplication.
@@ -225,6 +233,7 @@ impl Depth {
     pub const CLEARED: u32 = u32::MAX;
 
     /// From normalized depth z/w (clamped to 0..=1, rounded to nearest). `None` for NaN.
+    #[inline]
     pub fn from_unit(z: f64) -> Option<Depth> {
         if z.is_nan() {
             return None;
@@ -238,6 +247,7 @@ impl Depth {
         (raw != Depth::CLEARED).then_some(Depth(raw))
     }
 
+    #[inline]
     pub fn raw(self) -> u32 {
         self.0
     }
@@ -245,6 +255,7 @@ impl Depth {
 
 /// Converts a linear colour channel (clamped to 0..=1) to 8 bits, rounding to nearest.
 /// NaN has been rejected before this point; it maps to 0 to stay total.
+#[inline]
 pub fn channel_to_u8(c: f64) -> u8 {
     if c.is_nan() {
         return 0;
@@ -323,6 +334,7 @@ impl DepthPlane {
     /// to the exact depth at a vertex. Steeper planes (slivers whose depth changes by more
     /// than 2^30 per pixel) take the exact path. Either way the plane is an exactly linear
     /// integer function, so depth stays monotone along any line.
+    #[inline]
     pub fn new(basis: &PlaneBasis, z: [u32; 3]) -> DepthPlane {
         let min = z[0].min(z[1]).min(z[2]);
         let max = z[0].max(z[1]).max(z[2]);
@@ -411,6 +423,7 @@ impl ColorPlane {
     /// computed in f64 (IEEE, no fused operations, so every node gets the same bits) from
     /// exact integer numerators; only flatness needs to be exact, and a flat channel never
     /// reaches the float path.
+    #[inline]
     pub fn new(basis: &PlaneBasis, c: [u8; 3]) -> ColorPlane {
         let min = c.iter().copied().min().unwrap_or(0);
         let max = c.iter().copied().max().unwrap_or(0);

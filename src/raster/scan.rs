@@ -116,6 +116,7 @@ impl<'a> RowWalker<'a> {
 impl RowState {
     /// `None` when no sampled pixel of the rectangle lies within the triangle's extent.
     /// `allow_probe = false` forces the DDA, so tests can check both modes agree.
+    #[inline]
     pub fn new(
         tri: &RasterTriangle,
         rect: ScreenRect,

@@ -55,6 +55,7 @@ pub struct ScreenTriangle {
 
 /// Twice the signed area of the snapped triangle, `(b - a) x (c - a)` in y-down
 /// coordinates: negative for counter-clockwise on screen (front-facing).
+#[inline]
 pub fn signed_area2(a: &ScreenVertex, b: &ScreenVertex, c: &ScreenVertex) -> i64 {
     let (ax, ay) = (a.x.wide(), a.y.wide());
     (b.x.wide() - ax) * (c.y.wide() - ay) - (b.y.wide() - ay) * (c.x.wide() - ax)
@@ -90,6 +91,7 @@ impl ScreenTriangle {
 
     /// Inclusive pixel rows and columns whose centres lie within the vertices' extent
     /// (empty when first > last). Cheap: no edge or plane setup.
+    #[inline]
     pub fn centre_extent(&self) -> ((i64, i64), (i64, i64)) {
         let [a, b, c] = self.v;
         let (ymin, ymax) = (a.y.min(b.y).min(c.y), a.y.max(b.y).max(c.y));
@@ -107,6 +109,7 @@ impl ScreenTriangle {
     }
 
     /// Twice the area in square subpixel steps (> 0).
+    #[inline]
     pub fn area2(&self) -> i64 {
         signed_area2(&self.v[0], &self.v[1], &self.v[2])
     }
@@ -147,6 +150,7 @@ impl ScreenTriangle {
 
 /// Projects a clipped vertex to the screen and snaps it. `None` when w is not positive
 /// (a vertex at the eye; only reachable through degenerate input).
+#[inline]
 fn project(v: &ClipVertex, viewport: Viewport) -> Option<ScreenVertex> {
     let [x, y, z, w] = v.pos;
     if w.partial_cmp(&0.0) != Some(std::cmp::Ordering::Greater) {
@@ -165,6 +169,7 @@ fn project(v: &ClipVertex, viewport: Viewport) -> Option<ScreenVertex> {
 }
 
 /// True when no pixel centre of the viewport lies within the x/y extent of the vertices.
+#[inline]
 fn misses_viewport(vs: &[ScreenVertex], viewport: Viewport) -> bool {
     let xmin = vs.iter().map(|v| v.x).min();
     let xmax = vs.iter().map(|v| v.x).max();
@@ -212,6 +217,7 @@ pub struct PreparedVertex {
 }
 
 /// `None` for a vertex with a NaN or infinite component.
+#[inline]
 pub fn prepare(v: &Vertex, viewport: Viewport) -> Option<PreparedVertex> {
     let clip = ClipVertex::new(v)?;
     let planes = plane_mask(&clip);
@@ -422,6 +428,7 @@ fn touched(lo: Sub, hi: Sub) -> (i64, i64) {
 }
 
 impl RasterTriangle {
+    #[inline]
     pub fn new(t: &ScreenTriangle) -> RasterTriangle {
         let [v0, v1, v2] = t.v;
         let edges = [
