@@ -65,7 +65,7 @@ pub use setup::{
 };
 pub use target::{
     ActivePixel, CountingTarget, FragmentRecord, Framebuffer, PixelBuffer, RegionError, RegionSet,
-    ScanlineBuffer, SparseBuffer, Target,
+    ScanlineBuffer, SparseBuffer, Target, ACTIVE_PIXEL_BYTES, BYTES_PER_PIXEL,
 };
 
 /// A vertex as the scene hands it over: clip-space position as produced by glam's

@@ -33,6 +33,10 @@ use super::fixed::Depth;
 use super::scan::{Sampling, Span};
 use super::screen::{ScreenRect, Viewport};
 
+/// Bytes of memory per pixel of a colour + depth buffer (24-bit colour, 32-bit depth): what
+/// a node's memory pool is charged for a framebuffer, region or scanline of that size.
+pub const BYTES_PER_PIXEL: u64 = 3 + 4;
+
 /// Bytes read by one depth test (a `u32`).
 const DEPTH_BYTES: u64 = 4;
 /// Bytes written by one accepted fragment: depth plus 24-bit colour.
@@ -94,6 +98,11 @@ impl PixelBuffer {
 
     pub fn rect(&self) -> ScreenRect {
         self.rect
+    }
+
+    /// Modelled memory of this buffer: pixels times [`BYTES_PER_PIXEL`].
+    pub fn bytes(&self) -> u64 {
+        self.rect.pixels() as u64 * BYTES_PER_PIXEL
     }
 
     /// Clears colour to `clear` and depth to the cleared value.
