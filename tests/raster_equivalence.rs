@@ -251,7 +251,7 @@ fn arb_vertex() -> impl Strategy<Value = (i32, i32, u32, [u8; 3])> {
 }
 
 proptest! {
-    #![proptest_config(ProptestConfig { cases: 1024, ..ProptestConfig::default() })]
+    #![proptest_config(ProptestConfig { cases: 2048, ..ProptestConfig::default() })]
 
     /// Splitting a triangle at a point of one of its edges gives two triangles that cover
     /// exactly the original pixels, each once.
