@@ -366,6 +366,22 @@ fn flat_colour_triangles_come_out_exactly_in_their_colour() {
 }
 
 #[test]
+fn screen_space_vertices_snap_exactly_and_flat_colour_is_exact() {
+    let v = vp(50, 30);
+    let p = |x: f64, y: f64| ScreenVertex::from_pixels(x, y, 0.25, [0.2, 0.4, 0.6]).unwrap();
+    let a = p(10.5, 3.0);
+    assert_eq!((a.x.raw(), a.y.raw()), (10 * 256 + 128, 3 * 256));
+    let t = ScreenTriangle::new([p(1.0, 1.0), p(40.0, 2.0), p(5.0, 28.0)], 0).unwrap();
+    let mut fb = Framebuffer::with_clear(v, [9, 9, 9]);
+    let c = draw_screen_triangles(&[t], &mut fb);
+    assert!(c.pixels_written > 300);
+    let expect = [51, 102, 153];
+    assert!(fb.colors().iter().all(|&p| p == [9, 9, 9] || p == expect));
+    assert!(ScreenVertex::from_pixels(f64::NAN, 0.0, 0.0, [0.0; 3]).is_none());
+    assert!(ScreenVertex::from_pixels(0.0, 0.0, 0.0, [f64::NAN; 3]).is_none());
+}
+
+#[test]
 fn gouraud_colour_reaches_vertex_colours_at_vertex_centres() {
     // Red, green, blue corners on pixel centres: interpolation is exact at the anchor vertex
     // and within one step elsewhere.

@@ -41,6 +41,25 @@ pub struct ScreenVertex {
     pub rgb: [u8; 3],
 }
 
+impl ScreenVertex {
+    /// A vertex given directly in screen space (the `screen` camera of scene files): pixel
+    /// x right, pixel y down, depth in 0..=1 (0 nearest), linear colour in 0..=1. Snaps to
+    /// 1/256 px with no float round trip through clip space, so pixel-exact input stays
+    /// pixel-exact. `None` for NaN. Coordinates beyond +-2^17 px are clamped (there is no
+    /// clipping on this path): give such geometry in clip space instead.
+    pub fn from_pixels(x: f64, y: f64, z: f64, rgb: [f64; 3]) -> Option<ScreenVertex> {
+        if rgb.iter().any(|c| c.is_nan()) {
+            return None;
+        }
+        Some(ScreenVertex {
+            x: Sub::snap(x)?,
+            y: Sub::snap(y)?,
+            z: Depth::from_unit(z)?,
+            rgb: rgb.map(channel_to_u8),
+        })
+    }
+}
+
 /// A snapped screen-space triangle with non-zero area, ready to ship between nodes and to
 /// rasterize anywhere with identical results.
 ///
