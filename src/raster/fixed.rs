@@ -4,8 +4,9 @@
 //! fixed point happens here and nowhere else.
 //!
 //! Must never read a clock, allocate, or hold per-node state; must never use floating point
-//! on a path that decides coverage (only snapping and the colour gradient use floats, and
-//! both are pure functions of their inputs).
+//! on a path that decides coverage. Floats appear only in snapping and in fitting the depth
+//! and colour gradients, always as pure IEEE functions of integer inputs (no fused
+//! operations), so every node computes the same bits.
 //!
 //! # Coordinates
 //! Screen space is in pixels, x right, y down, origin at the top-left corner of the viewport.
@@ -328,10 +329,11 @@ impl DepthPlane {
     /// Fits the depth plane. The gradient is computed in f64 when that is provably as good
     /// as exact rounding for this triangle, and with exact `i128` division otherwise.
     ///
-    /// Why the f64 path is safe: with |G| < 2^62 (fixed-point units per pixel), one f64
-    /// rounding adds at most |G| * 2^-52 < 2^10 units per pixel; over the 2^18 px a
-    /// triangle can span that is < 2^28 units = 1/16 depth unit, so the plane still rounds
-    /// to the exact depth at a vertex. Steeper planes (slivers whose depth changes by more
+    /// Why the f64 path is safe: with |G| < 2^62 (fixed-point units per pixel), the three
+    /// f64 roundings (1/area, the numerator, the product) add at most |G| * 2^-51 < 2^11
+    /// units per pixel; pixels lie within 2^18 px of the anchor, so that is < 2^29 units =
+    /// 1/8 depth unit, plus 2^17 units from rounding G to an integer: the plane still
+    /// rounds to the exact depth at a vertex. Steeper planes (slivers whose depth changes by more
     /// than 2^30 per pixel) take the exact path. Either way the plane is an exactly linear
     /// integer function, so depth stays monotone along any line.
     #[inline]

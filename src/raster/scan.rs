@@ -1,6 +1,7 @@
 //! Scan conversion: walk a set-up triangle row by row inside one target rectangle, find each
-//! row's span of covered pixel centres exactly (integer DDAs on the edge functions, no
-//! per-pixel edge test), and interpolate depth and colour along the span.
+//! row's span of covered pixel centres exactly (integer DDAs on the edge functions for
+//! large triangles, direct tests of the few centres of small ones; both exact, so they
+//! agree), and interpolate depth and colour along the span.
 //!
 //! Must never decide where pixels go (that is the target) and never evaluate anything that
 //! depends on the traversal: a span's pixels, depths and colours are pure functions of the
