@@ -70,6 +70,8 @@ impl ScreenVertex {
 pub struct ScreenTriangle {
     v: [ScreenVertex; 3],
     prim: u32,
+    /// `signed_area2` of `v`, cached (> 0); derived, never serialized.
+    area2: i64,
 }
 
 /// Twice the signed area of the snapped triangle, `(b - a) x (c - a)` in y-down
@@ -89,13 +91,19 @@ impl ScreenTriangle {
     /// `None` when the snapped area is zero. `prim` is the triangle's index in its mesh,
     /// which fragment records carry and depth ties are ordered by.
     pub fn new(v: [ScreenVertex; 3], prim: u32) -> Option<ScreenTriangle> {
-        let a = signed_area2(&v[0], &v[1], &v[2]);
+        Self::with_signed_area(v, prim, signed_area2(&v[0], &v[1], &v[2]))
+    }
+
+    /// [`ScreenTriangle::new`] when the caller already holds `signed_area2(v)`.
+    #[inline]
+    fn with_signed_area(v: [ScreenVertex; 3], prim: u32, a: i64) -> Option<ScreenTriangle> {
         match a.signum() {
             0 => None,
-            1 => Some(ScreenTriangle { v, prim }),
+            1 => Some(ScreenTriangle { v, prim, area2: a }),
             _ => Some(ScreenTriangle {
                 v: [v[0], v[2], v[1]],
                 prim,
+                area2: -a,
             }),
         }
     }
@@ -130,7 +138,7 @@ impl ScreenTriangle {
     /// Twice the area in square subpixel steps (> 0).
     #[inline]
     pub fn area2(&self) -> i64 {
-        signed_area2(&self.v[0], &self.v[1], &self.v[2])
+        self.area2
     }
 
     pub fn to_bytes(&self) -> [u8; ScreenTriangle::PAYLOAD_BYTES] {
@@ -163,7 +171,8 @@ impl ScreenTriangle {
         let prim = u32::from_le_bytes(word(45));
         // Only the canonical orientation is ever serialized; reject anything else so that
         // a round trip is the identity.
-        (signed_area2(&v[0], &v[1], &v[2]) > 0).then_some(ScreenTriangle { v, prim })
+        let area2 = signed_area2(&v[0], &v[1], &v[2]);
+        (area2 > 0).then_some(ScreenTriangle { v, prim, area2 })
     }
 }
 
@@ -407,11 +416,16 @@ fn finish_projected(
     let mut produced = 0;
     for i in 1..n - 1 {
         let piece = [poly[0], poly[i], poly[i + 1]];
+        let area = if n == 3 {
+            total
+        } else {
+            signed_area2(&piece[0], &piece[1], &piece[2])
+        };
         // A piece that snapping collapsed or flipped covers nothing of the polygon.
-        if signed_area2(&piece[0], &piece[1], &piece[2]).signum() != total.signum() {
+        if area.signum() != total.signum() {
             continue;
         }
-        if let Some(t) = ScreenTriangle::new(piece, prim) {
+        if let Some(t) = ScreenTriangle::with_signed_area(piece, prim, area) {
             emit(t);
             produced += 1;
         }
@@ -461,8 +475,8 @@ impl RasterTriangle {
             y0: v0.y.wide(),
             d1: (v1.x.wide() - v0.x.wide(), v1.y.wide() - v0.y.wide()),
             d2: (v2.x.wide() - v0.x.wide(), v2.y.wide() - v0.y.wide()),
-            area2: t.area2(),
-            inv_area2: 1.0 / t.area2() as f64,
+            area2: t.area2,
+            inv_area2: 1.0 / t.area2 as f64,
             ox: anchor.0,
             oy: anchor.1,
         };
