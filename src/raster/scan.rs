@@ -7,7 +7,7 @@
 //! depends on the traversal: a span's pixels, depths and colours are pure functions of the
 //! triangle and the pixel, so a region, a scanline or the whole screen see the same bits.
 
-use super::fixed::{centre, FloorDda, SUBPIXEL_ONE};
+use super::fixed::{FloorDda, SUBPIXEL_ONE};
 use super::screen::ScreenRect;
 use super::setup::RasterTriangle;
 
@@ -382,10 +382,6 @@ impl Iterator for Fragments<'_> {
 
 impl ExactSizeIterator for Fragments<'_> {}
 
-/// Centre of pixel `(px, py)` in subpixel steps; for tests and coverage targets.
-pub fn pixel_centre(px: i64, py: i64) -> (i64, i64) {
-    (centre(px), centre(py))
-}
 
 #[cfg(test)]
 mod tests {
