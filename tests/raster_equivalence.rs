@@ -177,7 +177,9 @@ fn shared_vertex_cache_changes_nothing() {
     for dist in [3.0f32, 1.3, 1.25] {
         let verts = to_clip(&pos, random_rotation(&mut r), dist, 1.3);
         let v = vp(90, 70);
-        let opts = RasterOptions { cull: CullMode::Back };
+        let opts = RasterOptions {
+            cull: CullMode::Back,
+        };
         let mut whole = Framebuffer::new(v);
         let cw = draw_mesh(&verts, &tris, v, &opts, &mut whole);
         let mut single = Framebuffer::new(v);
@@ -239,6 +241,36 @@ fn png_round_trips_and_reports_io_errors() {
     assert!(err.to_string().contains("/nonexistent-dir/x.png"));
 }
 
+/// An independent reference for coverage: exact i128 edge functions at pixel centres with
+/// the top-left rule stated geometrically (interior below a horizontal edge, or to the right
+/// of a non-horizontal edge, wins the tie), for either winding.
+fn reference_covers(p: [(i32, i32); 3], px: i64, py: i64) -> bool {
+    let (cx, cy) = (i128::from(px) * 256 + 128, i128::from(py) * 256 + 128);
+    let q = p.map(|(x, y)| (i128::from(x), i128::from(y)));
+    let area = (q[1].0 - q[0].0) * (q[2].1 - q[0].1) - (q[1].1 - q[0].1) * (q[2].0 - q[0].0);
+    if area == 0 {
+        return false;
+    }
+    (0..3).all(|i| {
+        let (a, b) = (q[i], q[(i + 1) % 3]);
+        // Oriented so that the interior is positive.
+        let e = ((b.0 - a.0) * (cy - a.1) - (b.1 - a.1) * (cx - a.0)) * area.signum();
+        if e != 0 {
+            return e > 0;
+        }
+        // On the edge line: where is the interior relative to this edge?
+        let third = q[(i + 2) % 3];
+        if a.1 == b.1 {
+            third.1 > a.1 // horizontal edge with the interior below: a top edge
+        } else {
+            // Interior to the right of the edge at the edge's height: a left edge.
+            let x_on_edge = |y: i128| a.0 * (b.1 - y) + b.0 * (y - a.1); // times (b.1 - a.1)
+            let d = b.1 - a.1;
+            third.0 * d * d.signum() > x_on_edge(third.1) * d.signum()
+        }
+    })
+}
+
 fn arb_vertex() -> impl Strategy<Value = (i32, i32, u32, [u8; 3])> {
     (
         -2000i32..12000,
@@ -249,7 +281,7 @@ fn arb_vertex() -> impl Strategy<Value = (i32, i32, u32, [u8; 3])> {
 }
 
 proptest! {
-    #![proptest_config(ProptestConfig { cases: 1024, ..ProptestConfig::default() })]
+    #![proptest_config(ProptestConfig { cases: 2048, ..ProptestConfig::default() })]
 
     /// Splitting a triangle at a point of one of its edges gives two triangles that cover
     /// exactly the original pixels, each once.
@@ -294,6 +326,40 @@ proptest! {
         let covered_centres = (0..48i64).flat_map(|y| (0..48i64).map(move |x| (x, y)))
             .filter(|&(x, y)| rt.covers_pixel(x, y)).count();
         prop_assert_eq!(covered_centres, s.fragments().unwrap().len());
+    }
+
+    /// Coverage equals the independent reference on random triangles and slivers.
+    #[test]
+    fn coverage_matches_an_independent_reference(
+        a in (-800i32..9000, -800i32..9000),
+        b in (-800i32..9000, -800i32..9000),
+        t in -0.2f64..1.2,
+        off in -600i32..600,
+        sliver in any::<bool>(),
+        coarse in any::<bool>(),
+    ) {
+        // A sliver's third vertex lies within a few subpixels of the line through a and b.
+        let c = if sliver {
+            let x = f64::from(a.0) + t * f64::from(b.0 - a.0);
+            let y = f64::from(a.1) + t * f64::from(b.1 - a.1);
+            (x.round() as i32 + off / 100, y.round() as i32 - off / 150)
+        } else {
+            (a.0 + off * 7, b.1 - off * 5)
+        };
+        let v = vp(36, 36);
+        // On a 128-subpixel grid, edges run through pixel centres all the time: ties.
+        let snap = |p: (i32, i32)| if coarse { (p.0 / 128 * 128, p.1 / 128 * 128) } else { p };
+        let pts = [snap(a), snap(b), snap(c)];
+        let counts = match st(pts, 0) {
+            Some(tri) => draw_counts(v, &[tri]),
+            None => CountingTarget::new(v),
+        };
+        for py in 0..36u32 {
+            for px in 0..36u32 {
+                let want = reference_covers(pts, i64::from(px), i64::from(py));
+                prop_assert_eq!(counts.count(px, py) == 1, want, "pixel {},{} of {:?}", px, py, pts);
+            }
+        }
     }
 
     #[test]

@@ -366,6 +366,22 @@ fn flat_colour_triangles_come_out_exactly_in_their_colour() {
 }
 
 #[test]
+fn screen_space_vertices_snap_exactly_and_flat_colour_is_exact() {
+    let v = vp(50, 30);
+    let p = |x: f64, y: f64| ScreenVertex::from_pixels(x, y, 0.25, [0.2, 0.4, 0.6]).unwrap();
+    let a = p(10.5, 3.0);
+    assert_eq!((a.x.raw(), a.y.raw()), (10 * 256 + 128, 3 * 256));
+    let t = ScreenTriangle::new([p(1.0, 1.0), p(40.0, 2.0), p(5.0, 28.0)], 0).unwrap();
+    let mut fb = Framebuffer::with_clear(v, [9, 9, 9]);
+    let c = draw_screen_triangles(&[t], &mut fb);
+    assert!(c.pixels_written > 300);
+    let expect = [51, 102, 153];
+    assert!(fb.colors().iter().all(|&p| p == [9, 9, 9] || p == expect));
+    assert!(ScreenVertex::from_pixels(f64::NAN, 0.0, 0.0, [0.0; 3]).is_none());
+    assert!(ScreenVertex::from_pixels(0.0, 0.0, 0.0, [f64::NAN; 3]).is_none());
+}
+
+#[test]
 fn gouraud_colour_reaches_vertex_colours_at_vertex_centres() {
     // Red, green, blue corners on pixel centres: interpolation is exact at the anchor vertex
     // and within one step elsewhere.
@@ -436,4 +452,48 @@ fn regression_guard_band_corners_must_not_panic() {
     ]);
     assert_eq!(c.clipped, 0, "exactly on the guard band is inside it");
     assert!(fb.colors().iter().all(|&p| p == [255; 3]));
+}
+
+mod arbitrary_floats {
+    use super::*;
+    use proptest::prelude::*;
+
+    fn coord() -> impl Strategy<Value = f32> {
+        prop_oneof![
+            -3.0f32..3.0,
+            any::<f32>(),
+            Just(0.0f32),
+            Just(-0.0f32),
+            Just(f32::MAX),
+            Just(f32::MIN_POSITIVE),
+            Just(1e30f32),
+            Just(-1e30f32),
+        ]
+    }
+
+    fn vertex() -> impl Strategy<Value = Vertex> {
+        (coord(), coord(), coord(), coord(), any::<[f32; 3]>()).prop_map(|(x, y, z, w, c)| Vertex {
+            clip: Vec4::new(x, y, z, w),
+            color: Vec3::from_array(c),
+        })
+    }
+
+    proptest! {
+        #![proptest_config(ProptestConfig { cases: 2048, ..ProptestConfig::default() })]
+
+        /// Any floats at all: never a panic, every triangle accounted for exactly once,
+        /// and culling or clipping never produces a fragment outside the triangle's
+        /// depth range or the viewport.
+        #[test]
+        fn any_vertices_are_accounted_for_and_never_panic(a in vertex(), b in vertex(), c in vertex(), cull in any::<bool>()) {
+            let v = vp(32, 24);
+            let cull = if cull { CullMode::Back } else { CullMode::None };
+            let mut s = SparseBuffer::recording(v);
+            let k = draw_mesh(&[a, b, c], &[[0, 1, 2]], v, &RasterOptions { cull }, &mut s);
+            prop_assert_eq!(k.triangles_in, 1);
+            prop_assert_eq!(k.culled() + u64::from(k.triangles_set_up > 0), 1);
+            prop_assert_eq!(k.pixels_tested, s.fragments().unwrap().len() as u64);
+            prop_assert!(s.fragments().unwrap().iter().all(|f| f.x < 32 && f.y < 24 && f.z != u32::MAX));
+        }
+    }
 }

@@ -30,6 +30,7 @@ pub struct ClipVertex {
 
 impl ClipVertex {
     /// `None` when any position or colour component is NaN or infinite.
+    #[inline]
     pub fn new(v: &Vertex) -> Option<ClipVertex> {
         let p = v.clip.to_array();
         let c = v.color.to_array();
@@ -82,6 +83,7 @@ const PLANES: [Plane; 6] = [
 
 impl Plane {
     /// Signed distance, >= 0 inside.
+    #[inline]
     fn distance(self, v: &ClipVertex) -> f64 {
         let [x, y, z, w] = v.pos;
         match self {
@@ -154,6 +156,7 @@ pub enum ClipResult {
 }
 
 /// Bits of the view-volume outcode: a triangle whose three vertices share a bit is invisible.
+#[inline]
 pub fn outcode(v: &ClipVertex) -> u8 {
     let [x, y, z, w] = v.pos;
     (u8::from(x < -w))
@@ -165,6 +168,7 @@ pub fn outcode(v: &ClipVertex) -> u8 {
 }
 
 /// Bit i set when the vertex is outside clip plane i (near, far, then the guard band).
+#[inline]
 pub fn plane_mask(v: &ClipVertex) -> u8 {
     PLANES
         .iter()

@@ -14,6 +14,24 @@
 //! * `scanline`: the scanline z-buffer renderer over the same spans;
 //! * `counters`, `screen`, `image`: counts, screen coordinate types, PNG and image hash.
 //!
+//! Entry points, by the stage an algorithm runs on a node:
+//! * whole pipeline: [`draw_mesh`], [`draw_subset`] (the triangles one node owns);
+//! * geometry stage only (sort-middle senders): [`setup_mesh`], [`setup_subset`] produce
+//!   [`ScreenTriangle`]s, shipped as [`ScreenTriangle::PAYLOAD_BYTES`]-byte messages
+//!   ([`ScreenTriangle::to_bytes`] / [`ScreenTriangle::from_bytes`]);
+//! * rasterization stage only (sort-middle receivers): [`draw_screen_triangles`];
+//! * scanline z-buffer: [`render_scanlines`] (one finished scanline at a time).
+//!
+//! Every call returns [`Counters`] for the machine's cost model. Winding: triangles running
+//! counter-clockwise on screen are front-facing ([`CullMode::Back`] drops the others).
+//!
+//! **Invariant:** the same triangles give the same pixels, bit for bit, whichever route
+//! they take (whole screen, regions, scanlines, setup on one node and scan on another):
+//! coverage, depth and colour are pure integer functions of the snapped triangle and the
+//! pixel.
+//!
+//! **Invariant:** nothing here reads a clock, knows about nodes, or iterates a hash map.
+//!
 //! ```
 //! use glam::{Vec3, Vec4};
 //! use sortsim::raster::{draw_mesh, Framebuffer, RasterOptions, Vertex, Viewport};
@@ -39,13 +57,15 @@ pub mod target;
 pub use counters::Counters;
 pub use fixed::{Depth, Sub};
 pub use image::{encode_png, image_hash, write_png, PngError};
-pub use scan::{Fragment, RowWalker, Span};
+pub use scan::{Fragment, RowWalker, Sampling, Span};
 pub use scanline::{render_scanlines, render_scanlines_into};
 pub use screen::{ScreenRect, Viewport};
-pub use setup::{CullMode, RasterOptions, RasterTriangle, ScreenTriangle, ScreenVertex, VertexCache};
+pub use setup::{
+    CullMode, RasterOptions, RasterTriangle, ScreenTriangle, ScreenVertex, VertexCache,
+};
 pub use target::{
     ActivePixel, CountingTarget, FragmentRecord, Framebuffer, PixelBuffer, RegionError, RegionSet,
-    ScanlineBuffer, SparseBuffer, Target,
+    ScanlineBuffer, SparseBuffer, Target, ACTIVE_PIXEL_BYTES, BYTES_PER_PIXEL,
 };
 
 /// A vertex as the scene hands it over: clip-space position as produced by glam's
@@ -110,9 +130,16 @@ pub fn setup_subset(
     let mut c = Counters::default();
     let mut cache = new_cache(subset.len(), vertices.len());
     for &prim in subset {
-        setup_one(vertices, triangles, prim, viewport, options, &mut cache, &mut c, |t| {
-            out.push(t)
-        });
+        setup_one(
+            vertices,
+            triangles,
+            prim,
+            viewport,
+            options,
+            &mut cache,
+            &mut c,
+            |t| out.push(t),
+        );
     }
     c
 }
@@ -128,9 +155,16 @@ pub fn setup_mesh(
     let mut c = Counters::default();
     let mut cache = new_cache(triangles.len(), vertices.len());
     for prim in 0..triangles.len() as u32 {
-        setup_one(vertices, triangles, prim, viewport, options, &mut cache, &mut c, |t| {
-            out.push(t)
-        });
+        setup_one(
+            vertices,
+            triangles,
+            prim,
+            viewport,
+            options,
+            &mut cache,
+            &mut c,
+            |t| out.push(t),
+        );
     }
     c
 }
@@ -157,9 +191,10 @@ pub fn draw_screen_triangle<T: Target + ?Sized>(
 ) {
     let rt = RasterTriangle::new(tri);
     c.triangles_scanned += 1;
+    let sampling = target.sampling();
     for i in 0..target.rects().len() {
         let rect = target.rects()[i];
-        let Some(mut walker) = RowWalker::new(&rt, rect) else {
+        let Some(mut walker) = RowWalker::sampled(&rt, rect, sampling) else {
             continue;
         };
         while let Some(row) = walker.next_row() {
@@ -212,7 +247,9 @@ fn setup_one(
         (Some(&tri), Some(cache)) => {
             setup::setup_triangle_cached(vertices, cache, tri, prim, viewport, options, c, emit)
         }
-        (Some(&tri), None) => setup::setup_triangle(vertices, tri, prim, viewport, options, c, emit),
+        (Some(&tri), None) => {
+            setup::setup_triangle(vertices, tri, prim, viewport, options, c, emit)
+        }
         (None, _) => {
             c.triangles_in += 1;
             c.culled_invalid += 1;
@@ -247,7 +284,10 @@ mod tests {
         for (name, src) in files {
             assert!(src.starts_with("//!"), "{name} must start with a //! doc");
             let head: String = src.lines().take_while(|l| l.starts_with("//!")).collect();
-            assert!(head.to_lowercase().contains("must never"), "{name}: say what it must never do");
+            assert!(
+                head.to_lowercase().contains("must never"),
+                "{name}: say what it must never do"
+            );
         }
     }
 }

@@ -20,18 +20,24 @@
 //! image; drawing a mesh twice changes nothing.
 //!
 //! # Anti-aliasing targets (how paper 000's adaptive supersampling plugs in)
-//! A span carries its triangle ([`Span::triangle`]), which answers
-//! `fully_covers_pixel(x, y)` (an interior pixel: store one 12-byte Pixel) and
-//! `coverage_mask(x, y, samples)` / `covers_sample` (an edge pixel: store a coverage mask in
-//! a 7-byte Subpixel record). Samples obey the same top-left rule as centres, so coverage
-//! masks of a mesh are watertight too. A target that also needs pixels whose centre is not
-//! covered would widen its rectangles' spans by one pixel at each end and keep those whose
-//! mask is non-empty; no change to the trait is needed for that.
+//! Such a target returns [`Sampling::Conservative`] from [`Target::sampling`], so its spans
+//! hold every pixel the triangle touches, not only covered centres. A span carries its
+//! triangle ([`Span::triangle`]), which answers `fully_covers_pixel(x, y)` (an interior
+//! pixel: store one 12-byte Pixel record) and `coverage_mask(x, y, samples)` (an edge
+//! pixel: store its mask in a 7-byte Subpixel record; an empty mask means the pixel was
+//! only near a corner, skip it). The span's fragments give depth and colour at the pixel
+//! centre, clamped to the triangle's range even where the centre lies outside it. Samples
+//! obey the same top-left rule as centres, so the coverage masks of a mesh are watertight
+//! too (tests/raster_coverage.rs checks this with a mask-counting target).
 
 use super::counters::Counters;
 use super::fixed::Depth;
-use super::scan::Span;
+use super::scan::{Sampling, Span};
 use super::screen::{ScreenRect, Viewport};
+
+/// Bytes of memory per pixel of a colour + depth buffer (24-bit colour, 32-bit depth): what
+/// a node's memory pool is charged for a framebuffer, region or scanline of that size.
+pub const BYTES_PER_PIXEL: u64 = 3 + 4;
 
 /// Bytes read by one depth test (a `u32`).
 const DEPTH_BYTES: u64 = 4;
@@ -42,6 +48,12 @@ const WRITE_BYTES: u64 = 4 + 3;
 pub trait Target {
     /// Disjoint rectangles, in viewport pixels, that this target accepts.
     fn rects(&self) -> &[ScreenRect];
+
+    /// Which pixels spans contain: covered centres (the default), or every touched pixel
+    /// for a coverage-mask target.
+    fn sampling(&self) -> Sampling {
+        Sampling::Centre
+    }
 
     /// One span inside `self.rects()[rect]`. The target consumes its fragments and adds
     /// what it did to `counters` (`pixels_tested`, `pixels_written`, `bytes_touched`).
@@ -101,6 +113,11 @@ impl PixelBuffer {
 
     pub fn rect(&self) -> ScreenRect {
         self.rect
+    }
+
+    /// Modelled memory of this buffer: pixels times [`BYTES_PER_PIXEL`].
+    pub fn bytes(&self) -> u64 {
+        self.rect.pixels() as u64 * BYTES_PER_PIXEL
     }
 
     /// Clears colour to `clear` and depth to the cleared value.
