@@ -128,6 +128,21 @@ pub enum BenchCommand {
         after_help = "Example:\n  sortsim bench phold --lps 1024 --events-per-lp 16 --end 2ms"
     )]
     Phold(PholdArgs),
+    /// Simulating one frame of Ellsworth's algorithm against rendering it sequentially.
+    #[command(after_help = "Example:\n  sortsim bench overhead --scene scenes/polio-standin.json --procs 512 --fidelity hops")]
+    Overhead {
+        #[arg(long, default_value = "machines/delta.json")]
+        machine: PathBuf,
+        #[arg(long, default_value = "scenes/polio-standin.json")]
+        scene: PathBuf,
+        #[arg(long, default_value_t = 512)]
+        procs: u32,
+        #[arg(long, default_value_t = 1)]
+        frame: u32,
+        /// Network fidelities to measure (the machine's own when absent).
+        #[arg(long, value_enum)]
+        fidelity: Vec<FidelityArg>,
+    },
 }
 
 #[derive(Args, Debug)]

@@ -79,6 +79,9 @@ fn main() -> ExitCode {
             json,
         }) => scene_stats(&scene, frames.as_deref(), regions, json),
         Some(Command::Bench(BenchCommand::Phold(args))) => bench_phold(&args),
+        Some(Command::Bench(BenchCommand::Overhead { machine, scene, procs, frame, fidelity })) => {
+            bench_overhead(&machine, &scene, procs, frame, &fidelity)
+        }
     };
     match outcome {
         Ok(()) => ExitCode::SUCCESS,
@@ -279,6 +282,30 @@ fn write_file(dir: &Path, name: &str, text: &str) -> Result<(), Failure> {
     let path = dir.join(name);
     write_atomic(&path, text.as_bytes())
         .map_err(|e| Failure::BadInput(format!("{}: cannot write: {e}", path.display())))
+}
+
+fn bench_overhead(machine: &Path, scene: &Path, procs: u32, frame: u32, fidelities: &[FidelityArg]) -> Result<(), Failure> {
+    let scene = std::sync::Arc::new(Scene::load(scene)?);
+    let levels: Vec<Option<&str>> = if fidelities.is_empty() {
+        vec![None]
+    } else {
+        fidelities.iter().map(|f| Some(fidelity_name(*f))).collect()
+    };
+    for level in levels {
+        let set = level.map(|l| ("machine.network.fidelity".to_string(), l.to_string())).into_iter().collect();
+        let report = sortsim::bench::overhead(machine, scene.clone(), procs, frame, set).map_err(Failure::BadInput)?;
+        print!("{}", to_json(&report));
+    }
+    Ok(())
+}
+
+fn fidelity_name(f: FidelityArg) -> &'static str {
+    match f {
+        FidelityArg::Ideal => "ideal",
+        FidelityArg::Hops => "hops",
+        FidelityArg::Flow => "flow",
+        FidelityArg::Packet => "packet",
+    }
 }
 
 fn bench_phold(args: &PholdArgs) -> Result<(), Failure> {
