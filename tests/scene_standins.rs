@@ -243,3 +243,43 @@ fn summary_prints_achieved_next_to_paper_numbers() {
     );
     assert!(text.contains("depth histogram: p0="), "{text}");
 }
+
+/// Paper 000 (Fig. 8 scenes, 512x512): share of pixels supersampled, compared with the
+/// pixels a visible polygon edge passes through, averaged over each animation. The letter B
+/// must stay under the paper's 5%. The tetrahedra are held to 25% relative: the paper says
+/// "about" and the estimate counts only edges that change a pixel centre's primitive, so it
+/// reads low (the 3000-tetrahedra stand-in reaches 41% against "about 50%").
+#[test]
+fn paper_000_standins_have_the_published_share_of_edge_pixels() {
+    use sortsim::scene::paper::EDGE_REFERENCES;
+    use sortsim::scene::stats::edge_pixel_fraction;
+    for r in EDGE_REFERENCES {
+        let scene = Scene::load(&scenes_dir().join(format!("{}.json", r.scene))).unwrap();
+        let n = scene.frame_count();
+        let sum: f64 = (0..n)
+            .map(|f| edge_pixel_fraction(&scene.frame(f).unwrap()))
+            .sum();
+        let fraction = sum / n as f64;
+        eprintln!(
+            "{}: edge pixels {:.3} (paper {}: {})",
+            r.scene, fraction, r.fraction, r.source
+        );
+        if r.upper_bound {
+            assert!(
+                fraction < r.fraction,
+                "{}: {fraction:.3} not under {} ({})",
+                r.scene,
+                r.fraction,
+                r.source
+            );
+        } else {
+            assert!(
+                within(fraction, r.fraction, 0.25),
+                "{}: {fraction:.3} vs {} ({})",
+                r.scene,
+                r.fraction,
+                r.source
+            );
+        }
+    }
+}

@@ -120,6 +120,74 @@ pub fn raster_overlap_factor(frame: &FrameGeometry, region_w: u32, region_h: u32
     touched as f64 / tris.len() as f64
 }
 
+/// Fraction of the screen's pixels that a visible polygon edge passes through: pixels whose
+/// frontmost primitive (or the background) differs from a 4-neighbour's, marked on both
+/// sides. These are the pixels paper 000's adaptive supersampling stores subpixels for, so
+/// this is how its "percent of pixels supersampled" compares (a pixel-level estimate: an edge
+/// grazing a pixel without changing its centre's primitive is missed).
+pub fn edge_pixel_fraction(frame: &FrameGeometry) -> f64 {
+    let Some(viewport) = Viewport::new(frame.width, frame.height) else {
+        return 0.0;
+    };
+    let mut target = VisibleTarget {
+        rects: [viewport.rect()],
+        depth: vec![u32::MAX; viewport.pixels()],
+        prim: vec![u32::MAX; viewport.pixels()],
+        width: frame.width as usize,
+    };
+    raster::draw_mesh(
+        &frame.vertices,
+        &frame.triangles,
+        viewport,
+        &options(frame),
+        &mut target,
+    );
+    let (w, h) = (frame.width as usize, frame.height as usize);
+    let mut edge = vec![false; w * h];
+    for y in 0..h {
+        for x in 0..w {
+            let i = y * w + x;
+            for j in [(x + 1 < w).then_some(i + 1), (y + 1 < h).then_some(i + w)]
+                .into_iter()
+                .flatten()
+            {
+                if target.prim[i] != target.prim[j] {
+                    edge[i] = true;
+                    edge[j] = true;
+                }
+            }
+        }
+    }
+    edge.iter().filter(|e| **e).count() as f64 / (w * h) as f64
+}
+
+/// A z-buffer that keeps the frontmost primitive id per pixel (ties: first drawn stays, as in
+/// the rasterizer's own targets).
+struct VisibleTarget {
+    rects: [raster::ScreenRect; 1],
+    depth: Vec<u32>,
+    prim: Vec<u32>,
+    width: usize,
+}
+
+impl raster::Target for VisibleTarget {
+    fn rects(&self) -> &[raster::ScreenRect] {
+        &self.rects
+    }
+    fn span(&mut self, _rect: usize, span: &raster::Span<'_>, counters: &mut Counters) {
+        let row = span.y() as usize * self.width;
+        for f in span.fragments() {
+            let i = row + f.x as usize;
+            counters.pixels_tested += 1;
+            if f.z < self.depth[i] {
+                self.depth[i] = f.z;
+                self.prim[i] = span.prim();
+                counters.pixels_written += 1;
+            }
+        }
+    }
+}
+
 fn options(frame: &FrameGeometry) -> RasterOptions {
     RasterOptions {
         cull: if frame.cull_backfaces {
