@@ -140,6 +140,22 @@ impl Scene {
         self.spec.frames
     }
 
+    /// One line for `sortsim check`: size, frames, triangles, camera, culling.
+    pub fn describe(&self) -> String {
+        let [w, h] = self.spec.resolution;
+        let camera = match self.spec.camera {
+            CameraSpec::Perspective { .. } => "perspective",
+            CameraSpec::Screen => "screen",
+        };
+        format!(
+            "scene: {w}x{h}, {} frames, {} objects, {} triangles per frame, {camera} camera, back-face culling {}",
+            self.spec.frames,
+            self.objects.len(),
+            self.triangle_count(),
+            if self.spec.cull_backfaces { "on" } else { "off" }
+        )
+    }
+
     /// Triangles per frame (the same every frame).
     pub fn triangle_count(&self) -> usize {
         self.objects.iter().map(|o| o.mesh.triangles.len()).sum()
