@@ -242,6 +242,19 @@ pub fn geometric(frame: &FrameGeometry) -> GeometricStats {
     s
 }
 
+/// Per triangle: would it be drawn (front-facing, or culling off, and with some area on
+/// screen)? The same rule `geometric` counts as `on_screen`.
+pub(crate) fn drawn_mask(frame: &FrameGeometry) -> Vec<bool> {
+    frame
+        .triangles
+        .iter()
+        .map(|t| {
+            measure(frame, t)
+                .is_some_and(|m| m.screen_area > 0.0 && (m.front || !frame.cull_backfaces))
+        })
+        .collect()
+}
+
 /// Mean number of `region_w` x `region_h` pixel regions a drawn triangle's on-screen bounding
 /// box touches (paper 002's overlap factor; a bounding-box estimate, exact for the regions
 /// test most sort-middle implementations use).
