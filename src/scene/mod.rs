@@ -167,7 +167,10 @@ impl Scene {
 
     /// Triangles per object, in spec order.
     pub fn object_triangle_counts(&self) -> Vec<usize> {
-        self.objects.iter().map(|o| o.mesh.triangles.len()).collect()
+        self.objects
+            .iter()
+            .map(|o| o.mesh.triangles.len())
+            .collect()
     }
 
     /// Triangles per frame (the same every frame).

@@ -67,12 +67,15 @@ fn compact(mesh: &mut Mesh) {
             order.push(i);
         }
     }
-    let pick = |v: &Vec<Vec3>| order.iter().map(|&i| v[i]).collect::<Vec<_>>();
-    mesh.positions = pick(&mesh.positions);
-    mesh.colors = mesh.colors.as_ref().map(pick);
-    mesh.normals = mesh.normals.as_ref().map(pick);
+    mesh.positions = pick(&mesh.positions, &order);
+    mesh.colors = mesh.colors.as_ref().map(|c| pick(c, &order));
+    mesh.normals = mesh.normals.as_ref().map(|n| pick(n, &order));
     mesh.part = order.iter().map(|&i| mesh.part[i]).collect();
     for t in &mut mesh.triangles {
         *t = t.map(|i| new_index[i as usize]);
     }
+}
+
+fn pick(values: &[Vec3], order: &[usize]) -> Vec<Vec3> {
+    order.iter().map(|&i| values[i]).collect()
 }
