@@ -287,31 +287,55 @@ struct Measured {
 /// None when the triangle is wholly in front of the near plane or behind the far plane.
 fn measure(frame: &FrameGeometry, t: &[u32; 3]) -> Option<Measured> {
     let (w, h) = (frame.width as f64, frame.height as f64);
-    let clip: Vec<DVec4> = t
-        .iter()
-        .map(|&i| frame.vertices[i as usize].clip.as_dvec4())
-        .collect();
+    let mut clip = Poly::default();
+    for &i in t {
+        clip.push(frame.vertices[i as usize].clip.as_dvec4());
+    }
     // Near: z >= 0; far: z <= w (glam's perspective_rh depth range).
-    let poly = clip_homogeneous(clip, |v| v.z);
-    let poly = clip_homogeneous(poly, |v| v.w - v.z);
-    if poly.len() < 3 || poly.iter().any(|v| v.w <= 0.0) {
+    let poly = clip_generic(&clip, |v| v.z, lerp4);
+    let poly = clip_generic(&poly, |v| v.w - v.z, lerp4);
+    if poly.len() < 3 || poly.as_slice().iter().any(|v| v.w <= 0.0) {
         return None;
     }
-    let px: Vec<DVec2> = poly
-        .iter()
-        .map(|v| DVec2::new((v.x / v.w + 1.0) * 0.5 * w, (1.0 - v.y / v.w) * 0.5 * h))
-        .collect();
-    let signed = shoelace(&px);
-    let inside = clip_rect(px, w, h);
-    let bbox = inside.iter().fold(
+    let mut px = Poly::default();
+    for v in poly.as_slice() {
+        px.push(DVec2::new(
+            (v.x / v.w + 1.0) * 0.5 * w,
+            (1.0 - v.y / v.w) * 0.5 * h,
+        ));
+    }
+    let signed = shoelace(px.as_slice());
+    let inside = clip_rect(&px, w, h);
+    let bbox = inside.as_slice().iter().fold(
         (DVec2::splat(f64::MAX), DVec2::splat(f64::MIN)),
         |(lo, hi), p| (lo.min(*p), hi.max(*p)),
     );
     Some(Measured {
         front: signed < 0.0,
-        screen_area: shoelace(&inside).abs(),
+        screen_area: shoelace(inside.as_slice()).abs(),
         bbox,
     })
+}
+
+/// A convex polygon on the stack: a triangle clipped by at most six planes has at most nine
+/// corners, and `measure` runs for every triangle of every frame, so no heap allocation.
+#[derive(Clone, Copy, Default)]
+struct Poly<T: Copy + Default> {
+    n: usize,
+    v: [T; 12],
+}
+
+impl<T: Copy + Default> Poly<T> {
+    fn push(&mut self, p: T) {
+        self.v[self.n] = p;
+        self.n += 1;
+    }
+    fn len(&self) -> usize {
+        self.n
+    }
+    fn as_slice(&self) -> &[T] {
+        &self.v[..self.n]
+    }
 }
 
 /// Signed area with y down: negative means counter-clockwise to the viewer.
@@ -327,30 +351,39 @@ fn shoelace(p: &[DVec2]) -> f64 {
     a * 0.5
 }
 
-/// Sutherland-Hodgman against `dist(v) >= 0`, in homogeneous coordinates.
-fn clip_homogeneous(poly: Vec<DVec4>, dist: impl Fn(DVec4) -> f64) -> Vec<DVec4> {
-    clip_generic(poly, dist, |a, b, t| a + (b - a) * t)
+fn lerp4(a: DVec4, b: DVec4, t: f64) -> DVec4 {
+    a + (b - a) * t
 }
 
-fn clip_rect(poly: Vec<DVec2>, w: f64, h: f64) -> Vec<DVec2> {
-    let lerp = |a: DVec2, b: DVec2, t: f64| a + (b - a) * t;
-    let p = clip_generic(poly, |v| v.x, lerp);
-    let p = clip_generic(p, |v| w - v.x, lerp);
-    let p = clip_generic(p, |v| v.y, lerp);
-    clip_generic(p, |v| h - v.y, lerp)
+fn lerp2(a: DVec2, b: DVec2, t: f64) -> DVec2 {
+    a + (b - a) * t
 }
 
-fn clip_generic<T: Copy>(
-    poly: Vec<T>,
-    dist: impl Fn(T) -> f64,
-    lerp: impl Fn(T, T, f64) -> T,
-) -> Vec<T> {
-    if poly.is_empty() {
-        return poly;
+fn clip_rect(poly: &Poly<DVec2>, w: f64, h: f64) -> Poly<DVec2> {
+    // Most triangles lie wholly inside: skip the four passes.
+    if poly
+        .as_slice()
+        .iter()
+        .all(|p| p.x >= 0.0 && p.x <= w && p.y >= 0.0 && p.y <= h)
+    {
+        return *poly;
     }
-    let mut out = Vec::with_capacity(poly.len() + 2);
-    for i in 0..poly.len() {
-        let (a, b) = (poly[i], poly[(i + 1) % poly.len()]);
+    let p = clip_generic(poly, |v| v.x, lerp2);
+    let p = clip_generic(&p, |v| w - v.x, lerp2);
+    let p = clip_generic(&p, |v| v.y, lerp2);
+    clip_generic(&p, |v| h - v.y, lerp2)
+}
+
+/// Sutherland-Hodgman against the half-space `dist(v) >= 0`.
+fn clip_generic<T: Copy + Default>(
+    poly: &Poly<T>,
+    dist: impl Fn(T) -> f64,
+    lerp: fn(T, T, f64) -> T,
+) -> Poly<T> {
+    let mut out = Poly::default();
+    let p = poly.as_slice();
+    for i in 0..p.len() {
+        let (a, b) = (p[i], p[(i + 1) % p.len()]);
         let (da, db) = (dist(a), dist(b));
         if da >= 0.0 {
             out.push(a);
