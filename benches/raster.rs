@@ -74,7 +74,10 @@ fn small(n: usize) -> (Vec<Vertex>, Vec<[u32; 3]>) {
     let mut verts = Vec::with_capacity(3 * n);
     let mut tris = Vec::with_capacity(n);
     for i in 0..n {
-        let (x, y): (f32, f32) = (r.gen_range(4.0..W as f32 - 8.0), r.gen_range(4.0..H as f32 - 8.0));
+        let (x, y): (f32, f32) = (
+            r.gen_range(4.0..W as f32 - 8.0),
+            r.gen_range(4.0..H as f32 - 8.0),
+        );
         let area: f32 = r.gen_range(4.0..7.0);
         // A right triangle with legs a, b and a*b/2 = area, randomly rotated.
         let a: f32 = r.gen_range(2.0..4.0);
@@ -111,7 +114,12 @@ fn bench_large<M: Measurement>(c: &mut Criterion<M>) {
     g.finish();
 }
 
-fn bench_small_group<M: Measurement>(c: &mut Criterion<M>, name: &str, verts: &[Vertex], tris: &[[u32; 3]]) {
+fn bench_small_group<M: Measurement>(
+    c: &mut Criterion<M>,
+    name: &str,
+    verts: &[Vertex],
+    tris: &[[u32; 3]],
+) {
     let vp = viewport();
     let opts = RasterOptions::default();
     let mut screen = Vec::new();
@@ -120,7 +128,11 @@ fn bench_small_group<M: Measurement>(c: &mut Criterion<M>, name: &str, verts: &[
     g.sample_size(20);
     g.throughput(Throughput::Elements(tris.len() as u64));
     g.bench_function("draw_mesh", |b| {
-        b.iter_batched_ref(|| Framebuffer::new(vp), |fb| draw_mesh(verts, tris, vp, &opts, fb), BatchSize::LargeInput)
+        b.iter_batched_ref(
+            || Framebuffer::new(vp),
+            |fb| draw_mesh(verts, tris, vp, &opts, fb),
+            BatchSize::LargeInput,
+        )
     });
     g.bench_function("setup_only", |b| {
         b.iter_batched_ref(
@@ -131,7 +143,11 @@ fn bench_small_group<M: Measurement>(c: &mut Criterion<M>, name: &str, verts: &[
     });
     g.throughput(Throughput::Elements(screen.len() as u64));
     g.bench_function("scan_screen_triangles", |b| {
-        b.iter_batched_ref(|| Framebuffer::new(vp), |fb| draw_screen_triangles(&screen, fb), BatchSize::LargeInput)
+        b.iter_batched_ref(
+            || Framebuffer::new(vp),
+            |fb| draw_screen_triangles(&screen, fb),
+            BatchSize::LargeInput,
+        )
     });
     g.bench_function("scanline_renderer", |b| {
         b.iter_batched_ref(
@@ -186,7 +202,9 @@ impl Measurement for CpuTime {
 
 fn main() {
     if std::env::var_os("RASTER_BENCH_CPU_TIME").is_some() {
-        let mut c = Criterion::default().with_measurement(CpuTime).configure_from_args();
+        let mut c = Criterion::default()
+            .with_measurement(CpuTime)
+            .configure_from_args();
         bench_large(&mut c);
         bench_small(&mut c);
         c.final_summary();

@@ -29,6 +29,33 @@ pub enum Command {
         #[arg(required = true)]
         files: Vec<PathBuf>,
     },
+    /// Simulate an algorithm on a machine and a scene; write its report.
+    #[command(after_help = "Example:\n  sortsim run --machine machines/delta.json --scene scenes/plb-head-standin.json \\\n      --algo sort-middle/ellsworth --procs 64 --frames 0..4 --set granularity=8 -o reports/plb-64")]
+    Run(RunArgs),
+    /// Draw one frame of a scene with the sequential reference renderer; print its statistics.
+    #[command(after_help = "Example:\n  sortsim render scenes/spd-teapot.json --frame 0 -o teapot.png")]
+    Render {
+        scene: PathBuf,
+        #[arg(long, default_value_t = 0)]
+        frame: u32,
+        /// PNG file to write.
+        #[arg(short, long, value_name = "PNG")]
+        out: PathBuf,
+    },
+    /// Statistics of a scene's frames next to the paper's numbers (JSON with --json).
+    #[command(after_help = "Example:\n  sortsim scene-stats scenes/polio-standin.json --frames 0..3 --regions 40x32 --json")]
+    SceneStats {
+        scene: PathBuf,
+        /// "A..B" or "A"; frame 0 when absent.
+        #[arg(long)]
+        frames: Option<String>,
+        /// Region size for the overlap factor, WxH pixels.
+        #[arg(long, value_parser = region_size)]
+        regions: Option<(u32, u32)>,
+        /// Print JSON, one object per frame.
+        #[arg(long)]
+        json: bool,
+    },
     /// Simulate a list of messages on a machine's network and print each completion time.
     #[command(
         after_help = "Example:\n  sortsim netsim machines/multicluster-torus.json tests/patterns/hot-spot-4x4.json --fidelity flow\n  sortsim netsim machines/delta.json tests/patterns/complement-16x32.json --compare"
@@ -37,6 +64,30 @@ pub enum Command {
     /// Benchmarks of the simulator itself.
     #[command(subcommand)]
     Bench(BenchCommand),
+}
+
+#[derive(Args, Debug)]
+pub struct RunArgs {
+    #[arg(long)]
+    pub machine: PathBuf,
+    #[arg(long)]
+    pub scene: PathBuf,
+    /// Algorithm id: sort-middle/static, sort-middle/ellsworth.
+    #[arg(long)]
+    pub algo: String,
+    #[arg(long)]
+    pub procs: u32,
+    /// "A..B" (B excluded) or "A"; all frames when absent.
+    #[arg(long)]
+    pub frames: Option<String>,
+    /// key=value: an algorithm option (granularity=8) or a machine field (machine.network.fidelity=packet).
+    #[arg(long = "set", value_name = "KEY=VALUE")]
+    pub set: Vec<String>,
+    #[arg(long, default_value_t = 1)]
+    pub seed: u64,
+    /// Report folder (summary.json, summary.md, cost.json, timeline.json, frame PNG).
+    #[arg(short, long, value_name = "DIR", default_value = "reports/run")]
+    pub out: PathBuf,
 }
 
 #[derive(Args, Debug)]
@@ -111,4 +162,14 @@ fn probability(s: &str) -> Result<f64, String> {
             "{p} is not a probability; expected a number in 0..=1"
         ))
     }
+}
+
+fn region_size(s: &str) -> Result<(u32, u32), String> {
+    let bad = || format!("'{s}' is not a region size; expected WxH in pixels, such as 64x64");
+    let (w, h) = s.split_once('x').ok_or_else(bad)?;
+    let (w, h): (u32, u32) = (w.parse().map_err(|_| bad())?, h.parse().map_err(|_| bad())?);
+    if w == 0 || h == 0 {
+        return Err(bad());
+    }
+    Ok((w, h))
 }

@@ -9,12 +9,18 @@ use std::path::{Path, PathBuf};
 use std::process::ExitCode;
 
 use clap::Parser;
-use cli::{BenchCommand, Cli, Command, FidelityArg, NetsimArgs, PholdArgs};
+use cli::{BenchCommand, Cli, Command, FidelityArg, NetsimArgs, PholdArgs, RunArgs};
 use sortsim::bench::{phold_report, PholdConfig};
 use sortsim::net::fidelity::{fidelity_table, format_table};
 use sortsim::net::pattern::{run_pattern, Pattern};
 use sortsim::net::Fidelity;
 use sortsim::report::{cost::Stopwatch, to_json, write_atomic};
+use sortsim::algo::{reference, RunError};
+use sortsim::engine::SimError;
+use sortsim::raster::encode_png;
+use sortsim::report::run::{timeline_json, RunSummary};
+use sortsim::scene::Scene;
+use sortsim::spec::run::{parse_frames, RunSpec, RunSpecError};
 use sortsim::spec::{check::check, load_json, machine::load_machine, SpecError};
 
 /// What went wrong, sorted by whose fault it is.
@@ -26,6 +32,29 @@ enum Failure {
 impl From<SpecError> for Failure {
     fn from(e: SpecError) -> Failure {
         Failure::BadInput(e.to_string())
+    }
+}
+
+impl From<sortsim::scene::SceneError> for Failure {
+    fn from(e: sortsim::scene::SceneError) -> Failure {
+        Failure::BadInput(e.to_string())
+    }
+}
+
+impl From<RunSpecError> for Failure {
+    fn from(e: RunSpecError) -> Failure {
+        Failure::BadInput(e.to_string())
+    }
+}
+
+impl From<RunError> for Failure {
+    fn from(e: RunError) -> Failure {
+        match e {
+            // A machine too small for the run (memory) is the user's to fix; a deadlock is ours.
+            RunError::Sim(SimError::Memory { .. }) => Failure::BadInput(e.to_string()),
+            RunError::Sim(_) => Failure::Internal(e.to_string()),
+            _ => Failure::BadInput(e.to_string()),
+        }
     }
 }
 
@@ -41,6 +70,9 @@ fn main() -> ExitCode {
         None => default_job(),
         Some(Command::Check { files }) => check_files(&files),
         Some(Command::Netsim(args)) => netsim(&args),
+        Some(Command::Run(args)) => run(&args),
+        Some(Command::Render { scene, frame, out }) => render(&scene, frame, &out),
+        Some(Command::SceneStats { scene, frames, regions, json }) => scene_stats(&scene, frames.as_deref(), regions, json),
         Some(Command::Bench(BenchCommand::Phold(args))) => bench_phold(&args),
     };
     match outcome {
@@ -99,6 +131,127 @@ fn netsim(args: &NetsimArgs) -> Result<(), Failure> {
     }
     print!("{json}");
     Ok(())
+}
+
+fn run(args: &RunArgs) -> Result<(), Failure> {
+    let spec = RunSpec {
+        machine: args.machine.clone(),
+        scene: args.scene.clone(),
+        algo: args.algo.clone(),
+        procs: args.procs,
+        frames: args.frames.clone(),
+        seed: args.seed,
+        set: args
+            .set
+            .iter()
+            .map(|kv| {
+                kv.split_once('=')
+                    .map(|(k, v)| (k.trim().to_string(), v.trim().to_string()))
+                    .ok_or_else(|| Failure::BadInput(format!("--set {kv}: expected KEY=VALUE")))
+            })
+            .collect::<Result<_, _>>()?,
+    };
+    let mut cfg = spec.resolve(None)?;
+    cfg.timeline = true;
+    let clock = Stopwatch::start();
+    let result = sortsim::algo::run(&cfg)?;
+    let cost = clock.cost(result.stats.events);
+    let summary = RunSummary::new(&cfg, &result);
+    let last = result.frames.last().map_or(0, |f| f.frame);
+    let png = png_bytes(&result.image)?;
+    write_file(&args.out, "summary.json", &to_json(&summary))?;
+    write_file(&args.out, "summary.md", &summary.markdown())?;
+    write_file(&args.out, "cost.json", &to_json(&cost))?;
+    if let Some(timeline) = timeline_json(&result) {
+        write_file(&args.out, "timeline.json", &timeline)?;
+    }
+    write_bytes(&args.out.join(format!("frame-{last:04}.png")), &png)?;
+    print!("{}", summary.markdown());
+    println!("\nreport written to {} (simulated in {:.2} s wall, {} events)", args.out.display(), cost.wall_s, cost.events);
+    Ok(())
+}
+
+fn render(scene: &Path, frame: u32, out: &Path) -> Result<(), Failure> {
+    let scene = Scene::load(scene)?;
+    let geometry = scene.frame(frame)?;
+    let (image, counters) = reference::render(&geometry);
+    let png = png_bytes(&image)?;
+    write_bytes(out, &png)?;
+    println!("{}", to_json(&counters_json(&counters)).trim_end());
+    println!("wrote {} ({}x{})", out.display(), geometry.width, geometry.height);
+    Ok(())
+}
+
+fn counters_json(c: &sortsim::raster::Counters) -> serde_json::Value {
+    serde_json::json!({
+        "triangles_in": c.triangles_in,
+        "culled_invalid": c.culled_invalid,
+        "culled_outside": c.culled_outside,
+        "culled_backface": c.culled_backface,
+        "culled_zero_area": c.culled_zero_area,
+        "clipped": c.clipped,
+        "triangles_set_up": c.triangles_set_up,
+        "spans": c.spans,
+        "pixels_tested": c.pixels_tested,
+        "pixels_written": c.pixels_written,
+        "bytes_touched": c.bytes_touched,
+    })
+}
+
+fn scene_stats(path: &Path, frames: Option<&str>, regions: Option<(u32, u32)>, json: bool) -> Result<(), Failure> {
+    use sortsim::scene::stats::raster_overlap_factor;
+    let scene = Scene::load(path)?;
+    let frames = parse_frames(Some(frames.unwrap_or("0")), scene.frame_count())
+        .map_err(|e| Failure::BadInput(format!("{}: --frames: {e}", path.display())))?;
+    for frame in frames {
+        let s = sortsim::scene::summary::summary(&scene, frame)?;
+        let (rw, rh) = regions.unwrap_or((s.width.div_ceil(16), s.height.div_ceil(16)));
+        let overlap = match regions {
+            None => s.overlap_256,
+            Some(_) => raster_overlap_factor(&scene.frame(frame)?, rw, rh),
+        };
+        if !json {
+            print!("{s}");
+            if regions.is_some() {
+                println!("overlap factor for {rw}x{rh} regions: {overlap:.3}");
+            }
+            continue;
+        }
+        let r = &s.raster;
+        let paper = s.reference.map(|p| {
+            serde_json::json!({"paper": p.paper, "source": p.source, "triangles": p.triangles,
+                "mean_area_px": p.mean_area_px, "depth_complexity": p.depth_complexity, "tolerance": p.tolerance})
+        });
+        let value = serde_json::json!({
+            "scene": s.scene,
+            "frame": frame,
+            "width": s.width,
+            "height": s.height,
+            "triangles_in": r.counters.triangles_in,
+            "triangles_after_culling_and_clipping": r.counters.triangles_set_up,
+            "mean_area_px": r.mean_area_px,
+            "geometric_mean_area_px": s.geometric.mean_area_px,
+            "depth_complexity": r.depth_complexity,
+            "p_d": r.p_d(s.width, s.height),
+            "active_pixels": r.active_pixels,
+            "overlap_factor": overlap,
+            "overlap_region_px": [rw, rh],
+            "raster": counters_json(&r.counters),
+            "paper": paper,
+        });
+        println!("{}", serde_json::to_string(&value).expect("JSON"));
+    }
+    Ok(())
+}
+
+fn png_bytes(image: &sortsim::raster::Framebuffer) -> Result<Vec<u8>, Failure> {
+    let mut bytes = Vec::new();
+    encode_png(image, &mut bytes).map_err(|e| Failure::Internal(e.to_string()))?;
+    Ok(bytes)
+}
+
+fn write_bytes(path: &Path, bytes: &[u8]) -> Result<(), Failure> {
+    write_atomic(path, bytes).map_err(|e| Failure::BadInput(format!("{}: cannot write: {e}", path.display())))
 }
 
 fn write_file(dir: &Path, name: &str, text: &str) -> Result<(), Failure> {

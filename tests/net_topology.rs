@@ -195,3 +195,49 @@ fn invalid_configs_are_rejected_with_what_is_valid() {
         "exactly one dim",
     );
 }
+
+#[test]
+fn names_round_trip_and_unknown_names_list_the_valid_ones() {
+    for kind in TopologyKind::ALL {
+        assert_eq!(TopologyKind::from_name(kind.name()), Ok(kind));
+    }
+    for f in Fidelity::ALL {
+        assert_eq!(Fidelity::from_name(f.name()), Ok(f));
+    }
+    for s in Switching::ALL {
+        assert_eq!(Switching::from_name(s.name()), Ok(s));
+    }
+    let e = TopologyKind::from_name("fat-tree").unwrap_err().to_string();
+    assert!(
+        e.contains("ring, pipeline, torus, mesh, hypercube, bus, crossbar"),
+        "{e}"
+    );
+    let e = Switching::from_name("cut-through").unwrap_err().to_string();
+    assert!(e.contains("store-and-forward, wormhole"), "{e}");
+}
+
+#[test]
+fn a_network_can_move_to_another_thread() {
+    fn assert_send<T: Send>(_: &T) {}
+    assert_send(&net(TopologyKind::Mesh, &[4, 4]));
+}
+
+#[test]
+fn small_grids_list_their_links_by_node_then_dimension_then_plus_before_minus() {
+    let torus = net(TopologyKind::Torus, &[3, 2]);
+    let expected = [
+        "0->1", "0->2", "0->3", "1->2", "1->0", "1->4", "2->0", "2->1", "2->5", "3->4", "3->5",
+        "3->0", "4->5", "4->3", "4->1", "5->3", "5->4", "5->2",
+    ];
+    assert_eq!(link_names(&torus), expected);
+    let mesh = net(TopologyKind::Mesh, &[2, 2]);
+    let expected = [
+        "0->1", "0->2", "1->0", "1->3", "2->3", "2->0", "3->2", "3->1",
+    ];
+    assert_eq!(link_names(&mesh), expected);
+    let cube = net(TopologyKind::Hypercube, &[4]);
+    let expected = [
+        "0->1", "0->2", "1->0", "1->3", "2->3", "2->0", "3->2", "3->1",
+    ];
+    assert_eq!(link_names(&cube), expected);
+}

@@ -246,3 +246,49 @@ fn packet_queues_and_flow_concurrency_show_in_link_stats() {
         net.timing().serialization(Bytes::new(10 * PACKET)).times(3)
     );
 }
+
+/// The engine may advance between two injections at the same instant (it re-reads
+/// `next_event_time` after each): the times must not depend on that.
+#[test]
+fn advancing_between_simultaneous_injections_changes_nothing() {
+    let messages: Vec<ParsedMessage> = (0..40u64)
+        .map(|i| {
+            msg(
+                (i % 16) as u32,
+                ((i * 7 + 3) % 16) as u32,
+                1000 + 977 * i,
+                (i / 10) * 1000,
+            )
+        })
+        .collect();
+    for fidelity in Fidelity::ALL {
+        for switching in [Switching::Wormhole, Switching::StoreAndForward] {
+            let c = cfg(TopologyKind::Torus, &[4, 4], fidelity, switching);
+            let batched = run(&c, &messages);
+            let mut net = Network::new(&c).unwrap();
+            let mut done = vec![SimTime::MAX; messages.len()];
+            let mut out = Vec::new();
+            let mut next = 0;
+            loop {
+                let start = messages.get(next).map(|m| m.start);
+                let Some(now) = [start, net.next_event_time()].into_iter().flatten().min() else {
+                    break;
+                };
+                if start == Some(now) {
+                    let m = messages[next];
+                    if let Some(at) = net.inject(now, next as u64, m.src, m.dest, m.bytes) {
+                        done[next] = at;
+                    }
+                    next += 1;
+                }
+                if net.next_event_time() == Some(now) {
+                    net.advance(now, &mut out);
+                    for d in out.drain(..) {
+                        done[d.msg as usize] = d.at;
+                    }
+                }
+            }
+            assert_eq!(done, batched, "{fidelity:?} {switching:?}");
+        }
+    }
+}

@@ -57,7 +57,10 @@ fn vertical_shared_edge_through_centres_is_owned_by_the_triangle_to_the_right() 
     assert_eq!(max_count(&t), 1);
     assert_eq!(covered(&t).len(), 11 * 8);
     let r = draw_counts(v, &right);
-    assert!((1..9).all(|y| r.count(5, y) == 1), "the left edge of the right half owns column 5");
+    assert!(
+        (1..9).all(|y| r.count(5, y) == 1),
+        "the left edge of the right half owns column 5"
+    );
 }
 
 #[test]
@@ -81,9 +84,22 @@ fn diagonal_shared_edge_through_centres_is_drawn_once() {
 fn vertex_on_a_pixel_centre_is_covered_only_where_top_and_left_edges_meet() {
     let v = vp(16, 16);
     // Right triangle with its right angle at the top-left, vertices on centres.
-    let p = pixels(v, [(2 * S + C, 2 * S + C), (8 * S + C, 2 * S + C), (2 * S + C, 8 * S + C)]);
-    assert!(p.contains(&(2, 2)), "top-left corner vertex is on a top and a left edge");
-    assert!(!p.contains(&(8, 2)), "right end of the top edge lies on the hypotenuse");
+    let p = pixels(
+        v,
+        [
+            (2 * S + C, 2 * S + C),
+            (8 * S + C, 2 * S + C),
+            (2 * S + C, 8 * S + C),
+        ],
+    );
+    assert!(
+        p.contains(&(2, 2)),
+        "top-left corner vertex is on a top and a left edge"
+    );
+    assert!(
+        !p.contains(&(8, 2)),
+        "right end of the top edge lies on the hypotenuse"
+    );
     assert!(!p.contains(&(2, 8)), "bottom vertex lies on the hypotenuse");
     // Rows 2..=7 hold 6, 5, ..., 1 pixels (the hypotenuse itself is excluded).
     assert_eq!(p.len(), 6 + 5 + 4 + 3 + 2 + 1);
@@ -104,7 +120,11 @@ fn one_subpixel_either_side_of_a_centre_decides_coverage() {
     };
     let c2 = 2 * S + C; // centre of column 2
     let c5 = 5 * S + C; // centre of column 5
-    assert_eq!(rect(c2, c5), vec![2, 3, 4], "left edge on a centre: in; right edge: out");
+    assert_eq!(
+        rect(c2, c5),
+        vec![2, 3, 4],
+        "left edge on a centre: in; right edge: out"
+    );
     assert_eq!(rect(c2 + 1, c5), vec![3, 4]);
     assert_eq!(rect(c2 - 1, c5), vec![2, 3, 4]);
     assert_eq!(rect(c2, c5 + 1), vec![2, 3, 4, 5]);
@@ -127,17 +147,47 @@ fn one_subpixel_either_side_of_a_centre_decides_coverage() {
     assert_eq!(rows(r1 - 1, r4 + 1), vec![1, 2, 3, 4]);
 }
 
+/// Convex hull (Andrew's monotone chain) of points given in angular order; returns the
+/// hull in the same rotational direction, strictly convex.
+fn convex_hull(mut pts: Vec<(i32, i32)>) -> Vec<(i32, i32)> {
+    let cross = |o: (i32, i32), a: (i32, i32), b: (i32, i32)| {
+        i64::from(a.0 - o.0) * i64::from(b.1 - o.1) - i64::from(a.1 - o.1) * i64::from(b.0 - o.0)
+    };
+    pts.sort_unstable();
+    pts.dedup();
+    let mut lower: Vec<(i32, i32)> = Vec::new();
+    for &p in &pts {
+        while lower.len() >= 2 && cross(lower[lower.len() - 2], lower[lower.len() - 1], p) <= 0 {
+            lower.pop();
+        }
+        lower.push(p);
+    }
+    let mut upper: Vec<(i32, i32)> = Vec::new();
+    for &p in pts.iter().rev() {
+        while upper.len() >= 2 && cross(upper[upper.len() - 2], upper[upper.len() - 1], p) <= 0 {
+            upper.pop();
+        }
+        upper.push(p);
+    }
+    lower.pop();
+    upper.pop();
+    lower.extend(upper);
+    lower
+}
+
 /// A convex polygon triangulated as a fan from an interior point and as a fan from its
 /// first vertex must cover exactly the same pixels, each exactly once.
 #[test]
 fn fans_of_thousands_of_slivers_are_watertight() {
     let v = vp(256, 256);
-    for seed in 0..6u64 {
+    for seed in 0..12u64 {
         let mut r = rng(seed);
         let n = 3000;
         let centre = (r.gen_range(100 * S..156 * S), r.gen_range(100 * S..156 * S));
         let radius = 120.0 * f64::from(S);
-        let mut angles: Vec<f64> = (0..n).map(|_| r.gen_range(0.0..std::f64::consts::TAU)).collect();
+        let mut angles: Vec<f64> = (0..n)
+            .map(|_| r.gen_range(0.0..std::f64::consts::TAU))
+            .collect();
         angles.sort_by(f64::total_cmp);
         angles.dedup();
         let ring: Vec<(i32, i32)> = angles
@@ -148,7 +198,11 @@ fn fans_of_thousands_of_slivers_are_watertight() {
                 (x.round() as i32, y.round() as i32)
             })
             .collect();
+        // Rounding to subpixels can make three neighbours bend inwards; keep the convex
+        // hull so that a fan from a vertex is a valid triangulation too.
+        let ring = convex_hull(ring);
         let m = ring.len();
+        assert!(m > 1000, "seed {seed}: the hull keeps most points ({m})");
         let fan_centre: Vec<_> = (0..m)
             .filter_map(|i| st([centre, ring[i], ring[(i + 1) % m]], i as u32))
             .collect();
@@ -157,12 +211,28 @@ fn fans_of_thousands_of_slivers_are_watertight() {
             .collect();
         let a = draw_counts(v, &fan_centre);
         let b = draw_counts(v, &fan_vertex);
-        assert_eq!(max_count(&a), 1, "seed {seed}: a pixel drawn twice by the centre fan");
-        assert_eq!(max_count(&b), 1, "seed {seed}: a pixel drawn twice by the vertex fan");
-        assert!(covered(&a) == covered(&b), "seed {seed}: the two triangulations differ");
+        assert_eq!(
+            max_count(&a),
+            1,
+            "seed {seed}: a pixel drawn twice by the centre fan"
+        );
+        assert_eq!(
+            max_count(&b),
+            1,
+            "seed {seed}: a pixel drawn twice by the vertex fan"
+        );
+        assert!(
+            covered(&a) == covered(&b),
+            "seed {seed}: the two triangulations differ"
+        );
         // Deep inside the polygon nothing is missing.
         let r_in = 95.0;
-        for (x, y) in [(0.0f64, 0.0f64), (r_in, 0.0), (0.0, r_in), (-r_in * 0.7, -r_in * 0.7)] {
+        for (x, y) in [
+            (0.0f64, 0.0f64),
+            (r_in, 0.0),
+            (0.0, r_in),
+            (-r_in * 0.7, -r_in * 0.7),
+        ] {
             let px = ((f64::from(centre.0) / f64::from(S)) + x) as u32;
             let py = ((f64::from(centre.1) / f64::from(S)) + y) as u32;
             assert_eq!(a.count(px, py), 1, "seed {seed}: hole at {px},{py}");
@@ -173,15 +243,19 @@ fn fans_of_thousands_of_slivers_are_watertight() {
 /// Pixels covered by `t` whose eight neighbours are covered too.
 fn interior_of(t: &CountingTarget) -> impl Iterator<Item = (u32, u32)> + '_ {
     let (w, h) = (t.width(), t.height());
-    (1..h - 1).flat_map(move |y| (1..w - 1).map(move |x| (x, y))).filter(move |&(x, y)| {
-        (-1i32..=1).all(|dy| (-1i32..=1).all(|dx| t.count((x as i32 + dx) as u32, (y as i32 + dy) as u32) > 0))
-    })
+    (1..h - 1)
+        .flat_map(move |y| (1..w - 1).map(move |x| (x, y)))
+        .filter(move |&(x, y)| {
+            (-1i32..=1).all(|dy| {
+                (-1i32..=1).all(|dx| t.count((x as i32 + dx) as u32, (y as i32 + dy) as u32) > 0)
+            })
+        })
 }
 
 #[test]
 fn grid_of_rotated_jittered_quads_is_watertight() {
     let v = vp(200, 200);
-    for seed in 0..4u64 {
+    for seed in 0..8u64 {
         let mut r = rng(100 + seed);
         let n = 40usize;
         let angle: f64 = r.gen_range(0.0..1.5);
@@ -227,7 +301,9 @@ fn grid_of_rotated_jittered_quads_is_watertight() {
         assert_eq!(max_count(&t), 1, "seed {seed}");
         // The outline's vertices were rounded independently, so its sides are not exactly
         // straight: compare away from the outline only.
-        let holes = interior_of(&hull).filter(|&(x, y)| t.count(x, y) != 1).count();
+        let holes = interior_of(&hull)
+            .filter(|&(x, y)| t.count(x, y) != 1)
+            .count();
         assert_eq!(holes, 0, "seed {seed}: holes inside the grid");
         assert!(covered(&t).len() * 10 > covered(&hull).len() * 9);
     }
@@ -239,7 +315,7 @@ fn grid_of_rotated_jittered_quads_is_watertight() {
 #[test]
 fn random_closed_meshes_cover_each_pixel_equally_from_front_and_back() {
     let v = vp(160, 120);
-    for seed in 0..5u64 {
+    for seed in 0..8u64 {
         let mut r = rng(200 + seed);
         let convex = seed == 0;
         let (pos, tris) = sphere(14, 23, |_| if convex { 1.0 } else { r.gen_range(0.6..1.0) });
@@ -249,14 +325,30 @@ fn random_closed_meshes_cover_each_pixel_equally_from_front_and_back() {
         let flipped: Vec<[u32; 3]> = tris.iter().map(|t| [t[0], t[2], t[1]]).collect();
         let (back, _) = mesh_counts(v, &verts, &flipped, CullMode::Back);
         let (both, _) = mesh_counts(v, &verts, &tris, CullMode::None);
-        assert!(cf.culled_backface > 0, "seed {seed}: nothing was back-facing");
+        assert!(
+            cf.culled_backface > 0,
+            "seed {seed}: nothing was back-facing"
+        );
         if convex {
             assert_eq!(max_count(&front), 1, "seed {seed}");
-            assert!(both.counts().iter().all(|&c| c == 0 || c == 2), "seed {seed}: a hole or overlap");
+            assert!(
+                both.counts().iter().all(|&c| c == 0 || c == 2),
+                "seed {seed}: a hole or overlap"
+            );
         }
-        assert_eq!(front.counts(), back.counts(), "seed {seed}: front and back coverage differ");
-        assert!(both.counts().iter().all(|&c| c % 2 == 0), "seed {seed}: odd coverage is a hole");
-        assert!(covered(&front).len() > 1000, "seed {seed}: the mesh should be on screen");
+        assert_eq!(
+            front.counts(),
+            back.counts(),
+            "seed {seed}: front and back coverage differ"
+        );
+        assert!(
+            both.counts().iter().all(|&c| c % 2 == 0),
+            "seed {seed}: odd coverage is a hole"
+        );
+        assert!(
+            covered(&front).len() > 1000,
+            "seed {seed}: the mesh should be on screen"
+        );
     }
 }
 
@@ -265,7 +357,7 @@ fn random_closed_meshes_cover_each_pixel_equally_from_front_and_back() {
 #[test]
 fn meshes_at_coordinates_up_to_1e6_px_are_watertight() {
     let v = vp(128, 96);
-    for seed in 0..4u64 {
+    for seed in 0..8u64 {
         let mut r = rng(300 + seed);
         let n = 12usize;
         let span = 2.0e6;
@@ -276,7 +368,11 @@ fn meshes_at_coordinates_up_to_1e6_px_are_watertight() {
                 let jit = if interior { 0.3 * span / n as f64 } else { 0.0 };
                 let x = -1.0e6 + i as f64 * span / n as f64 + r.gen_range(-jit..=jit);
                 let y = -1.0e6 + j as f64 * span / n as f64 + r.gen_range(-jit..=jit);
-                let w = if seed % 2 == 0 { 1.0 } else { r.gen_range(0.2..50.0) };
+                let w = if seed % 2 == 0 {
+                    1.0
+                } else {
+                    r.gen_range(0.2..50.0)
+                };
                 verts.push(pv_w(v, x, y, 0.5, w, [1.0; 3]));
             }
         }
@@ -289,7 +385,10 @@ fn meshes_at_coordinates_up_to_1e6_px_are_watertight() {
             }
         }
         let (t, c) = mesh_counts(v, &verts, &tris, CullMode::None);
-        assert!(c.clipped > 0, "seed {seed}: the guard band should have clipped");
+        assert!(
+            c.clipped > 0,
+            "seed {seed}: the guard band should have clipped"
+        );
         assert!(
             t.counts().iter().all(|&k| k == 1),
             "seed {seed}: every viewport pixel exactly once, got max {} and {} holes",
@@ -332,4 +431,114 @@ fn sphere_fixture_is_wound_counter_clockwise_from_outside() {
     };
     assert!(centre_tri_drawn);
     let _ = Vec3::ZERO;
+}
+
+/// The shape of paper 000's adaptive supersampling buffer, reduced to counting: with
+/// conservative sampling, per pixel and per sample of a 4x4 grid, how many triangles cover
+/// the sample; fully covered pixels must have full masks.
+struct MaskCounter {
+    rects: [ScreenRect; 1],
+    samples: Vec<(u8, u8)>,
+    counts: Vec<[u32; 16]>,
+    full_pixels: u64,
+    edge_pixels: u64,
+}
+
+impl MaskCounter {
+    fn new(v: Viewport) -> MaskCounter {
+        let samples = (0..16)
+            .map(|i| (32 + 64 * (i % 4) as u8, 32 + 64 * (i / 4) as u8))
+            .collect();
+        MaskCounter {
+            rects: [v.rect()],
+            samples,
+            counts: vec![[0; 16]; v.pixels()],
+            full_pixels: 0,
+            edge_pixels: 0,
+        }
+    }
+}
+
+impl Target for MaskCounter {
+    fn rects(&self) -> &[ScreenRect] {
+        &self.rects
+    }
+    fn sampling(&self) -> Sampling {
+        Sampling::Conservative
+    }
+    fn span(&mut self, _rect: usize, span: &Span<'_>, counters: &mut Counters) {
+        let t = span.triangle();
+        let y = span.y();
+        for f in span.fragments() {
+            let (px, py) = (i64::from(f.x), i64::from(y));
+            let mask = t.coverage_mask(px, py, &self.samples);
+            if t.fully_covers_pixel(px, py) {
+                assert_eq!(mask, 0xffff, "a fully covered pixel has every sample");
+                self.full_pixels += 1;
+            } else if mask != 0 {
+                self.edge_pixels += 1;
+            }
+            let cell = &mut self.counts[(y * self.rects[0].width() + f.x) as usize];
+            for (i, c) in cell.iter_mut().enumerate() {
+                *c += ((mask >> i) & 1) as u32;
+            }
+        }
+        counters.pixels_tested += span.len() as u64;
+    }
+}
+
+#[test]
+fn coverage_masks_of_a_mesh_are_watertight_and_complete() {
+    let v = vp(48, 48);
+    let mut r = rng(400);
+    let n = 9usize;
+    let cell = 5.1 * f64::from(S);
+    let mut grid = vec![(0i32, 0i32); (n + 1) * (n + 1)];
+    for j in 0..=n {
+        for i in 0..=n {
+            let interior = i > 0 && j > 0 && i < n && j < n;
+            let jit = if interior { 0.2 * cell } else { 0.0 };
+            let x = 1.7 * f64::from(S) + i as f64 * cell + r.gen_range(-jit..=jit);
+            let y = 0.9 * f64::from(S) + j as f64 * cell + r.gen_range(-jit..=jit);
+            grid[j * (n + 1) + i] = (x.round() as i32, y.round() as i32);
+        }
+    }
+    let g = |i: usize, j: usize| grid[j * (n + 1) + i];
+    let mut tris = Vec::new();
+    for j in 0..n {
+        for i in 0..n {
+            tris.extend(st([g(i, j), g(i + 1, j), g(i + 1, j + 1)], 0));
+            tris.extend(st([g(i, j), g(i + 1, j + 1), g(i, j + 1)], 0));
+        }
+    }
+    let mut masks = MaskCounter::new(v);
+    draw_screen_triangles(&tris, &mut masks);
+    assert!(masks.full_pixels > 500 && masks.edge_pixels > 200);
+    // Every sample is covered at most once, and exactly as often as brute force says: no
+    // touched pixel was left out of the conservative spans.
+    let mut brute = vec![[0u32; 16]; v.pixels()];
+    for t in &tris {
+        let rt = RasterTriangle::new(t);
+        for py in 0..48 {
+            for px in 0..48 {
+                let m = rt.coverage_mask(px, py, &masks.samples);
+                for (i, c) in brute[(py * 48 + px) as usize].iter_mut().enumerate() {
+                    *c += ((m >> i) & 1) as u32;
+                }
+            }
+        }
+    }
+    assert!(
+        masks.counts == brute,
+        "conservative spans missed a touched pixel"
+    );
+    assert!(
+        masks.counts.iter().flatten().all(|&c| c <= 1),
+        "a sample covered twice"
+    );
+    // Samples well inside the grid are all covered.
+    let inside = (10..40).flat_map(|y| (10..40).map(move |x| (x, y)));
+    assert!(inside
+        .into_iter()
+        .all(|(x, y)| masks.counts[y * 48 + x].iter().all(|&c| c == 1)));
 }

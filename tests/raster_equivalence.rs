@@ -39,11 +39,20 @@ fn scanline_renderer_image_equals_zbuffer_image() {
         assert!(a.colors() == b.colors(), "seed {seed}: colours differ");
         assert!(a.depths() == b.depths(), "seed {seed}: depths differ");
         assert_eq!(a.hash(), b.hash());
-        assert_eq!((ca.spans, ca.pixels_tested, ca.pixels_written), (cb.spans, cb.pixels_tested, cb.pixels_written));
-        assert!(ca.pixels_written > 1000, "seed {seed}: the scene should draw something");
+        assert_eq!(
+            (ca.spans, ca.pixels_tested, ca.pixels_written),
+            (cb.spans, cb.pixels_tested, cb.pixels_written)
+        );
+        assert!(
+            ca.pixels_written > 1000,
+            "seed {seed}: the scene should draw something"
+        );
         assert_eq!(cb.scanlines, u64::from(v.height()));
         assert_eq!(cb.active_inserts, cb.bucket_inserts);
-        assert_eq!(cb.active_removals, cb.active_inserts, "every active triangle retires");
+        assert_eq!(
+            cb.active_removals, cb.active_inserts,
+            "every active triangle retires"
+        );
         assert_eq!(ca.bucket_inserts, 0);
     }
 }
@@ -82,7 +91,10 @@ fn region_set_equals_the_whole_framebuffer() {
     let mut composed = Framebuffer::new(v);
     regions.copy_into(&mut composed);
     assert!(composed.colors() == whole.colors() && composed.depths() == whole.depths());
-    assert_eq!((cr.pixels_tested, cr.pixels_written), (cw.pixels_tested, cw.pixels_written));
+    assert_eq!(
+        (cr.pixels_tested, cr.pixels_written),
+        (cw.pixels_tested, cw.pixels_written)
+    );
     assert!(cr.spans > cw.spans, "spans split at region borders");
 }
 
@@ -90,8 +102,14 @@ fn region_set_equals_the_whole_framebuffer() {
 fn region_set_rejects_overlaps_and_regions_outside_the_viewport() {
     let v = vp(10, 10);
     let r = |a, b, c, d| ScreenRect::new(a, b, c, d).unwrap();
-    assert_eq!(RegionSet::new(v, vec![r(0, 0, 5, 5), r(4, 4, 6, 6)]).unwrap_err(), RegionError::Overlap(0, 1));
-    assert_eq!(RegionSet::new(v, vec![r(0, 0, 11, 5)]).unwrap_err(), RegionError::OutsideViewport(0));
+    assert_eq!(
+        RegionSet::new(v, vec![r(0, 0, 5, 5), r(4, 4, 6, 6)]).unwrap_err(),
+        RegionError::Overlap(0, 1)
+    );
+    assert_eq!(
+        RegionSet::new(v, vec![r(0, 0, 11, 5)]).unwrap_err(),
+        RegionError::OutsideViewport(0)
+    );
     assert!(ScreenRect::new(3, 3, 3, 4).is_none());
     assert!(RegionSet::new(v, vec![r(0, 0, 5, 5), r(5, 0, 10, 5)]).is_ok());
 }
@@ -103,7 +121,10 @@ fn sparse_buffer_holds_exactly_the_framebuffers_written_pixels() {
     let (fb, cf) = zbuffer(v, &tris);
     let mut sparse = SparseBuffer::recording(v);
     let cs = draw_screen_triangles(&tris, &mut sparse);
-    assert_eq!((cs.pixels_tested, cs.pixels_written), (cf.pixels_tested, cf.pixels_written));
+    assert_eq!(
+        (cs.pixels_tested, cs.pixels_written),
+        (cf.pixels_tested, cf.pixels_written)
+    );
     let written = fb.depths().iter().filter(|&&z| z != u32::MAX).count();
     assert_eq!(sparse.active().len(), written);
     for p in sparse.active_sorted() {
@@ -123,7 +144,9 @@ fn setup_then_scan_through_bytes_equals_direct_drawing() {
     let mut r = rng(800);
     let (verts, tris) = random_soup(&mut r, 300);
     let v = vp(90, 70);
-    let opts = RasterOptions { cull: CullMode::Back };
+    let opts = RasterOptions {
+        cull: CullMode::Back,
+    };
     let mut direct = Framebuffer::new(v);
     let cd = draw_mesh(&verts, &tris, v, &opts, &mut direct);
     let mut shipped = Vec::new();
@@ -136,9 +159,40 @@ fn setup_then_scan_through_bytes_equals_direct_drawing() {
     let mut split = Framebuffer::new(v);
     let cb = draw_screen_triangles(&received, &mut split);
     assert_eq!(direct.hash(), split.hash());
-    assert_eq!(cd, cs + cb, "front-end and back-end counts add up to a direct draw");
+    assert_eq!(
+        cd,
+        cs + cb,
+        "front-end and back-end counts add up to a direct draw"
+    );
     assert!(cs.culled_backface > 0);
     assert_eq!(ScreenTriangle::PAYLOAD_BYTES, 49);
+}
+
+#[test]
+fn shared_vertex_cache_changes_nothing() {
+    // draw_mesh prepares each shared vertex once; one-triangle subsets prepare vertices per
+    // triangle. Both must give the same image and the same counts, clipping included.
+    let mut r = rng(950);
+    let (pos, tris) = sphere(12, 18, |_| r.gen_range(0.6..1.0));
+    for dist in [3.0f32, 1.3, 1.25] {
+        let verts = to_clip(&pos, random_rotation(&mut r), dist, 1.3);
+        let v = vp(90, 70);
+        let opts = RasterOptions {
+            cull: CullMode::Back,
+        };
+        let mut whole = Framebuffer::new(v);
+        let cw = draw_mesh(&verts, &tris, v, &opts, &mut whole);
+        let mut single = Framebuffer::new(v);
+        let mut cs = Counters::default();
+        for i in 0..tris.len() as u32 {
+            cs += draw_subset(&verts, &tris, &[i], v, &opts, &mut single);
+        }
+        assert_eq!(cw, cs, "distance {dist}");
+        assert_eq!(whole.hash(), single.hash(), "distance {dist}");
+        if dist < 1.5 {
+            assert!(cw.clipped > 0, "the near plane cuts the mesh: {cw:?}");
+        }
+    }
 }
 
 #[test]
@@ -160,7 +214,11 @@ fn drawing_a_subset_per_node_composes_to_the_whole() {
     assert_eq!(total.triangles_in, tris.len() as u64);
     // Depth-composite the three nodes (sort-last): nearest wins.
     for p in whole.active() {
-        let best = nodes.iter().map(|fb| fb.depth(p.x, p.y).unwrap()).min().unwrap();
+        let best = nodes
+            .iter()
+            .map(|fb| fb.depth(p.x, p.y).unwrap())
+            .min()
+            .unwrap();
         assert_eq!(best, p.z);
     }
 }
@@ -183,12 +241,47 @@ fn png_round_trips_and_reports_io_errors() {
     assert!(err.to_string().contains("/nonexistent-dir/x.png"));
 }
 
+/// An independent reference for coverage: exact i128 edge functions at pixel centres with
+/// the top-left rule stated geometrically (interior below a horizontal edge, or to the right
+/// of a non-horizontal edge, wins the tie), for either winding.
+fn reference_covers(p: [(i32, i32); 3], px: i64, py: i64) -> bool {
+    let (cx, cy) = (i128::from(px) * 256 + 128, i128::from(py) * 256 + 128);
+    let q = p.map(|(x, y)| (i128::from(x), i128::from(y)));
+    let area = (q[1].0 - q[0].0) * (q[2].1 - q[0].1) - (q[1].1 - q[0].1) * (q[2].0 - q[0].0);
+    if area == 0 {
+        return false;
+    }
+    (0..3).all(|i| {
+        let (a, b) = (q[i], q[(i + 1) % 3]);
+        // Oriented so that the interior is positive.
+        let e = ((b.0 - a.0) * (cy - a.1) - (b.1 - a.1) * (cx - a.0)) * area.signum();
+        if e != 0 {
+            return e > 0;
+        }
+        // On the edge line: where is the interior relative to this edge?
+        let third = q[(i + 2) % 3];
+        if a.1 == b.1 {
+            third.1 > a.1 // horizontal edge with the interior below: a top edge
+        } else {
+            // Interior to the right of the edge at the edge's height: a left edge.
+            let x_on_edge = |y: i128| a.0 * (b.1 - y) + b.0 * (y - a.1); // times (b.1 - a.1)
+            let d = b.1 - a.1;
+            third.0 * d * d.signum() > x_on_edge(third.1) * d.signum()
+        }
+    })
+}
+
 fn arb_vertex() -> impl Strategy<Value = (i32, i32, u32, [u8; 3])> {
-    (-2000i32..12000, -2000i32..12000, 0u32..u32::MAX - 1, any::<[u8; 3]>())
+    (
+        -2000i32..12000,
+        -2000i32..12000,
+        0u32..u32::MAX - 1,
+        any::<[u8; 3]>(),
+    )
 }
 
 proptest! {
-    #![proptest_config(ProptestConfig { cases: 256, ..ProptestConfig::default() })]
+    #![proptest_config(ProptestConfig { cases: 2048, ..ProptestConfig::default() })]
 
     /// Splitting a triangle at a point of one of its edges gives two triangles that cover
     /// exactly the original pixels, each once.
@@ -233,6 +326,40 @@ proptest! {
         let covered_centres = (0..48i64).flat_map(|y| (0..48i64).map(move |x| (x, y)))
             .filter(|&(x, y)| rt.covers_pixel(x, y)).count();
         prop_assert_eq!(covered_centres, s.fragments().unwrap().len());
+    }
+
+    /// Coverage equals the independent reference on random triangles and slivers.
+    #[test]
+    fn coverage_matches_an_independent_reference(
+        a in (-800i32..9000, -800i32..9000),
+        b in (-800i32..9000, -800i32..9000),
+        t in -0.2f64..1.2,
+        off in -600i32..600,
+        sliver in any::<bool>(),
+        coarse in any::<bool>(),
+    ) {
+        // A sliver's third vertex lies within a few subpixels of the line through a and b.
+        let c = if sliver {
+            let x = f64::from(a.0) + t * f64::from(b.0 - a.0);
+            let y = f64::from(a.1) + t * f64::from(b.1 - a.1);
+            (x.round() as i32 + off / 100, y.round() as i32 - off / 150)
+        } else {
+            (a.0 + off * 7, b.1 - off * 5)
+        };
+        let v = vp(36, 36);
+        // On a 128-subpixel grid, edges run through pixel centres all the time: ties.
+        let snap = |p: (i32, i32)| if coarse { (p.0 / 128 * 128, p.1 / 128 * 128) } else { p };
+        let pts = [snap(a), snap(b), snap(c)];
+        let counts = match st(pts, 0) {
+            Some(tri) => draw_counts(v, &[tri]),
+            None => CountingTarget::new(v),
+        };
+        for py in 0..36u32 {
+            for px in 0..36u32 {
+                let want = reference_covers(pts, i64::from(px), i64::from(py));
+                prop_assert_eq!(counts.count(px, py) == 1, want, "pixel {},{} of {:?}", px, py, pts);
+            }
+        }
     }
 
     #[test]

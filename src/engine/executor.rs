@@ -15,7 +15,7 @@ use std::task::{Context, Poll, Waker};
 
 use super::node::{Envelope, Filter, Node, Payload};
 use super::queue::EventQueue;
-use super::stats::{NodeStats, RunStats};
+use super::stats::{CpuSpan, NodeStats, RunStats};
 use crate::machine::{CpuConfig, MachineConfig, MemError, MemoryPool};
 use crate::net::{Delivered, Dest, MsgId, Network, NodeId};
 use crate::units::{Bytes, SimTime};
@@ -153,6 +153,8 @@ pub(super) struct State<M> {
     free_slots: Vec<usize>,
     delivered: Vec<Delivered>,
     pub events: u64,
+    /// Cpu spans, when the run records a timeline (off by default: it costs memory).
+    timeline: Option<Vec<CpuSpan>>,
 }
 
 impl<M: Payload> State<M> {
@@ -176,6 +178,11 @@ impl<M: Payload> State<M> {
         n.stats.charge(phase, t);
         if comm {
             n.stats.comm += t;
+        }
+        if let Some(spans) = &mut self.timeline {
+            if t > SimTime::ZERO {
+                spans.push(CpuSpan { node, phase, start, end });
+            }
         }
         end
     }
@@ -358,6 +365,7 @@ impl<M: Payload> Sim<M> {
             free_slots: Vec::new(),
             delivered: Vec::new(),
             events: 0,
+            timeline: None,
         };
         Sim {
             state: Rc::new(RefCell::new(state)),
@@ -367,6 +375,11 @@ impl<M: Payload> Sim<M> {
 
     pub fn nodes(&self) -> u32 {
         self.state.borrow().nodes.len() as u32
+    }
+
+    /// Records every stretch of cpu work for a timeline (see `RunStats::timeline`).
+    pub fn record_timeline(&mut self) {
+        self.state.borrow_mut().timeline.get_or_insert_with(Vec::new);
     }
 
     /// The handle through which programs on node `id` act.
@@ -493,6 +506,7 @@ impl<M: Payload> Sim<M> {
             nodes: st.nodes.iter().map(|n| n.stats.clone()).collect(),
             links: st.net.as_ref().map(Network::link_stats).unwrap_or_default(),
             memory: st.nodes.iter().map(|n| n.pool.stats()).collect(),
+            timeline: st.timeline.clone(),
         }
     }
 

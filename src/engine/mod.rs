@@ -24,4 +24,4 @@ pub use executor::{ProgramId, Sim, SimError, WaitingProgram};
 pub use node::{Envelope, Filter, Node, Payload};
 pub use queue::EventQueue;
 pub use rng::rng_stream;
-pub use stats::{NodeStats, RunStats};
+pub use stats::{CpuSpan, NodeStats, RunStats};

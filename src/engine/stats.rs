@@ -4,7 +4,7 @@
 //! Owns raw counters only. Must never format or write anything (that is `report`).
 
 use crate::machine::PoolStats;
-use crate::net::LinkStats;
+use crate::net::{LinkStats, NodeId};
 use crate::units::{Bytes, SimTime};
 
 #[derive(Clone, Debug, Default, PartialEq, Eq)]
@@ -35,6 +35,15 @@ impl NodeStats {
     }
 }
 
+/// One stretch of cpu work on a node, for timelines.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct CpuSpan {
+    pub node: NodeId,
+    pub phase: &'static str,
+    pub start: SimTime,
+    pub end: SimTime,
+}
+
 #[derive(Clone, Debug, Default)]
 pub struct RunStats {
     /// The instant the last event was processed.
@@ -44,6 +53,8 @@ pub struct RunStats {
     pub nodes: Vec<NodeStats>,
     pub links: Vec<LinkStats>,
     pub memory: Vec<PoolStats>,
+    /// Cpu spans in the order they were reserved, if the run recorded a timeline.
+    pub timeline: Option<Vec<CpuSpan>>,
 }
 
 impl RunStats {

@@ -23,10 +23,11 @@ pub enum Op {
     ActiveListOp,
     RegionCount,
     AssignRegion,
+    ClearPixel,
 }
 
 impl Op {
-    pub const ALL: [Op; 13] = [
+    pub const ALL: [Op; 14] = [
         Op::TransformVertex,
         Op::ClipTriangle,
         Op::SetupTriangle,
@@ -40,6 +41,7 @@ impl Op {
         Op::ActiveListOp,
         Op::RegionCount,
         Op::AssignRegion,
+        Op::ClearPixel,
     ];
 
     pub fn name(self) -> &'static str {
@@ -57,6 +59,7 @@ impl Op {
             Op::ActiveListOp => "active_list_op",
             Op::RegionCount => "region_count",
             Op::AssignRegion => "assign_region",
+            Op::ClearPixel => "clear_pixel",
         }
     }
 

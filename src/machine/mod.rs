@@ -27,32 +27,73 @@ pub struct MachineConfig {
 }
 
 impl MachineConfig {
-    /// The same machine with `nodes` processors, where the topology allows it: the
-    /// one-dimensional topologies (ring, pipeline, bus, crossbar) take any count; a torus,
-    /// mesh or hypercube keeps its shape, so `nodes` must not exceed it (a run may use a
-    /// subset of the nodes, as the Delta's partitions did).
+    /// The same machine with `nodes` processors, as a run on a partition of it sees it: the
+    /// one-dimensional topologies (ring, pipeline, bus, crossbar) take any count; a mesh
+    /// becomes the squarest sub-mesh of `nodes` that fits in it (the Delta ran on rectangular
+    /// partitions); a hypercube a sub-cube; a torus, whose wrap-around links a partition would
+    /// not have, must be used whole.
     pub fn with_nodes(&self, nodes: u32) -> Result<MachineConfig, String> {
         if nodes == 0 {
             return Err("the number of processors must be at least 1".into());
         }
+        if nodes > self.nodes {
+            return Err(format!("machine '{}' has {} nodes; ask for at most {}", self.name, self.nodes, self.nodes));
+        }
         let mut m = self.clone();
-        match self.network.topology {
-            TopologyKind::Ring
-            | TopologyKind::Pipeline
-            | TopologyKind::Bus
-            | TopologyKind::Crossbar => {
-                m.nodes = nodes;
-                m.network.dims = vec![nodes];
+        m.nodes = nodes;
+        m.network.dims = match self.network.topology {
+            TopologyKind::Ring | TopologyKind::Pipeline | TopologyKind::Bus | TopologyKind::Crossbar => vec![nodes],
+            TopologyKind::Hypercube if nodes.is_power_of_two() => vec![nodes],
+            TopologyKind::Hypercube => {
+                return Err(format!("a hypercube partition has a power-of-two node count; {nodes} is not"))
             }
-            TopologyKind::Torus | TopologyKind::Mesh | TopologyKind::Hypercube => {
-                if nodes > self.nodes {
-                    return Err(format!(
-                        "machine '{}' has {} nodes ({:?} of {:?}); ask for at most {}",
-                        self.name, self.nodes, self.network.topology, self.network.dims, self.nodes
-                    ));
-                }
+            TopologyKind::Torus if nodes == self.nodes => self.network.dims.clone(),
+            TopologyKind::Torus => {
+                return Err(format!(
+                    "machine '{}' is a {:?} torus of {} nodes; a torus cannot be partitioned, so ask for exactly {}",
+                    self.name, self.network.dims, self.nodes, self.nodes
+                ))
+            }
+            TopologyKind::Mesh => sub_mesh(&self.network.dims, nodes).ok_or_else(|| {
+                format!("no rectangular partition of {nodes} nodes fits machine '{}' (a {:?} mesh)", self.name, self.network.dims)
+            })?,
+        };
+        Ok(m)
+    }
+}
+
+/// The squarest box of exactly `nodes` nodes that fits in a mesh of `dims` (2D or 3D).
+fn sub_mesh(dims: &[u32], nodes: u32) -> Option<Vec<u32>> {
+    let divisors = |n: u32| (1..=n).filter(move |d| n % d == 0);
+    let mut best: Option<Vec<u32>> = None;
+    let spread = |b: &[u32]| b.iter().max().unwrap() - b.iter().min().unwrap();
+    for a in divisors(nodes).filter(|&a| a <= dims[0]) {
+        let rest = nodes / a;
+        let candidates: Vec<Vec<u32>> = if dims.len() == 2 {
+            vec![vec![a, rest]]
+        } else {
+            divisors(rest).map(|b| vec![a, b, rest / b]).collect()
+        };
+        for c in candidates.into_iter().filter(|c| c.iter().zip(dims).all(|(x, d)| x <= d)) {
+            if best.as_ref().is_none_or(|b| spread(&c) < spread(b)) {
+                best = Some(c);
             }
         }
-        Ok(m)
+    }
+    best
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn mesh_partitions_are_the_squarest_box_that_fits() {
+        assert_eq!(sub_mesh(&[16, 32], 512), Some(vec![16, 32]));
+        assert_eq!(sub_mesh(&[16, 32], 256), Some(vec![16, 16]));
+        assert_eq!(sub_mesh(&[16, 32], 8), Some(vec![2, 4]));
+        assert_eq!(sub_mesh(&[16, 32], 17), Some(vec![1, 17]));
+        assert_eq!(sub_mesh(&[16, 32], 37), None);
+        assert_eq!(sub_mesh(&[4, 4, 4], 8), Some(vec![2, 2, 2]));
     }
 }

@@ -17,7 +17,10 @@
 //! 2. After every `inject` or `advance`, the caller re-reads `next_event_time()` and calls
 //!    `advance(t)` at that `t` before injecting anything later than `t`.
 //! 3. `advance(now)` processes every internal event at or before `now`; afterwards
-//!    `next_event_time()` is either `None` or strictly later than `now`.
+//!    `next_event_time()` is either `None` or strictly later than `now` (until the next
+//!    `inject`: the flow level asks for an `advance` at the injection instant, so that
+//!    messages starting together share one rate computation; advancing between them gives
+//!    the same times, only slower).
 //!
 //! Must never iterate a hash map on a path that affects timing or output, and never use
 //! floating point for a time.
@@ -74,6 +77,10 @@ impl TopologyKind {
             TopologyKind::Crossbar => "crossbar",
         }
     }
+    /// The kind called `name` in specs (`ring`, `torus`, ...), or an error listing them.
+    pub fn from_name(name: &str) -> Result<TopologyKind, NetError> {
+        by_name(&Self::ALL, name, Self::name, "topology")
+    }
 }
 
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -83,11 +90,16 @@ pub enum Switching {
 }
 
 impl Switching {
+    pub const ALL: [Switching; 2] = [Switching::StoreAndForward, Switching::Wormhole];
     pub fn name(self) -> &'static str {
         match self {
             Switching::StoreAndForward => "store-and-forward",
             Switching::Wormhole => "wormhole",
         }
+    }
+    /// `store-and-forward` or `wormhole`, or an error listing them.
+    pub fn from_name(name: &str) -> Result<Switching, NetError> {
+        by_name(&Self::ALL, name, Self::name, "switching")
     }
 }
 
@@ -114,6 +126,29 @@ impl Fidelity {
             Fidelity::Packet => "packet",
         }
     }
+    /// `ideal`, `hops`, `flow` or `packet`, or an error listing them.
+    pub fn from_name(name: &str) -> Result<Fidelity, NetError> {
+        by_name(&Self::ALL, name, Self::name, "fidelity")
+    }
+}
+
+/// The variant whose `name` is `wanted` (names come from each enum's exhaustive `name`).
+fn by_name<T: Copy>(
+    all: &[T],
+    wanted: &str,
+    name: fn(T) -> &'static str,
+    what: &str,
+) -> Result<T, NetError> {
+    all.iter()
+        .copied()
+        .find(|&v| name(v) == wanted)
+        .ok_or_else(|| {
+            let valid: Vec<&str> = all.iter().map(|&v| name(v)).collect();
+            NetError::Config(format!(
+                "unknown {what} '{wanted}'; valid: {}",
+                valid.join(", ")
+            ))
+        })
 }
 
 /// A network description (built by `spec`; validated by [`Network::new`]).
@@ -179,6 +214,32 @@ pub enum NetError {
 }
 
 /// The network a machine owns: a topology plus the transport model its fidelity selects.
+///
+/// ```
+/// use sortsim::net::{Dest, Fidelity, Network, NetworkConfig, Switching, TopologyKind};
+/// use sortsim::units::{Bytes, SimTime};
+///
+/// let cfg = NetworkConfig {
+///     topology: TopologyKind::Mesh,
+///     dims: vec![4, 4],
+///     link_bandwidth: "1MB/s".parse().unwrap(),
+///     hop_latency: SimTime::from_us(1),
+///     switching: Switching::Wormhole,
+///     packet_size: Bytes::new(1024),
+///     fidelity: Fidelity::Flow,
+/// };
+/// let mut net = Network::new(&cfg).unwrap();
+/// // Two messages from 0 and 4 to 8 at once share the link 4->8 ...
+/// assert_eq!(net.inject(SimTime::ZERO, 1, 0, Dest::Node(8), Bytes::new(1000)), None);
+/// assert_eq!(net.inject(SimTime::ZERO, 2, 4, Dest::Node(8), Bytes::new(1000)), None);
+/// let mut delivered = Vec::new();
+/// while let Some(t) = net.next_event_time() {
+///     net.advance(t, &mut delivered);
+/// }
+/// // ... so each moves at half the link rate: 2 ms of transfer plus 2 and 1 hops of 1 us.
+/// let at: Vec<u64> = delivered.iter().map(|d| d.at.ps()).collect();
+/// assert_eq!(at, [2_001_000_000, 2_002_000_000]);
+/// ```
 pub struct Network {
     topology: Box<dyn Topology>,
     transport: Box<dyn Transport>,
@@ -310,6 +371,13 @@ impl Network {
     ) -> Option<SimTime> {
         if let Err(e) = self.check_message(src, dst) {
             panic!("Network::inject of message {msg}: {e}");
+        }
+        if let Some(pending) = self.next_event_time() {
+            // Skipping an `advance` would lose a rate change or a queue hand-over.
+            assert!(
+                pending >= now,
+                "Network::inject at {now} before advancing to the pending event at {pending}"
+            );
         }
         if dst == Dest::Node(src) {
             return Some(now);

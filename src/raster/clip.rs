@@ -30,6 +30,7 @@ pub struct ClipVertex {
 
 impl ClipVertex {
     /// `None` when any position or colour component is NaN or infinite.
+    #[inline]
     pub fn new(v: &Vertex) -> Option<ClipVertex> {
         let p = v.clip.to_array();
         let c = v.color.to_array();
@@ -82,6 +83,7 @@ const PLANES: [Plane; 6] = [
 
 impl Plane {
     /// Signed distance, >= 0 inside.
+    #[inline]
     fn distance(self, v: &ClipVertex) -> f64 {
         let [x, y, z, w] = v.pos;
         match self {
@@ -140,19 +142,22 @@ impl Polygon {
     }
 }
 
-/// What clipping did to a triangle.
+/// What clipping did to a triangle. Kept on the stack on purpose (no boxing in the
+/// per-triangle path), hence the size difference between variants.
 #[derive(Clone, Copy, Debug)]
-pub enum Clipped {
+#[allow(clippy::large_enum_variant)]
+pub enum ClipResult {
     /// Entirely inside the near/far planes and the guard band: the triangle unchanged.
-    Unclipped([ClipVertex; 3]),
+    Inside([ClipVertex; 3]),
     /// Crossed at least one clip plane; the visible part as a convex polygon (>= 3 vertices).
-    Clipped(Polygon),
+    Polygon(Polygon),
     /// Nothing of it can be visible.
     Outside,
 }
 
 /// Bits of the view-volume outcode: a triangle whose three vertices share a bit is invisible.
-fn outcode(v: &ClipVertex) -> u8 {
+#[inline]
+pub fn outcode(v: &ClipVertex) -> u8 {
     let [x, y, z, w] = v.pos;
     (u8::from(x < -w))
         | (u8::from(x > w) << 1)
@@ -162,14 +167,31 @@ fn outcode(v: &ClipVertex) -> u8 {
         | (u8::from(z > w) << 5)
 }
 
+/// Bit i set when the vertex is outside clip plane i (near, far, then the guard band).
+#[inline]
+pub fn plane_mask(v: &ClipVertex) -> u8 {
+    PLANES
+        .iter()
+        .enumerate()
+        .fold(0, |m, (i, p)| m | (u8::from(p.distance(v) < 0.0) << i))
+}
+
 /// Clips one triangle. Vertices must be finite (see [`ClipVertex::new`]).
-pub fn clip_triangle(tri: [ClipVertex; 3]) -> Clipped {
-    if tri.iter().fold(0xff, |acc, v| acc & outcode(v)) != 0 {
-        return Clipped::Outside;
+#[cfg(test)]
+pub fn clip_triangle(tri: [ClipVertex; 3]) -> ClipResult {
+    let outcodes = outcode(&tri[0]) & outcode(&tri[1]) & outcode(&tri[2]);
+    let planes = plane_mask(&tri[0]) | plane_mask(&tri[1]) | plane_mask(&tri[2]);
+    clip_classified(tri, outcodes, planes)
+}
+
+/// [`clip_triangle`] given the AND of the vertices' outcodes and the OR of their plane
+/// masks, for callers that computed them once per shared vertex.
+pub fn clip_classified(tri: [ClipVertex; 3], outcodes_and: u8, planes_or: u8) -> ClipResult {
+    if outcodes_and != 0 {
+        return ClipResult::Outside;
     }
-    let needs = |p: Plane| tri.iter().any(|v| p.distance(v) < 0.0);
-    if !PLANES.iter().any(|&p| needs(p)) {
-        return Clipped::Unclipped(tri);
+    if planes_or == 0 {
+        return ClipResult::Inside(tri);
     }
     let mut poly = Polygon::empty();
     for v in tri {
@@ -180,11 +202,11 @@ pub fn clip_triangle(tri: [ClipVertex; 3]) -> Clipped {
             poly = clip_against(&poly, plane);
             if poly.len < 3 {
                 // Everything was clipped away.
-                return Clipped::Outside;
+                return ClipResult::Outside;
             }
         }
     }
-    Clipped::Clipped(poly)
+    ClipResult::Polygon(poly)
 }
 
 fn clip_against(poly: &Polygon, plane: Plane) -> Polygon {
@@ -246,15 +268,23 @@ mod tests {
 
     #[test]
     fn triangle_behind_the_eye_is_outside() {
-        let t = [cv(0.0, 0.0, -1.0, -0.5), cv(1.0, 0.0, -1.0, -0.5), cv(0.0, 1.0, -2.0, -1.0)];
-        assert!(matches!(clip_triangle(t), Clipped::Outside));
+        let t = [
+            cv(0.0, 0.0, -1.0, -0.5),
+            cv(1.0, 0.0, -1.0, -0.5),
+            cv(0.0, 1.0, -2.0, -1.0),
+        ];
+        assert!(matches!(clip_triangle(t), ClipResult::Outside));
     }
 
     #[test]
     fn triangle_crossing_near_plane_becomes_quad() {
-        let t = [cv(0.0, 0.0, -0.5, 1.0), cv(0.5, 0.0, 0.5, 1.0), cv(0.0, 0.5, 0.5, 1.0)];
+        let t = [
+            cv(0.0, 0.0, -0.5, 1.0),
+            cv(0.5, 0.0, 0.5, 1.0),
+            cv(0.0, 0.5, 0.5, 1.0),
+        ];
         match clip_triangle(t) {
-            Clipped::Clipped(p) => {
+            ClipResult::Polygon(p) => {
                 assert_eq!(p.vertices().len(), 4);
                 assert!(p.vertices().iter().all(|v| v.pos[2] >= 0.0));
             }
@@ -264,11 +294,19 @@ mod tests {
 
     #[test]
     fn guard_band_only_when_needed() {
-        let inside = [cv(-5.0, 0.0, 0.5, 1.0), cv(5.0, 0.0, 0.5, 1.0), cv(0.0, 7.0, 0.5, 1.0)];
-        assert!(matches!(clip_triangle(inside), Clipped::Unclipped(_)));
-        let huge = [cv(-1e6, 0.0, 0.5, 1.0), cv(1e6, 0.0, 0.5, 1.0), cv(0.0, 1e6, 0.5, 1.0)];
+        let inside = [
+            cv(-5.0, 0.0, 0.5, 1.0),
+            cv(5.0, 0.0, 0.5, 1.0),
+            cv(0.0, 7.0, 0.5, 1.0),
+        ];
+        assert!(matches!(clip_triangle(inside), ClipResult::Inside(_)));
+        let huge = [
+            cv(-1e6, 0.0, 0.5, 1.0),
+            cv(1e6, 0.0, 0.5, 1.0),
+            cv(0.0, 1e6, 0.5, 1.0),
+        ];
         match clip_triangle(huge) {
-            Clipped::Clipped(p) => {
+            ClipResult::Polygon(p) => {
                 for v in p.vertices() {
                     assert!(v.pos[0].abs() <= GUARD * v.pos[3]);
                     assert!(v.pos[1].abs() <= GUARD * v.pos[3]);

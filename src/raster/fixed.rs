@@ -4,8 +4,9 @@
 //! fixed point happens here and nowhere else.
 //!
 //! Must never read a clock, allocate, or hold per-node state; must never use floating point
-//! on a path that decides coverage (only snapping and the colour gradient use floats, and
-//! both are pure functions of their inputs).
+//! on a path that decides coverage. Floats appear only in snapping and in fitting the depth
+//! and colour gradients, always as pure IEEE functions of integer inputs (no fused
+//! operations), so every node computes the same bits.
 //!
 //! # Coordinates
 //! Screen space is in pixels, x right, y down, origin at the top-left corner of the viewport.
@@ -54,6 +55,7 @@ impl Sub {
 
     /// Rounds a pixel coordinate to the nearest 1/256 pixel (ties away from zero), clamping
     /// to the representable range. `None` for NaN.
+    #[inline]
     pub fn snap(pixels: f64) -> Option<Sub> {
         if pixels.is_nan() {
             return None;
@@ -67,26 +69,31 @@ impl Sub {
         (i64::from(raw).abs() <= Self::LIMIT).then_some(Sub(raw))
     }
 
+    #[inline]
     pub fn raw(self) -> i32 {
         self.0
     }
 
+    #[inline]
     pub(crate) fn wide(self) -> i64 {
         i64::from(self.0)
     }
 
     /// The first pixel index whose centre is at or after this coordinate.
+    #[inline]
     pub fn first_centre_at_or_after(self) -> i64 {
         ceil_div(self.wide() - PIXEL_CENTRE, SUBPIXEL_ONE)
     }
 
     /// The last pixel index whose centre is at or before this coordinate.
+    #[inline]
     pub fn last_centre_at_or_before(self) -> i64 {
         floor_div(self.wide() - PIXEL_CENTRE, SUBPIXEL_ONE)
     }
 
     /// The pixel containing this coordinate (a coordinate on a pixel border belongs to the
     /// pixel to its right / below).
+    #[inline]
     pub fn pixel(self) -> i64 {
         floor_div(self.wide(), SUBPIXEL_ONE)
     }
@@ -127,6 +134,7 @@ pub struct Edge {
 }
 
 impl Edge {
+    #[inline]
     pub fn new(ax: Sub, ay: Sub, bx: Sub, by: Sub) -> Edge {
         let dx = bx.wide() - ax.wide();
         let dy = by.wide() - ay.wide();
@@ -158,6 +166,16 @@ impl Edge {
     pub fn row_constant(&self, py: i64) -> i64 {
         self.eval(PIXEL_CENTRE, centre(py)) - self.bias
     }
+
+    /// `K` for conservative sampling: a pixel's closed square reaches the edge's half-plane
+    /// exactly when the edge function at its centre is at least `-128 * (|dx| + |dy|)`,
+    /// the most the function can grow from the centre to a corner. No fill-rule bias: a
+    /// pixel that only touches the edge is kept, and its coverage mask (which does obey the
+    /// rule) then decides.
+    #[inline]
+    pub fn row_constant_conservative(&self, py: i64) -> i64 {
+        self.eval(PIXEL_CENTRE, centre(py)) + PIXEL_CENTRE * (self.dx.abs() + self.dy.abs())
+    }
 }
 
 /// `floor(n / d)` tracked exactly while `n` grows by a constant step: the end of a span on
@@ -173,6 +191,7 @@ pub struct FloorDda {
 
 impl FloorDda {
     /// `d > 0` is the caller's guarantee (edges with `dy == 0` never get a DDA).
+    #[inline]
     pub fn new(n: i64, step: i64, d: i64) -> FloorDda {
         debug_assert!(d > 0);
         // One division each; the remainder follows by multiplication.
@@ -215,6 +234,7 @@ impl Depth {
     pub const CLEARED: u32 = u32::MAX;
 
     /// From normalized depth z/w (clamped to 0..=1, rounded to nearest). `None` for NaN.
+    #[inline]
     pub fn from_unit(z: f64) -> Option<Depth> {
         if z.is_nan() {
             return None;
@@ -228,6 +248,7 @@ impl Depth {
         (raw != Depth::CLEARED).then_some(Depth(raw))
     }
 
+    #[inline]
     pub fn raw(self) -> u32 {
         self.0
     }
@@ -235,6 +256,7 @@ impl Depth {
 
 /// Converts a linear colour channel (clamped to 0..=1) to 8 bits, rounding to nearest.
 /// NaN has been rejected before this point; it maps to 0 to stay total.
+#[inline]
 pub fn channel_to_u8(c: f64) -> u8 {
     if c.is_nan() {
         return 0;
@@ -307,12 +329,14 @@ impl DepthPlane {
     /// Fits the depth plane. The gradient is computed in f64 when that is provably as good
     /// as exact rounding for this triangle, and with exact `i128` division otherwise.
     ///
-    /// Why the f64 path is safe: with |G| < 2^62 (fixed-point units per pixel), one f64
-    /// rounding adds at most |G| * 2^-52 < 2^10 units per pixel; over the 2^18 px a
-    /// triangle can span that is < 2^28 units = 1/16 depth unit, so the plane still rounds
-    /// to the exact depth at a vertex. Steeper planes (slivers whose depth changes by more
+    /// Why the f64 path is safe: with |G| < 2^62 (fixed-point units per pixel), the three
+    /// f64 roundings (1/area, the numerator, the product) add at most |G| * 2^-51 < 2^11
+    /// units per pixel; pixels lie within 2^18 px of the anchor, so that is < 2^29 units =
+    /// 1/8 depth unit, plus 2^17 units from rounding G to an integer: the plane still
+    /// rounds to the exact depth at a vertex. Steeper planes (slivers whose depth changes by more
     /// than 2^30 per pixel) take the exact path. Either way the plane is an exactly linear
     /// integer function, so depth stays monotone along any line.
+    #[inline]
     pub fn new(basis: &PlaneBasis, z: [u32; 3]) -> DepthPlane {
         let min = z[0].min(z[1]).min(z[2]);
         let max = z[0].max(z[1]).max(z[2]);
@@ -401,6 +425,7 @@ impl ColorPlane {
     /// computed in f64 (IEEE, no fused operations, so every node gets the same bits) from
     /// exact integer numerators; only flatness needs to be exact, and a flat channel never
     /// reaches the float path.
+    #[inline]
     pub fn new(basis: &PlaneBasis, c: [u8; 3]) -> ColorPlane {
         let min = c.iter().copied().min().unwrap_or(0);
         let max = c.iter().copied().max().unwrap_or(0);
@@ -416,7 +441,10 @@ impl ColorPlane {
             };
         }
         // |f| <= 255 and |d| <= 2^26, so the numerators stay below 2^35.
-        let (f1, f2) = (i64::from(c[1]) - i64::from(c[0]), i64::from(c[2]) - i64::from(c[0]));
+        let (f1, f2) = (
+            i64::from(c[1]) - i64::from(c[0]),
+            i64::from(c[2]) - i64::from(c[0]),
+        );
         let (dx1, dy1) = basis.d1;
         let (dx2, dy2) = basis.d2;
         let (nx, ny) = (f1 * dy2 - f2 * dy1, dx1 * f2 - dx2 * f1);
@@ -478,10 +506,20 @@ mod tests {
 
     #[test]
     fn floor_dda_matches_division() {
-        for &(n, step, d) in &[(7i64, 3i64, 5i64), (-7, 3, 5), (100, -13, 7), (0, 0, 1), (-5, 256, 256)] {
+        for &(n, step, d) in &[
+            (7i64, 3i64, 5i64),
+            (-7, 3, 5),
+            (100, -13, 7),
+            (0, 0, 1),
+            (-5, 256, 256),
+        ] {
             let mut dda = FloorDda::new(n, step, d);
             for k in 0..50 {
-                assert_eq!(dda.value(), floor_div(n + k * step, d), "n={n} step={step} d={d} k={k}");
+                assert_eq!(
+                    dda.value(),
+                    floor_div(n + k * step, d),
+                    "n={n} step={step} d={d} k={k}"
+                );
                 dda.step();
             }
         }
@@ -496,7 +534,9 @@ mod tests {
             assert_eq!(e.bias + r.bias, 1);
             // On the line both raw functions vanish; exactly one of them covers.
             assert_eq!(e.eval(i64::from(ax), i64::from(ay)), 0);
-            assert!(e.covers(i64::from(ax), i64::from(ay)) != r.covers(i64::from(ax), i64::from(ay)));
+            assert!(
+                e.covers(i64::from(ax), i64::from(ay)) != r.covers(i64::from(ax), i64::from(ay))
+            );
         }
     }
 

@@ -76,6 +76,9 @@ mod tests {
     fn image_hash_depends_on_shape_and_pixels() {
         let px = [[1u8, 2, 3], [4, 5, 6]];
         assert_ne!(image_hash(2, 1, &px), image_hash(1, 2, &px));
-        assert_ne!(image_hash(2, 1, &px), image_hash(2, 1, &[[1, 2, 3], [4, 5, 7]]));
+        assert_ne!(
+            image_hash(2, 1, &px),
+            image_hash(2, 1, &[[1, 2, 3], [4, 5, 7]])
+        );
     }
 }

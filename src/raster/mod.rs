@@ -14,6 +14,24 @@
 //! * `scanline`: the scanline z-buffer renderer over the same spans;
 //! * `counters`, `screen`, `image`: counts, screen coordinate types, PNG and image hash.
 //!
+//! Entry points, by the stage an algorithm runs on a node:
+//! * whole pipeline: [`draw_mesh`], [`draw_subset`] (the triangles one node owns);
+//! * geometry stage only (sort-middle senders): [`setup_mesh`], [`setup_subset`] produce
+//!   [`ScreenTriangle`]s, shipped as [`ScreenTriangle::PAYLOAD_BYTES`]-byte messages
+//!   ([`ScreenTriangle::to_bytes`] / [`ScreenTriangle::from_bytes`]);
+//! * rasterization stage only (sort-middle receivers): [`draw_screen_triangles`];
+//! * scanline z-buffer: [`render_scanlines`] (one finished scanline at a time).
+//!
+//! Every call returns [`Counters`] for the machine's cost model. Winding: triangles running
+//! counter-clockwise on screen are front-facing ([`CullMode::Back`] drops the others).
+//!
+//! **Invariant:** the same triangles give the same pixels, bit for bit, whichever route
+//! they take (whole screen, regions, scanlines, setup on one node and scan on another):
+//! coverage, depth and colour are pure integer functions of the snapped triangle and the
+//! pixel.
+//!
+//! **Invariant:** nothing here reads a clock, knows about nodes, or iterates a hash map.
+//!
 //! ```
 //! use glam::{Vec3, Vec4};
 //! use sortsim::raster::{draw_mesh, Framebuffer, RasterOptions, Vertex, Viewport};
@@ -39,13 +57,15 @@ pub mod target;
 pub use counters::Counters;
 pub use fixed::{Depth, Sub};
 pub use image::{encode_png, image_hash, write_png, PngError};
-pub use scan::{Fragment, RowWalker, Span};
+pub use scan::{Fragment, RowWalker, Sampling, Span};
 pub use scanline::{render_scanlines, render_scanlines_into};
 pub use screen::{ScreenRect, Viewport};
-pub use setup::{CullMode, RasterOptions, RasterTriangle, ScreenTriangle, ScreenVertex};
+pub use setup::{
+    CullMode, RasterOptions, RasterTriangle, ScreenTriangle, ScreenVertex, VertexCache,
+};
 pub use target::{
     ActivePixel, CountingTarget, FragmentRecord, Framebuffer, PixelBuffer, RegionError, RegionSet,
-    ScanlineBuffer, SparseBuffer, Target,
+    ScanlineBuffer, SparseBuffer, Target, ACTIVE_PIXEL_BYTES, BYTES_PER_PIXEL,
 };
 
 /// A vertex as the scene hands it over: clip-space position as produced by glam's
@@ -67,7 +87,14 @@ pub fn draw_mesh<T: Target + ?Sized>(
     options: &RasterOptions,
     target: &mut T,
 ) -> Counters {
-    draw_indices(vertices, triangles, 0..triangles.len() as u32, viewport, options, target)
+    draw_indices(
+        vertices,
+        triangles,
+        0..triangles.len() as u32,
+        viewport,
+        options,
+        target,
+    )
 }
 
 /// Draws the triangles whose indices are listed in `subset` (in that order): the triangles
@@ -80,7 +107,14 @@ pub fn draw_subset<T: Target + ?Sized>(
     options: &RasterOptions,
     target: &mut T,
 ) -> Counters {
-    draw_indices(vertices, triangles, subset.iter().copied(), viewport, options, target)
+    draw_indices(
+        vertices,
+        triangles,
+        subset.iter().copied(),
+        viewport,
+        options,
+        target,
+    )
 }
 
 /// Front end only: clips, projects, snaps and culls the listed triangles and appends the
@@ -94,8 +128,18 @@ pub fn setup_subset(
     out: &mut Vec<ScreenTriangle>,
 ) -> Counters {
     let mut c = Counters::default();
+    let mut cache = new_cache(subset.len(), vertices.len());
     for &prim in subset {
-        setup_one(vertices, triangles, prim, viewport, options, &mut c, |t| out.push(t));
+        setup_one(
+            vertices,
+            triangles,
+            prim,
+            viewport,
+            options,
+            &mut cache,
+            &mut c,
+            |t| out.push(t),
+        );
     }
     c
 }
@@ -109,15 +153,28 @@ pub fn setup_mesh(
     out: &mut Vec<ScreenTriangle>,
 ) -> Counters {
     let mut c = Counters::default();
+    let mut cache = new_cache(triangles.len(), vertices.len());
     for prim in 0..triangles.len() as u32 {
-        setup_one(vertices, triangles, prim, viewport, options, &mut c, |t| out.push(t));
+        setup_one(
+            vertices,
+            triangles,
+            prim,
+            viewport,
+            options,
+            &mut cache,
+            &mut c,
+            |t| out.push(t),
+        );
     }
     c
 }
 
 /// Back end only: sets up and scans screen triangles (in order) into `target` (the
 /// sort-middle rasterization stage).
-pub fn draw_screen_triangles<T: Target + ?Sized>(tris: &[ScreenTriangle], target: &mut T) -> Counters {
+pub fn draw_screen_triangles<T: Target + ?Sized>(
+    tris: &[ScreenTriangle],
+    target: &mut T,
+) -> Counters {
     let mut c = Counters::default();
     for t in tris {
         draw_screen_triangle(t, target, &mut c);
@@ -127,12 +184,17 @@ pub fn draw_screen_triangles<T: Target + ?Sized>(tris: &[ScreenTriangle], target
 
 /// Sets up and scans one screen triangle into every rectangle of `target`.
 #[inline]
-pub fn draw_screen_triangle<T: Target + ?Sized>(tri: &ScreenTriangle, target: &mut T, c: &mut Counters) {
+pub fn draw_screen_triangle<T: Target + ?Sized>(
+    tri: &ScreenTriangle,
+    target: &mut T,
+    c: &mut Counters,
+) {
     let rt = RasterTriangle::new(tri);
     c.triangles_scanned += 1;
+    let sampling = target.sampling();
     for i in 0..target.rects().len() {
         let rect = target.rects()[i];
-        let Some(mut walker) = RowWalker::new(&rt, rect) else {
+        let Some(mut walker) = RowWalker::sampled(&rt, rect, sampling) else {
             continue;
         };
         while let Some(row) = walker.next_row() {
@@ -147,35 +209,85 @@ pub fn draw_screen_triangle<T: Target + ?Sized>(tri: &ScreenTriangle, target: &m
 fn draw_indices<T: Target + ?Sized>(
     vertices: &[Vertex],
     triangles: &[[u32; 3]],
-    indices: impl Iterator<Item = u32>,
+    indices: impl ExactSizeIterator<Item = u32>,
     viewport: Viewport,
     options: &RasterOptions,
     target: &mut T,
 ) -> Counters {
     let mut front = Counters::default();
     let mut back = Counters::default();
+    let mut cache = new_cache(indices.len(), vertices.len());
     for prim in indices {
-        setup_one(vertices, triangles, prim, viewport, options, &mut front, |t| {
-            draw_screen_triangle(&t, target, &mut back)
-        });
+        setup_one(
+            vertices,
+            triangles,
+            prim,
+            viewport,
+            options,
+            &mut cache,
+            &mut front,
+            |t| draw_screen_triangle(&t, target, &mut back),
+        );
     }
     front + back
 }
 
+#[allow(clippy::too_many_arguments)]
 fn setup_one(
     vertices: &[Vertex],
     triangles: &[[u32; 3]],
     prim: u32,
     viewport: Viewport,
     options: &RasterOptions,
+    cache: &mut Option<VertexCache>,
     c: &mut Counters,
     emit: impl FnMut(ScreenTriangle),
 ) {
-    match triangles.get(prim as usize) {
-        Some(&tri) => setup::setup_triangle(vertices, tri, prim, viewport, options, c, emit),
-        None => {
+    match (triangles.get(prim as usize), cache) {
+        (Some(&tri), Some(cache)) => {
+            setup::setup_triangle_cached(vertices, cache, tri, prim, viewport, options, c, emit)
+        }
+        (Some(&tri), None) => {
+            setup::setup_triangle(vertices, tri, prim, viewport, options, c, emit)
+        }
+        (None, _) => {
             c.triangles_in += 1;
             c.culled_invalid += 1;
+        }
+    }
+}
+
+/// A vertex cache when the triangles drawn are many relative to the vertex array, so that
+/// preparing shared vertices once (in a cache the size of the vertex array) pays off.
+/// Caching never changes results, only cost.
+fn new_cache(triangle_count: usize, vertex_count: usize) -> Option<VertexCache> {
+    (4 * 3 * triangle_count >= vertex_count).then(|| VertexCache::new(vertex_count))
+}
+
+#[cfg(test)]
+mod tests {
+    /// Every file of the rasterizer says what it owns and what it must never do.
+    #[test]
+    fn every_file_states_what_it_owns_and_must_never_do() {
+        let files = [
+            ("mod.rs", include_str!("mod.rs")),
+            ("clip.rs", include_str!("clip.rs")),
+            ("fixed.rs", include_str!("fixed.rs")),
+            ("setup.rs", include_str!("setup.rs")),
+            ("scan.rs", include_str!("scan.rs")),
+            ("target.rs", include_str!("target.rs")),
+            ("scanline.rs", include_str!("scanline.rs")),
+            ("counters.rs", include_str!("counters.rs")),
+            ("screen.rs", include_str!("screen.rs")),
+            ("image.rs", include_str!("image.rs")),
+        ];
+        for (name, src) in files {
+            assert!(src.starts_with("//!"), "{name} must start with a //! doc");
+            let head: String = src.lines().take_while(|l| l.starts_with("//!")).collect();
+            assert!(
+                head.to_lowercase().contains("must never"),
+                "{name}: say what it must never do"
+            );
         }
     }
 }

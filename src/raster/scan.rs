@@ -1,14 +1,28 @@
 //! Scan conversion: walk a set-up triangle row by row inside one target rectangle, find each
-//! row's span of covered pixel centres exactly (integer DDAs on the edge functions, no
-//! per-pixel edge test), and interpolate depth and colour along the span.
+//! row's span of covered pixel centres exactly (integer DDAs on the edge functions for
+//! large triangles, direct tests of the few centres of small ones; both exact, so they
+//! agree), and interpolate depth and colour along the span.
 //!
 //! Must never decide where pixels go (that is the target) and never evaluate anything that
 //! depends on the traversal: a span's pixels, depths and colours are pure functions of the
 //! triangle and the pixel, so a region, a scanline or the whole screen see the same bits.
 
-use super::fixed::{centre, FloorDda, SUBPIXEL_ONE};
+use super::fixed::{FloorDda, SUBPIXEL_ONE};
 use super::screen::ScreenRect;
 use super::setup::RasterTriangle;
+
+/// Which pixels a walk generates.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub enum Sampling {
+    /// Pixels whose centre is covered under the top-left rule (every target but an
+    /// anti-aliasing one): a mesh covers each pixel exactly once.
+    #[default]
+    Centre,
+    /// Every pixel whose square touches the triangle, plus possibly a few near its corners
+    /// that do not: for coverage-mask targets, which evaluate the samples of each pixel with
+    /// `RasterTriangle::coverage_mask` and drop pixels whose mask is empty.
+    Conservative,
+}
 
 /// How one edge bounds a row: as a lower bound on x (`E` grows to the right), an upper
 /// bound (`E` shrinks to the right), or for a horizontal edge all-or-nothing per row.
@@ -46,6 +60,13 @@ const PROBE_MAX_ROWS: i64 = 16;
 #[derive(Clone, Debug)]
 pub struct RowWalker<'a> {
     tri: &'a RasterTriangle,
+    state: RowState,
+}
+
+/// The position of a walk without the triangle it walks, so that a renderer can keep many
+/// walks next to the triangles they belong to (the scanline renderer's active list).
+#[derive(Clone, Copy, Debug)]
+pub struct RowState {
     mode: Mode,
     y: i64,
     y_last: i64,
@@ -63,48 +84,92 @@ pub struct Row<'a> {
 impl<'a> RowWalker<'a> {
     /// `None` when no pixel centre of the rectangle lies within the triangle's extent.
     pub fn new(tri: &'a RasterTriangle, rect: ScreenRect) -> Option<RowWalker<'a>> {
-        Self::with_probe(tri, rect, true)
+        Self::sampled(tri, rect, Sampling::Centre)
     }
 
+    /// A walk with the given sampling.
+    pub fn sampled(
+        tri: &'a RasterTriangle,
+        rect: ScreenRect,
+        sampling: Sampling,
+    ) -> Option<RowWalker<'a>> {
+        let state = RowState::new(tri, rect, sampling, true)?;
+        Some(RowWalker { tri, state })
+    }
+
+    /// The next row of the walk, or `None` after the last row.
+    #[inline]
+    pub fn next_row(&mut self) -> Option<Row<'a>> {
+        self.state.next_row(self.tri)
+    }
+
+    /// Row the next call to [`RowWalker::next_row`] returns.
+    pub fn next_y(&self) -> i64 {
+        self.state.y
+    }
+
+    /// Last row of the walk.
+    pub fn last_y(&self) -> i64 {
+        self.state.y_last
+    }
+}
+
+impl RowState {
+    /// `None` when no sampled pixel of the rectangle lies within the triangle's extent.
     /// `allow_probe = false` forces the DDA, so tests can check both modes agree.
-    fn with_probe(tri: &'a RasterTriangle, rect: ScreenRect, allow_probe: bool) -> Option<RowWalker<'a>> {
-        let y = tri.rows.0.max(i64::from(rect.y0()));
-        let y_last = tri.rows.1.min(i64::from(rect.y1()) - 1);
-        let x_lo = tri.cols.0.max(i64::from(rect.x0()));
-        let x_hi = tri.cols.1.min(i64::from(rect.x1()) - 1);
+    #[inline]
+    pub fn new(
+        tri: &RasterTriangle,
+        rect: ScreenRect,
+        sampling: Sampling,
+        allow_probe: bool,
+    ) -> Option<RowState> {
+        let (rows, cols) = match sampling {
+            Sampling::Centre => (tri.rows, tri.cols),
+            Sampling::Conservative => (tri.touched_rows, tri.touched_cols),
+        };
+        let row_constant = |e: &super::fixed::Edge, y: i64| match sampling {
+            Sampling::Centre => e.row_constant(y),
+            Sampling::Conservative => e.row_constant_conservative(y),
+        };
+        let y = rows.0.max(i64::from(rect.y0()));
+        let y_last = rows.1.min(i64::from(rect.y1()) - 1);
+        let x_lo = cols.0.max(i64::from(rect.x0()));
+        let x_hi = cols.1.min(i64::from(rect.x1()) - 1);
         if y > y_last || x_lo > x_hi {
             return None;
         }
-        if allow_probe && x_hi - x_lo < PROBE_MAX_COLS && y_last - y < PROBE_MAX_ROWS {
-            let e = &tri.edges;
-            let at = |i: usize| e[i].row_constant(y) - SUBPIXEL_ONE * e[i].dy * x_lo;
-            return Some(RowWalker {
-                tri,
-                mode: Mode::Probe {
-                    k: [at(0), at(1), at(2)],
-                    row_step: [SUBPIXEL_ONE * e[0].dx, SUBPIXEL_ONE * e[1].dx, SUBPIXEL_ONE * e[2].dx],
-                    x_step: [-SUBPIXEL_ONE * e[0].dy, -SUBPIXEL_ONE * e[1].dy, -SUBPIXEL_ONE * e[2].dy],
-                },
-                y,
-                y_last,
-                x_lo,
-                x_hi,
-            });
-        }
-        let bound = |e: &super::fixed::Edge| {
-            let k = e.row_constant(y);
-            let step = SUBPIXEL_ONE * e.dx;
-            let d = SUBPIXEL_ONE * e.dy.abs();
-            match e.dy.signum() {
-                -1 => Bound::Left(FloorDda::new(k, step, d)),
-                1 => Bound::Right(FloorDda::new(k, step, d)),
-                _ => Bound::Flat { k, step },
+        let e = &tri.edges;
+        let mode = if allow_probe && x_hi - x_lo < PROBE_MAX_COLS && y_last - y < PROBE_MAX_ROWS {
+            let at = |i: usize| row_constant(&e[i], y) - SUBPIXEL_ONE * e[i].dy * x_lo;
+            Mode::Probe {
+                k: [at(0), at(1), at(2)],
+                row_step: [
+                    SUBPIXEL_ONE * e[0].dx,
+                    SUBPIXEL_ONE * e[1].dx,
+                    SUBPIXEL_ONE * e[2].dx,
+                ],
+                x_step: [
+                    -SUBPIXEL_ONE * e[0].dy,
+                    -SUBPIXEL_ONE * e[1].dy,
+                    -SUBPIXEL_ONE * e[2].dy,
+                ],
             }
+        } else {
+            let bound = |e: &super::fixed::Edge| {
+                let k = row_constant(e, y);
+                let step = SUBPIXEL_ONE * e.dx;
+                let d = SUBPIXEL_ONE * e.dy.abs();
+                match e.dy.signum() {
+                    -1 => Bound::Left(FloorDda::new(k, step, d)),
+                    1 => Bound::Right(FloorDda::new(k, step, d)),
+                    _ => Bound::Flat { k, step },
+                }
+            };
+            Mode::Dda([bound(&e[0]), bound(&e[1]), bound(&e[2])])
         };
-        let bounds = [bound(&tri.edges[0]), bound(&tri.edges[1]), bound(&tri.edges[2])];
-        Some(RowWalker {
-            tri,
-            mode: Mode::Dda(bounds),
+        Some(RowState {
+            mode,
             y,
             y_last,
             x_lo,
@@ -112,15 +177,19 @@ impl<'a> RowWalker<'a> {
         })
     }
 
-    /// The next row of the walk, or `None` after the last row.
+    /// The next row of the walk over `tri` (the triangle this state was made for).
     #[inline]
-    pub fn next_row(&mut self) -> Option<Row<'a>> {
+    pub fn next_row<'a>(&mut self, tri: &'a RasterTriangle) -> Option<Row<'a>> {
         if self.y > self.y_last {
             return None;
         }
         let (lo, hi) = match &mut self.mode {
             Mode::Dda(bounds) => dda_row(bounds, self.x_lo, self.x_hi),
-            Mode::Probe { k, row_step, x_step } => {
+            Mode::Probe {
+                k,
+                row_step,
+                x_step,
+            } => {
                 let r = probe_row(k, x_step, self.x_lo, self.x_hi);
                 for i in 0..3 {
                     k[i] += row_step[i];
@@ -131,7 +200,7 @@ impl<'a> RowWalker<'a> {
         let y = self.y as u32;
         self.y += 1;
         let span = (lo <= hi).then(|| Span {
-            tri: self.tri,
+            tri,
             y,
             x0: lo as u32,
             x1: hi as u32 + 1,
@@ -139,14 +208,14 @@ impl<'a> RowWalker<'a> {
         Some(Row { y, span })
     }
 
-    /// Row the next call to [`RowWalker::next_row`] returns.
-    pub fn next_y(&self) -> i64 {
-        self.y
+    /// True once every row has been returned.
+    pub fn is_done(&self) -> bool {
+        self.y > self.y_last
     }
 
-    /// Last row of the walk.
-    pub fn last_y(&self) -> i64 {
-        self.y_last
+    /// Row the next call to [`RowState::next_row`] returns.
+    pub fn next_y(&self) -> i64 {
+        self.y
     }
 }
 
@@ -253,8 +322,16 @@ impl<'a> Span<'a> {
             end: self.x1,
             z: t.depth.at(dx, dy),
             z_step: t.depth.step_x(),
-            c: [t.color[0].at(dx, dy), t.color[1].at(dx, dy), t.color[2].at(dx, dy)],
-            c_step: [t.color[0].step_x(), t.color[1].step_x(), t.color[2].step_x()],
+            c: [
+                t.color[0].at(dx, dy),
+                t.color[1].at(dx, dy),
+                t.color[2].at(dx, dy),
+            ],
+            c_step: [
+                t.color[0].step_x(),
+                t.color[1].step_x(),
+                t.color[2].step_x(),
+            ],
         }
     }
 }
@@ -305,10 +382,6 @@ impl Iterator for Fragments<'_> {
 
 impl ExactSizeIterator for Fragments<'_> {}
 
-/// Centre of pixel `(px, py)` in subpixel steps; for tests and coverage targets.
-pub fn pixel_centre(px: i64, py: i64) -> (i64, i64) {
-    (centre(px), centre(py))
-}
 
 #[cfg(test)]
 mod tests {
@@ -316,10 +389,15 @@ mod tests {
     use crate::raster::fixed::{Depth, Sub};
     use crate::raster::setup::{ScreenTriangle, ScreenVertex};
 
-    fn spans(t: &RasterTriangle, rect: ScreenRect, probe: bool) -> Vec<(u32, u32, u32)> {
+    fn spans(
+        t: &RasterTriangle,
+        rect: ScreenRect,
+        sampling: Sampling,
+        probe: bool,
+    ) -> Vec<(u32, u32, u32)> {
         let mut out = Vec::new();
-        if let Some(mut w) = RowWalker::with_probe(t, rect, probe) {
-            while let Some(row) = w.next_row() {
+        if let Some(mut w) = RowState::new(t, rect, sampling, probe) {
+            while let Some(row) = w.next_row(t) {
                 if let Some(s) = row.span {
                     out.push((s.y(), s.x0(), s.x1()));
                 }
@@ -349,10 +427,20 @@ mod tests {
                 rgb: [0; 3],
             };
             let size = 1 + next(12 * 256);
-            let (a, b, c) = (v(0, 0), v(next(size) - size / 2, next(size)), v(next(size), next(size) - size / 2));
-            let Some(t) = ScreenTriangle::new([a, b, c], 0) else { continue };
+            let (a, b, c) = (
+                v(0, 0),
+                v(next(size) - size / 2, next(size)),
+                v(next(size), next(size) - size / 2),
+            );
+            let Some(t) = ScreenTriangle::new([a, b, c], 0) else {
+                continue;
+            };
             let rt = RasterTriangle::new(&t);
-            assert_eq!(spans(&rt, rect, true), spans(&rt, rect, false), "{t:?}");
+            for sampling in [Sampling::Centre, Sampling::Conservative] {
+                let probe = spans(&rt, rect, sampling, true);
+                let dda = spans(&rt, rect, sampling, false);
+                assert_eq!(probe, dda, "{sampling:?} {t:?}");
+            }
             compared += 1;
         }
         assert!(compared > 15_000);

@@ -10,7 +10,7 @@
 //! the screen (x right, y down), which is counter-clockwise in normalized device coordinates
 //! (y up), the OpenGL convention that glam's `perspective_rh` preserves.
 
-use super::clip::{clip_triangle, ClipVertex, Clipped, MAX_POLYGON};
+use super::clip::{clip_classified, outcode, plane_mask, ClipResult, ClipVertex, MAX_POLYGON};
 use super::counters::Counters;
 use super::fixed::{channel_to_u8, ColorPlane, Depth, DepthPlane, Edge, PlaneBasis, Sub};
 use super::screen::Viewport;
@@ -41,6 +41,25 @@ pub struct ScreenVertex {
     pub rgb: [u8; 3],
 }
 
+impl ScreenVertex {
+    /// A vertex given directly in screen space (the `screen` camera of scene files): pixel
+    /// x right, pixel y down, depth in 0..=1 (0 nearest), linear colour in 0..=1. Snaps to
+    /// 1/256 px with no float round trip through clip space, so pixel-exact input stays
+    /// pixel-exact. `None` for NaN. Coordinates beyond +-2^17 px are clamped (there is no
+    /// clipping on this path): give such geometry in clip space instead.
+    pub fn from_pixels(x: f64, y: f64, z: f64, rgb: [f64; 3]) -> Option<ScreenVertex> {
+        if rgb.iter().any(|c| c.is_nan()) {
+            return None;
+        }
+        Some(ScreenVertex {
+            x: Sub::snap(x)?,
+            y: Sub::snap(y)?,
+            z: Depth::from_unit(z)?,
+            rgb: rgb.map(channel_to_u8),
+        })
+    }
+}
+
 /// A snapped screen-space triangle with non-zero area, ready to ship between nodes and to
 /// rasterize anywhere with identical results.
 ///
@@ -51,10 +70,13 @@ pub struct ScreenVertex {
 pub struct ScreenTriangle {
     v: [ScreenVertex; 3],
     prim: u32,
+    /// `signed_area2` of `v`, cached (> 0); derived, never serialized.
+    area2: i64,
 }
 
 /// Twice the signed area of the snapped triangle, `(b - a) x (c - a)` in y-down
 /// coordinates: negative for counter-clockwise on screen (front-facing).
+#[inline]
 pub fn signed_area2(a: &ScreenVertex, b: &ScreenVertex, c: &ScreenVertex) -> i64 {
     let (ax, ay) = (a.x.wide(), a.y.wide());
     (b.x.wide() - ax) * (c.y.wide() - ay) - (b.y.wide() - ay) * (c.x.wide() - ax)
@@ -69,13 +91,19 @@ impl ScreenTriangle {
     /// `None` when the snapped area is zero. `prim` is the triangle's index in its mesh,
     /// which fragment records carry and depth ties are ordered by.
     pub fn new(v: [ScreenVertex; 3], prim: u32) -> Option<ScreenTriangle> {
-        let a = signed_area2(&v[0], &v[1], &v[2]);
+        Self::with_signed_area(v, prim, signed_area2(&v[0], &v[1], &v[2]))
+    }
+
+    /// [`ScreenTriangle::new`] when the caller already holds `signed_area2(v)`.
+    #[inline]
+    fn with_signed_area(v: [ScreenVertex; 3], prim: u32, a: i64) -> Option<ScreenTriangle> {
         match a.signum() {
             0 => None,
-            1 => Some(ScreenTriangle { v, prim }),
+            1 => Some(ScreenTriangle { v, prim, area2: a }),
             _ => Some(ScreenTriangle {
                 v: [v[0], v[2], v[1]],
                 prim,
+                area2: -a,
             }),
         }
     }
@@ -88,9 +116,29 @@ impl ScreenTriangle {
         self.prim
     }
 
+    /// Inclusive pixel rows and columns whose centres lie within the vertices' extent
+    /// (empty when first > last). Cheap: no edge or plane setup.
+    #[inline]
+    pub fn centre_extent(&self) -> ((i64, i64), (i64, i64)) {
+        let [a, b, c] = self.v;
+        let (ymin, ymax) = (a.y.min(b.y).min(c.y), a.y.max(b.y).max(c.y));
+        let (xmin, xmax) = (a.x.min(b.x).min(c.x), a.x.max(b.x).max(c.x));
+        (
+            (
+                ymin.first_centre_at_or_after(),
+                ymax.last_centre_at_or_before(),
+            ),
+            (
+                xmin.first_centre_at_or_after(),
+                xmax.last_centre_at_or_before(),
+            ),
+        )
+    }
+
     /// Twice the area in square subpixel steps (> 0).
+    #[inline]
     pub fn area2(&self) -> i64 {
-        signed_area2(&self.v[0], &self.v[1], &self.v[2])
+        self.area2
     }
 
     pub fn to_bytes(&self) -> [u8; ScreenTriangle::PAYLOAD_BYTES] {
@@ -123,12 +171,14 @@ impl ScreenTriangle {
         let prim = u32::from_le_bytes(word(45));
         // Only the canonical orientation is ever serialized; reject anything else so that
         // a round trip is the identity.
-        (signed_area2(&v[0], &v[1], &v[2]) > 0).then_some(ScreenTriangle { v, prim })
+        let area2 = signed_area2(&v[0], &v[1], &v[2]);
+        (area2 > 0).then_some(ScreenTriangle { v, prim, area2 })
     }
 }
 
 /// Projects a clipped vertex to the screen and snaps it. `None` when w is not positive
 /// (a vertex at the eye; only reachable through degenerate input).
+#[inline]
 fn project(v: &ClipVertex, viewport: Viewport) -> Option<ScreenVertex> {
     let [x, y, z, w] = v.pos;
     if w.partial_cmp(&0.0) != Some(std::cmp::Ordering::Greater) {
@@ -147,6 +197,7 @@ fn project(v: &ClipVertex, viewport: Viewport) -> Option<ScreenVertex> {
 }
 
 /// True when no pixel centre of the viewport lies within the x/y extent of the vertices.
+#[inline]
 fn misses_viewport(vs: &[ScreenVertex], viewport: Viewport) -> bool {
     let xmin = vs.iter().map(|v| v.x).min();
     let xmax = vs.iter().map(|v| v.x).max();
@@ -172,18 +223,137 @@ pub fn setup_triangle(
     counters: &mut Counters,
     mut emit: impl FnMut(ScreenTriangle),
 ) {
+    let fetch = |i: u32| vertices.get(i as usize).and_then(|v| prepare(v, viewport));
+    let prepared = [fetch(tri[0]), fetch(tri[1]), fetch(tri[2])];
+    setup_prepared(
+        vertices, tri, prepared, prim, viewport, options, counters, &mut emit,
+    );
+}
+
+/// A vertex with the front-end work that depends only on the vertex done: validity,
+/// classification against the clip planes, and its projection when no clipping can touch
+/// it. Shared vertices are prepared once per draw ([`VertexCache`]); the result is the same
+/// bits as preparing them per triangle, so caching never changes an image.
+///
+/// Small on purpose (the clip-space vertex is re-read only for the rare triangles that need
+/// clipping), so a cache over a large unshared vertex array stays cheap.
+#[derive(Clone, Copy, Debug)]
+pub struct PreparedVertex {
+    outcode: u8,
+    planes: u8,
+    screen: Option<ScreenVertex>,
+}
+
+/// `None` for a vertex with a NaN or infinite component.
+#[inline]
+pub fn prepare(v: &Vertex, viewport: Viewport) -> Option<PreparedVertex> {
+    let clip = ClipVertex::new(v)?;
+    let planes = plane_mask(&clip);
+    Some(PreparedVertex {
+        outcode: outcode(&clip),
+        planes,
+        screen: if planes == 0 {
+            project(&clip, viewport)
+        } else {
+            None
+        },
+    })
+}
+
+/// Prepared vertices of one mesh for one viewport, filled on first use.
+#[derive(Clone, Debug)]
+pub struct VertexCache {
+    slots: Vec<Slot>,
+}
+
+#[derive(Clone, Copy, Debug)]
+enum Slot {
+    Empty,
+    Invalid,
+    Ready(PreparedVertex),
+}
+
+impl VertexCache {
+    pub fn new(vertex_count: usize) -> VertexCache {
+        VertexCache {
+            slots: vec![Slot::Empty; vertex_count],
+        }
+    }
+
+    fn get(&mut self, vertices: &[Vertex], i: u32, viewport: Viewport) -> Option<PreparedVertex> {
+        let slot = self.slots.get_mut(i as usize)?;
+        if let Slot::Empty = slot {
+            *slot = match vertices.get(i as usize).and_then(|v| prepare(v, viewport)) {
+                Some(p) => Slot::Ready(p),
+                None => Slot::Invalid,
+            };
+        }
+        match slot {
+            Slot::Ready(p) => Some(*p),
+            _ => None,
+        }
+    }
+}
+
+/// [`setup_triangle`] with shared vertices prepared once in `cache` (which must have been
+/// made for `vertices` and used with this `viewport` only).
+#[allow(clippy::too_many_arguments)]
+pub fn setup_triangle_cached(
+    vertices: &[Vertex],
+    cache: &mut VertexCache,
+    tri: [u32; 3],
+    prim: u32,
+    viewport: Viewport,
+    options: &RasterOptions,
+    counters: &mut Counters,
+    mut emit: impl FnMut(ScreenTriangle),
+) {
+    let prepared = tri.map(|i| cache.get(vertices, i, viewport));
+    setup_prepared(
+        vertices, tri, prepared, prim, viewport, options, counters, &mut emit,
+    );
+}
+
+#[allow(clippy::too_many_arguments)]
+fn setup_prepared(
+    vertices: &[Vertex],
+    tri: [u32; 3],
+    prepared: [Option<PreparedVertex>; 3],
+    prim: u32,
+    viewport: Viewport,
+    options: &RasterOptions,
+    counters: &mut Counters,
+    emit: &mut impl FnMut(ScreenTriangle),
+) {
     counters.triangles_in += 1;
-    let fetch = |i: u32| vertices.get(i as usize).and_then(ClipVertex::new);
-    let (Some(a), Some(b), Some(c)) = (fetch(tri[0]), fetch(tri[1]), fetch(tri[2])) else {
+    let [Some(a), Some(b), Some(c)] = prepared else {
         counters.culled_invalid += 1;
         return;
     };
-    match clip_triangle([a, b, c]) {
-        Clipped::Outside => counters.culled_outside += 1,
-        Clipped::Unclipped(t) => finish_polygon(&t, prim, viewport, options, counters, &mut emit),
-        Clipped::Clipped(p) => {
+    let outcodes = a.outcode & b.outcode & c.outcode;
+    let planes = a.planes | b.planes | c.planes;
+    if outcodes == 0 && planes == 0 {
+        // The common case: nothing to clip, vertices already projected.
+        let (Some(sa), Some(sb), Some(sc)) = (a.screen, b.screen, c.screen) else {
+            // A vertex at w == 0 on the eye: nothing visible.
+            counters.culled_outside += 1;
+            return;
+        };
+        finish_projected(&[sa, sb, sc], prim, viewport, options, counters, emit);
+        return;
+    }
+    // Prepared vertices are valid, so re-reading them always succeeds.
+    let fetch = |i: u32| vertices.get(i as usize).and_then(ClipVertex::new);
+    let (Some(ca), Some(cb), Some(cc)) = (fetch(tri[0]), fetch(tri[1]), fetch(tri[2])) else {
+        counters.culled_invalid += 1;
+        return;
+    };
+    match clip_classified([ca, cb, cc], outcodes, planes) {
+        ClipResult::Outside => counters.culled_outside += 1,
+        ClipResult::Inside(t) => finish_polygon(&t, prim, viewport, options, counters, emit),
+        ClipResult::Polygon(p) => {
             counters.clipped += 1;
-            finish_polygon(p.vertices(), prim, viewport, options, counters, &mut emit);
+            finish_polygon(p.vertices(), prim, viewport, options, counters, emit);
         }
     }
 }
@@ -213,7 +383,19 @@ fn finish_polygon(
             }
         }
     }
-    let poly = &poly[..n];
+    finish_projected(&poly[..n], prim, viewport, options, counters, emit);
+}
+
+/// Culls a projected convex polygon as a whole and fans it into screen triangles.
+fn finish_projected(
+    poly: &[ScreenVertex],
+    prim: u32,
+    viewport: Viewport,
+    options: &RasterOptions,
+    counters: &mut Counters,
+    emit: &mut impl FnMut(ScreenTriangle),
+) {
+    let n = poly.len();
     if misses_viewport(poly, viewport) {
         counters.culled_outside += 1;
         return;
@@ -234,11 +416,16 @@ fn finish_polygon(
     let mut produced = 0;
     for i in 1..n - 1 {
         let piece = [poly[0], poly[i], poly[i + 1]];
+        let area = if n == 3 {
+            total
+        } else {
+            signed_area2(&piece[0], &piece[1], &piece[2])
+        };
         // A piece that snapping collapsed or flipped covers nothing of the polygon.
-        if signed_area2(&piece[0], &piece[1], &piece[2]).signum() != total.signum() {
+        if area.signum() != total.signum() {
             continue;
         }
-        if let Some(t) = ScreenTriangle::new(piece, prim) {
+        if let Some(t) = ScreenTriangle::with_signed_area(piece, prim, area) {
             emit(t);
             produced += 1;
         }
@@ -260,10 +447,21 @@ pub struct RasterTriangle {
     /// Inclusive pixel rows and columns whose centres lie within the vertices' extent.
     pub(crate) rows: (i64, i64),
     pub(crate) cols: (i64, i64),
+    /// Inclusive pixel rows and columns whose squares overlap the vertices' extent (for
+    /// conservative sampling).
+    pub(crate) touched_rows: (i64, i64),
+    pub(crate) touched_cols: (i64, i64),
     prim: u32,
 }
 
+/// Pixels whose half-open squares `[p, p+1)` overlap the closed extent `[lo, hi]`, as an
+/// inclusive range.
+fn touched(lo: Sub, hi: Sub) -> (i64, i64) {
+    (lo.pixel(), hi.pixel())
+}
+
 impl RasterTriangle {
+    #[inline]
     pub fn new(t: &ScreenTriangle) -> RasterTriangle {
         let [v0, v1, v2] = t.v;
         let edges = [
@@ -277,8 +475,8 @@ impl RasterTriangle {
             y0: v0.y.wide(),
             d1: (v1.x.wide() - v0.x.wide(), v1.y.wide() - v0.y.wide()),
             d2: (v2.x.wide() - v0.x.wide(), v2.y.wide() - v0.y.wide()),
-            area2: t.area2(),
-            inv_area2: 1.0 / t.area2() as f64,
+            area2: t.area2,
+            inv_area2: 1.0 / t.area2 as f64,
             ox: anchor.0,
             oy: anchor.1,
         };
@@ -289,13 +487,16 @@ impl RasterTriangle {
         let ys = [v0.y, v1.y, v2.y];
         let min = |a: [Sub; 3]| a[0].min(a[1]).min(a[2]);
         let max = |a: [Sub; 3]| a[0].max(a[1]).max(a[2]);
+        let (rows, cols) = t.centre_extent();
         RasterTriangle {
             edges,
             depth,
             color,
             anchor,
-            rows: (min(ys).first_centre_at_or_after(), max(ys).last_centre_at_or_before()),
-            cols: (min(xs).first_centre_at_or_after(), max(xs).last_centre_at_or_before()),
+            rows,
+            cols,
+            touched_rows: touched(min(ys), max(ys)),
+            touched_cols: touched(min(xs), max(xs)),
             prim: t.prim,
         }
     }
@@ -308,7 +509,8 @@ impl RasterTriangle {
     /// triangle's depth range, whether or not the centre is covered (a coverage-mask target
     /// needs it for edge pixels). Equals the depth of a fragment there.
     pub fn depth_at(&self, px: i64, py: i64) -> u32 {
-        self.depth.resolve(self.depth.at(px - self.anchor.0, py - self.anchor.1))
+        self.depth
+            .resolve(self.depth.at(px - self.anchor.0, py - self.anchor.1))
     }
 
     /// Colour of the triangle's planes at the centre of pixel `(px, py)`, clamped per

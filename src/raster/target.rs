@@ -13,23 +13,31 @@
 //!
 //! # Depth test
 //! Depth is a `u32`, smaller is nearer; a buffer is cleared to `u32::MAX`, which no fragment
-//! has. A fragment is written when its depth is *strictly less* than the stored depth: on a
-//! tie the earlier-drawn fragment stays, so drawing a mesh twice changes nothing and the
-//! scanline renderer, which keeps triangles in drawing order, makes the same choices.
+//! has. Fragments are ordered by (depth, primitive id): a fragment is written when its depth
+//! is strictly less than the stored one, or equal with a smaller primitive id. So a tie
+//! always goes to the lower primitive id whatever the drawing order: a parallel renderer that
+//! draws triangles as they arrive, or merges partial images, produces exactly the sequential
+//! image; drawing a mesh twice changes nothing.
 //!
 //! # Anti-aliasing targets (how paper 000's adaptive supersampling plugs in)
-//! A span carries its triangle ([`Span::triangle`]), which answers
-//! `fully_covers_pixel(x, y)` (an interior pixel: store one 12-byte Pixel) and
-//! `coverage_mask(x, y, samples)` / `covers_sample` (an edge pixel: store a coverage mask in
-//! a 7-byte Subpixel record). Samples obey the same top-left rule as centres, so coverage
-//! masks of a mesh are watertight too. A target that also needs pixels whose centre is not
-//! covered would widen its rectangles' spans by one pixel at each end and keep those whose
-//! mask is non-empty; no change to the trait is needed for that.
+//! Such a target returns [`Sampling::Conservative`] from [`Target::sampling`], so its spans
+//! hold every pixel the triangle touches, not only covered centres. A span carries its
+//! triangle ([`Span::triangle`]), which answers `fully_covers_pixel(x, y)` (an interior
+//! pixel: store one 12-byte Pixel record) and `coverage_mask(x, y, samples)` (an edge
+//! pixel: store its mask in a 7-byte Subpixel record; an empty mask means the pixel was
+//! only near a corner, skip it). The span's fragments give depth and colour at the pixel
+//! centre, clamped to the triangle's range even where the centre lies outside it. Samples
+//! obey the same top-left rule as centres, so the coverage masks of a mesh are watertight
+//! too (tests/raster_coverage.rs checks this with a mask-counting target).
 
 use super::counters::Counters;
 use super::fixed::Depth;
-use super::scan::Span;
+use super::scan::{Sampling, Span};
 use super::screen::{ScreenRect, Viewport};
+
+/// Bytes of memory per pixel of a colour + depth buffer (24-bit colour, 32-bit depth): what
+/// a node's memory pool is charged for a framebuffer, region or scanline of that size.
+pub const BYTES_PER_PIXEL: u64 = 3 + 4;
 
 /// Bytes read by one depth test (a `u32`).
 const DEPTH_BYTES: u64 = 4;
@@ -41,19 +49,34 @@ pub trait Target {
     /// Disjoint rectangles, in viewport pixels, that this target accepts.
     fn rects(&self) -> &[ScreenRect];
 
+    /// Which pixels spans contain: covered centres (the default), or every touched pixel
+    /// for a coverage-mask target.
+    fn sampling(&self) -> Sampling {
+        Sampling::Centre
+    }
+
     /// One span inside `self.rects()[rect]`. The target consumes its fragments and adds
     /// what it did to `counters` (`pixels_tested`, `pixels_written`, `bytes_touched`).
     fn span(&mut self, rect: usize, span: &Span<'_>, counters: &mut Counters);
 }
 
+/// Whether a fragment (`z`, `prim`) is nearer than what a pixel holds: the (depth, primitive
+/// id) order of the module doc.
+#[inline]
+pub fn nearer(z: u32, prim: u32, stored_z: u32, stored_prim: u32) -> bool {
+    z < stored_z || (z == stored_z && prim < stored_prim)
+}
+
 /// Depth-tests a span into row slices that start at the span's first pixel and are exactly
 /// as long as the span. Returns the number of fragments written.
 #[inline]
-fn depth_test_span(span: &Span<'_>, color: &mut [[u8; 3]], depth: &mut [u32]) -> u64 {
+fn depth_test_span(span: &Span<'_>, color: &mut [[u8; 3]], depth: &mut [u32], prims: &mut [u32]) -> u64 {
     let mut written = 0;
-    for (f, (c, d)) in span.fragments().zip(color.iter_mut().zip(depth.iter_mut())) {
-        if f.z < *d {
+    let prim = span.prim();
+    for (f, ((c, d), p)) in span.fragments().zip(color.iter_mut().zip(depth.iter_mut()).zip(prims.iter_mut())) {
+        if nearer(f.z, prim, *d, *p) {
             *d = f.z;
+            *p = prim;
             *c = f.rgb;
             written += 1;
         }
@@ -73,6 +96,9 @@ pub struct PixelBuffer {
     rect: ScreenRect,
     color: Vec<[u8; 3]>,
     depth: Vec<u32>,
+    /// The primitive each pixel's fragment came from (`u32::MAX` when cleared): the depth
+    /// test's tie-break.
+    prim: Vec<u32>,
 }
 
 impl PixelBuffer {
@@ -81,6 +107,7 @@ impl PixelBuffer {
             rect,
             color: vec![clear; rect.pixels()],
             depth: vec![Depth::CLEARED; rect.pixels()],
+            prim: vec![u32::MAX; rect.pixels()],
         }
     }
 
@@ -88,10 +115,16 @@ impl PixelBuffer {
         self.rect
     }
 
+    /// Modelled memory of this buffer: pixels times [`BYTES_PER_PIXEL`].
+    pub fn bytes(&self) -> u64 {
+        self.rect.pixels() as u64 * BYTES_PER_PIXEL
+    }
+
     /// Clears colour to `clear` and depth to the cleared value.
     pub fn clear(&mut self, clear: [u8; 3]) {
         self.color.fill(clear);
         self.depth.fill(Depth::CLEARED);
+        self.prim.fill(u32::MAX);
     }
 
     fn index(&self, x: u32, y: u32) -> Option<usize> {
@@ -122,9 +155,15 @@ impl PixelBuffer {
     #[inline]
     fn depth_test(&mut self, span: &Span<'_>, counters: &mut Counters) {
         let r = self.rect;
-        let start = (span.y() - r.y0()) as usize * r.width() as usize + (span.x0() - r.x0()) as usize;
+        let start =
+            (span.y() - r.y0()) as usize * r.width() as usize + (span.x0() - r.x0()) as usize;
         let end = start + span.len();
-        let written = depth_test_span(span, &mut self.color[start..end], &mut self.depth[start..end]);
+        let written = depth_test_span(
+            span,
+            &mut self.color[start..end],
+            &mut self.depth[start..end],
+            &mut self.prim[start..end],
+        );
         count_depth_tested(counters, span.len(), written);
     }
 }
@@ -228,6 +267,15 @@ impl RegionSet {
         Ok(RegionSet { rects, bufs })
     }
 
+    /// As `new`, with every region cleared to `clear` (a scene's background).
+    pub fn with_clear(viewport: Viewport, rects: Vec<ScreenRect>, clear: [u8; 3]) -> Result<RegionSet, RegionError> {
+        let mut set = RegionSet::new(viewport, rects)?;
+        for b in &mut set.bufs {
+            b.clear(clear);
+        }
+        Ok(set)
+    }
+
     pub fn regions(&self) -> &[PixelBuffer] {
         &self.bufs
     }
@@ -241,7 +289,8 @@ impl RegionSet {
                 let src = row * w..(row + 1) * w;
                 if let Some(dst) = fb.buf.index(r.x0(), y) {
                     fb.buf.color[dst..dst + w].copy_from_slice(&b.color[src.clone()]);
-                    fb.buf.depth[dst..dst + w].copy_from_slice(&b.depth[src]);
+                    fb.buf.depth[dst..dst + w].copy_from_slice(&b.depth[src.clone()]);
+                    fb.buf.prim[dst..dst + w].copy_from_slice(&b.prim[src]);
                 }
             }
         }
@@ -275,6 +324,9 @@ pub struct ActivePixel {
     pub y: u32,
     pub z: u32,
     pub rgb: [u8; 3],
+    /// The primitive of the nearest fragment (host-side tie-break; not part of
+    /// `ACTIVE_PIXEL_BYTES`).
+    pub prim: u32,
 }
 
 /// Bytes of one active pixel as sort-last sparse merging ships it: x, y (u16 each), z (u32),
@@ -357,13 +409,15 @@ impl Target for SparseBuffer {
                     y,
                     z: f.z,
                     rgb: f.rgb,
+                    prim: span.prim(),
                 });
                 written += 1;
             } else {
                 let p = &mut self.active[*slot as usize];
-                if f.z < p.z {
+                if nearer(f.z, span.prim(), p.z, p.prim) {
                     p.z = f.z;
                     p.rgb = f.rgb;
+                    p.prim = span.prim();
                     written += 1;
                 }
             }

@@ -7,6 +7,7 @@
 //! file: everything goes through `write_atomic`.
 
 pub mod cost;
+pub mod run;
 pub mod summary;
 
 use std::io::Write;

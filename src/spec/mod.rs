@@ -7,6 +7,7 @@
 
 pub mod check;
 pub mod machine;
+pub mod run;
 mod quantity;
 pub mod scene;
 

@@ -83,13 +83,21 @@ pub fn max_count(t: &CountingTarget) -> u32 {
 
 /// A UV sphere of `rings x segments` with each vertex's radius scaled by `radius(i)`:
 /// a closed, consistently wound (counter-clockwise seen from outside) mesh.
-pub fn sphere(rings: u32, segments: u32, mut radius: impl FnMut(usize) -> f32) -> (Vec<Vec3>, Vec<[u32; 3]>) {
+pub fn sphere(
+    rings: u32,
+    segments: u32,
+    mut radius: impl FnMut(usize) -> f32,
+) -> (Vec<Vec3>, Vec<[u32; 3]>) {
     let mut pos = vec![Vec3::Y * radius(0)];
     for r in 1..rings {
         let theta = std::f32::consts::PI * r as f32 / rings as f32;
         for s in 0..segments {
             let phi = std::f32::consts::TAU * s as f32 / segments as f32;
-            let dir = Vec3::new(theta.sin() * phi.cos(), theta.cos(), theta.sin() * phi.sin());
+            let dir = Vec3::new(
+                theta.sin() * phi.cos(),
+                theta.cos(),
+                theta.sin() * phi.sin(),
+            );
             let i = pos.len();
             pos.push(dir * radius(i));
         }
@@ -101,7 +109,12 @@ pub fn sphere(rings: u32, segments: u32, mut radius: impl FnMut(usize) -> f32) -
     for s in 0..segments {
         tris.push([0, ring(1, s + 1), ring(1, s)]);
         for r in 1..rings - 1 {
-            let (a, b, c, d) = (ring(r, s), ring(r, s + 1), ring(r + 1, s), ring(r + 1, s + 1));
+            let (a, b, c, d) = (
+                ring(r, s),
+                ring(r, s + 1),
+                ring(r + 1, s),
+                ring(r + 1, s + 1),
+            );
             tris.push([a, b, d]);
             tris.push([a, d, c]);
         }
@@ -125,8 +138,15 @@ pub fn to_clip(pos: &[Vec3], rot: glam::Quat, dist: f32, aspect: f32) -> Vec<Ver
 }
 
 pub fn random_rotation(r: &mut ChaCha8Rng) -> glam::Quat {
-    let axis = Vec3::new(r.gen_range(-1.0..1.0), r.gen_range(-1.0..1.0), r.gen_range(-1.0..1.0));
-    glam::Quat::from_axis_angle(axis.try_normalize().unwrap_or(Vec3::X), r.gen_range(0.0..6.3))
+    let axis = Vec3::new(
+        r.gen_range(-1.0..1.0),
+        r.gen_range(-1.0..1.0),
+        r.gen_range(-1.0..1.0),
+    );
+    glam::Quat::from_axis_angle(
+        axis.try_normalize().unwrap_or(Vec3::X),
+        r.gen_range(0.0..6.3),
+    )
 }
 
 /// Random triangles in clip space with overlapping, interpenetrating depths and random

@@ -62,8 +62,9 @@ impl Link {
     }
 }
 
-/// A network shape with its routing function.
-pub trait Topology {
+/// A network shape with its routing function (`Send + Sync` so that sweeps can build and
+/// move networks across threads).
+pub trait Topology: Send + Sync {
     fn kind(&self) -> TopologyKind;
     fn nodes(&self) -> u32;
     /// Every link, in link-index order.

@@ -22,8 +22,9 @@ pub struct Usage {
     pub peak_queue: u32,
 }
 
-/// One fidelity level's state machine (see the contract in `net/mod.rs`).
-pub trait Transport {
+/// One fidelity level's state machine (see the contract in `net/mod.rs`); `Send` so a
+/// network can move to a sweep's worker thread.
+pub trait Transport: Send {
     /// Starts `msg` on `route` (non-empty; `hops` switch traversals). `Some(t)` when the
     /// arrival is already known; then it never comes out of `advance`.
     fn inject(

@@ -1,0 +1,126 @@
+//! Parallel rendering algorithms, one module per family, each reading like its paper's
+//! pseudocode: node programs that compute, send and receive through the engine's `Node`.
+//!
+//! Owns the algorithm ids of the command line, their options (`--set key=value`), and the
+//! record of what each frame took. Must never name a concrete topology (an algorithm states
+//! what it needs, e.g. a broadcast medium, and asks the network), never read the clock except
+//! through `Node::now`, and never invent a time: every duration is charged from counts.
+
+pub mod charge;
+pub mod options;
+pub mod reference;
+pub mod sort_middle;
+
+use std::ops::Range;
+use std::sync::Arc;
+
+use crate::engine::RunStats;
+use crate::machine::MachineConfig;
+use crate::raster::Framebuffer;
+use crate::scene::Scene;
+use crate::units::{Bytes, SimTime};
+
+pub use options::{OptionError, Options};
+
+/// The algorithms, by command-line id.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, PartialOrd, Ord, Hash)]
+pub enum AlgorithmId {
+    /// Paper 000: static interleaved 64x64 regions, a root collects the image.
+    SortMiddleStatic,
+    /// Paper 002: Ellsworth's frame-coherent load balancing.
+    SortMiddleEllsworth,
+}
+
+impl AlgorithmId {
+    pub const ALL: [AlgorithmId; 2] = [AlgorithmId::SortMiddleStatic, AlgorithmId::SortMiddleEllsworth];
+
+    pub fn id(self) -> &'static str {
+        match self {
+            AlgorithmId::SortMiddleStatic => "sort-middle/static",
+            AlgorithmId::SortMiddleEllsworth => "sort-middle/ellsworth",
+        }
+    }
+
+    pub fn from_id(id: &str) -> Option<AlgorithmId> {
+        AlgorithmId::ALL.into_iter().find(|a| a.id() == id)
+    }
+
+    /// The valid ids, for error messages.
+    pub fn valid_ids() -> String {
+        AlgorithmId::ALL.iter().map(|a| a.id()).collect::<Vec<_>>().join(", ")
+    }
+}
+
+/// Everything one simulated run needs, validated.
+#[derive(Clone)]
+pub struct RunConfig {
+    /// The machine, already sized to the number of processors the run uses.
+    pub machine: MachineConfig,
+    pub scene: Arc<Scene>,
+    pub algo: AlgorithmId,
+    pub frames: Range<u32>,
+    pub options: Options,
+    pub seed: u64,
+    /// Record every cpu span for a timeline (costs host memory).
+    pub timeline: bool,
+}
+
+/// What one frame took.
+#[derive(Clone, Debug, Default, PartialEq, Eq)]
+pub struct FrameRecord {
+    pub frame: u32,
+    pub start: SimTime,
+    pub end: SimTime,
+    /// Triangles that survived culling and clipping (the papers' "triangles in view").
+    pub triangles_in_view: u64,
+    /// Bytes and messages that crossed the network during the frame.
+    pub bytes: Bytes,
+    pub messages: u64,
+    /// When each node finished rasterizing (paper 001's load imbalance uses these).
+    pub raster_finish: Vec<SimTime>,
+}
+
+impl FrameRecord {
+    pub fn time(&self) -> SimTime {
+        self.end - self.start
+    }
+
+    /// (longest finishing time - mean) / longest, in percent (paper 001's definition), with
+    /// times measured from the frame's start.
+    pub fn load_imbalance_pct(&self) -> f64 {
+        let times: Vec<f64> = self.raster_finish.iter().map(|&t| t.saturating_sub(self.start).as_secs_f64()).collect();
+        let longest = times.iter().cloned().fold(0.0, f64::max);
+        if longest <= 0.0 {
+            return 0.0;
+        }
+        let mean = times.iter().sum::<f64>() / times.len() as f64;
+        100.0 * (longest - mean) / longest
+    }
+}
+
+/// What a run produced: the machine's statistics, per-frame records, the last frame's image.
+pub struct RunResult {
+    pub stats: RunStats,
+    pub frames: Vec<FrameRecord>,
+    pub image: Framebuffer,
+}
+
+#[derive(Debug, thiserror::Error)]
+pub enum RunError {
+    #[error(transparent)]
+    Option(#[from] OptionError),
+    #[error(transparent)]
+    Sim(#[from] crate::engine::SimError),
+    #[error(transparent)]
+    Scene(#[from] crate::scene::SceneError),
+    #[error("{0}")]
+    Unsupported(String),
+}
+
+/// Runs `cfg` to the end of its last frame.
+pub fn run(cfg: &RunConfig) -> Result<RunResult, RunError> {
+    match cfg.algo {
+        AlgorithmId::SortMiddleStatic => sort_middle::run(cfg, sort_middle::Variant::Static),
+        AlgorithmId::SortMiddleEllsworth => sort_middle::run(cfg, sort_middle::Variant::Ellsworth),
+    }
+}

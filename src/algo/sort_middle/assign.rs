@@ -1,0 +1,88 @@
+//! Region-to-processor assignment: the fixed interleaved pattern (paper 000; paper 002's first
+//! frame) and Ellsworth's greedy multiple-bin packing on estimated region costs (paper 002:
+//! largest estimated cost first, each to the least-loaded processor).
+//!
+//! Owns the arithmetic of assignment. Must never charge time or send anything: the caller
+//! charges the cpu for running it.
+
+use std::cmp::Reverse;
+use std::collections::BinaryHeap;
+
+use crate::units::SimTime;
+
+/// `owner[r]` is the processor that rasterizes region `r`.
+#[derive(Clone, Debug, PartialEq, Eq)]
+pub struct Assignment {
+    pub owner: Vec<u32>,
+}
+
+impl Assignment {
+    /// Region `r` to processor `r mod n`.
+    pub fn interleaved(regions: u32, processors: u32) -> Assignment {
+        Assignment { owner: (0..regions).map(|r| r % processors).collect() }
+    }
+
+    /// The regions processor `p` rasterizes, in index order.
+    pub fn regions_of(&self, p: u32) -> Vec<u32> {
+        (0..self.owner.len() as u32).filter(|&r| self.owner[r as usize] == p).collect()
+    }
+
+    /// Greedy multiple-bin packing: regions in decreasing estimated cost (ties by index) go
+    /// one by one to the processor with the least load so far (ties by lowest id).
+    /// `initial_load[p]` is work a processor already has, such as processor 0's time spent
+    /// computing this very assignment; a processor whose initial load exceeds what the others
+    /// reach gets no regions at all.
+    pub fn greedy(costs: &[SimTime], initial_load: &[SimTime]) -> Assignment {
+        let mut order: Vec<u32> = (0..costs.len() as u32).collect();
+        order.sort_by_key(|&r| (Reverse(costs[r as usize]), r));
+        let mut loads: BinaryHeap<Reverse<(SimTime, u32)>> =
+            initial_load.iter().enumerate().map(|(p, &l)| Reverse((l, p as u32))).collect();
+        let mut owner = vec![0; costs.len()];
+        for r in order {
+            let Reverse((load, p)) = loads.pop().expect("at least one processor");
+            owner[r as usize] = p;
+            loads.push(Reverse((load + costs[r as usize], p)));
+        }
+        Assignment { owner }
+    }
+
+    /// Each processor's total estimated cost under this assignment.
+    pub fn loads(&self, costs: &[SimTime], processors: u32) -> Vec<SimTime> {
+        let mut loads = vec![SimTime::ZERO; processors as usize];
+        for (r, &p) in self.owner.iter().enumerate() {
+            loads[p as usize] += costs[r];
+        }
+        loads
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn us(v: &[u64]) -> Vec<SimTime> {
+        v.iter().map(|&x| SimTime::from_us(x)).collect()
+    }
+
+    #[test]
+    fn largest_first_to_the_least_loaded() {
+        let a = Assignment::greedy(&us(&[5, 9, 2, 7, 1]), &us(&[0, 0]));
+        // 9 -> p0, 7 -> p1, 5 -> p1 (7 < 9), 2 -> p0 (9 < 12), 1 -> p0 (11 < 12).
+        assert_eq!(a.owner, vec![1, 0, 0, 1, 0]);
+        assert_eq!(a.loads(&us(&[5, 9, 2, 7, 1]), 2), us(&[12, 12]));
+    }
+
+    #[test]
+    fn a_processor_busy_assigning_gets_no_regions_when_that_fills_its_frame() {
+        let a = Assignment::greedy(&us(&[3, 3, 3, 3]), &us(&[20, 0, 0]));
+        assert!(a.regions_of(0).is_empty(), "{a:?}");
+        let b = Assignment::greedy(&us(&[3, 3, 3, 3]), &us(&[2, 0, 0]));
+        assert!(!b.regions_of(0).is_empty(), "{b:?}");
+    }
+
+    #[test]
+    fn interleaved_is_r_mod_n() {
+        assert_eq!(Assignment::interleaved(7, 3).owner, vec![0, 1, 2, 0, 1, 2, 0]);
+        assert_eq!(Assignment::interleaved(7, 3).regions_of(1), vec![1, 4]);
+    }
+}

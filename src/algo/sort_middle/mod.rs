@@ -1,0 +1,475 @@
+//! Sort-middle rendering: every processor transforms an even share of the polygons, sends the
+//! screen-space triangles to the processors that own the screen regions they touch, and
+//! rasterizes its own regions.
+//!
+//! Two variants: `static` (paper 000: 64x64 regions in a fixed interleaved pattern, a root
+//! collects the regional images) and `ellsworth` (paper 002: regions = granularity x N,
+//! assigned for the next frame by greedy bin packing on this frame's per-region counts summed
+//! up a tree, optional two-step redistribution). The node programs are in `ellsworth.rs` and
+//! `static_regions.rs`; the mechanisms they share (trees, transformation, rasterization) are
+//! here and in `redistribute.rs`.
+//!
+//! Must never name a topology: groups and trees are over processor ids.
+
+pub mod assign;
+pub mod buffers;
+mod ellsworth;
+mod redistribute;
+pub mod regions;
+mod static_regions;
+pub mod two_step;
+
+use std::cell::RefCell;
+use std::collections::BTreeMap;
+use std::rc::Rc;
+
+use assign::Assignment;
+use regions::RegionGrid;
+use two_step::Groups;
+
+use super::charge;
+use super::{FrameRecord, RunConfig, RunError, RunResult};
+use crate::engine::{Filter, Node, Payload, Sim, SimError};
+use crate::machine::{Counts, Op};
+use crate::raster::{
+    draw_screen_triangles, setup_subset, Framebuffer, RasterOptions, RegionSet, ScreenTriangle, Viewport,
+};
+use crate::scene::FrameGeometry;
+use crate::units::{Bytes, SimTime};
+
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Variant {
+    Static,
+    Ellsworth,
+}
+
+/// When the per-region counts that drive the assignment are taken (paper 002).
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum CountsFrom {
+    /// This frame's counts assign the next frame's regions, summed while rasterizing.
+    Previous,
+    /// This frame's counts assign this frame's regions: everyone waits for them.
+    Current,
+}
+
+/// The validated options of one run.
+#[derive(Clone, Debug)]
+pub struct Settings {
+    pub variant: Variant,
+    pub grid: RegionGrid,
+    pub buffer: Bytes,
+    pub counts: CountsFrom,
+    pub groups: Option<Groups>,
+    /// The load balancer's estimate of one polygon's rasterization time.
+    pub polygon_estimate: SimTime,
+}
+
+pub(crate) const TAG_POLYGONS: u32 = 1;
+pub(crate) const TAG_FORWARD: u32 = 2;
+pub(crate) const TAG_COUNTS: u32 = 3;
+pub(crate) const TAG_START: u32 = 4;
+pub(crate) const TAG_DONE: u32 = 5;
+pub(crate) const TAG_PIXELS: u32 = 6;
+pub(crate) const TAG_ASSIGNED: u32 = 7;
+
+/// What sort-middle processors send each other.
+#[derive(Clone, Debug)]
+pub(crate) enum Msg {
+    /// Screen triangles for the receiver's regions. The last message of a sender's stream
+    /// says how many messages the stream had (`end`), since a network may deliver two
+    /// messages of one pair out of order (the flow model shares bandwidth between them).
+    Polygons { frame: u32, tris: Vec<ScreenTriangle>, end: Option<u32> },
+    /// First step of two-step redistribution: triangles with their final destination.
+    Forward { frame: u32, tris: Vec<(u32, ScreenTriangle)>, end: Option<u32> },
+    /// Per-region polygon counts on their way up the summing tree.
+    Counts { frame: u32, counts: Vec<u32> },
+    /// The start of a frame, down the tree from processor 0, with the region assignment when
+    /// it changed.
+    Start { frame: u32, assignment: Option<Rc<Assignment>> },
+    /// A subtree has finished rasterizing `frame`.
+    Done { frame: u32 },
+    /// A processor's regional image for the root (paper 000).
+    Pixels { frame: u32, pixels: u64 },
+    /// Processor 0's assignment for the next frame is ready (a local event).
+    Assigned { frame: u32 },
+}
+
+impl Payload for Msg {
+    fn tag(&self) -> u32 {
+        match self {
+            Msg::Polygons { .. } => TAG_POLYGONS,
+            Msg::Forward { .. } => TAG_FORWARD,
+            Msg::Counts { .. } => TAG_COUNTS,
+            Msg::Start { .. } => TAG_START,
+            Msg::Done { .. } => TAG_DONE,
+            Msg::Pixels { .. } => TAG_PIXELS,
+            Msg::Assigned { .. } => TAG_ASSIGNED,
+        }
+    }
+}
+
+impl Msg {
+    pub(crate) fn frame(&self) -> u32 {
+        match *self {
+            Msg::Polygons { frame, .. }
+            | Msg::Forward { frame, .. }
+            | Msg::Counts { frame, .. }
+            | Msg::Start { frame, .. }
+            | Msg::Done { frame }
+            | Msg::Pixels { frame, .. }
+            | Msg::Assigned { frame } => frame,
+        }
+    }
+
+    /// What the machine is charged for moving this message.
+    pub(crate) fn bytes(&self) -> Bytes {
+        let header = buffers::HEADER_BYTES;
+        match self {
+            Msg::Polygons { .. } | Msg::Forward { .. } => redistribute::polygon_bytes(self),
+            Msg::Counts { counts, .. } => Bytes::new(header + 4 * counts.len() as u64),
+            Msg::Start { assignment, .. } => Bytes::new(header + assignment.as_ref().map_or(0, |a| 2 * a.owner.len() as u64)),
+            Msg::Done { .. } | Msg::Assigned { .. } => Bytes::new(header),
+            Msg::Pixels { pixels, .. } => Bytes::new(header + 3 * pixels),
+        }
+    }
+}
+
+/// What all processors of one run share on the host: the scene's frames (computed once per
+/// frame, not once per processor), the settings, and the records being written.
+pub(crate) struct Ctx {
+    pub settings: Settings,
+    pub n: u32,
+    cfg: RunConfig,
+    viewport: Viewport,
+    background: [u8; 3],
+    raster: RasterOptions,
+    geometry: RefCell<BTreeMap<u32, Rc<FrameGeometry>>>,
+    records: RefCell<BTreeMap<u32, FrameRecord>>,
+    /// Processor 0's assignment for the next frame, once computed.
+    next_assignment: RefCell<Option<Rc<Assignment>>>,
+    /// Each processor's regions after the last frame, for the output image.
+    images: RefCell<Vec<Option<RegionSet>>>,
+}
+
+impl Ctx {
+    fn frames(&self) -> std::ops::Range<u32> {
+        self.cfg.frames.clone()
+    }
+
+    fn is_last(&self, frame: u32) -> bool {
+        frame + 1 == self.cfg.frames.end
+    }
+
+    /// The scene's geometry for `frame`, computed on first use and dropped two frames later.
+    fn geometry(&self, node: &Node<Msg>, frame: u32) -> Result<Rc<FrameGeometry>, SimError> {
+        let mut cache = self.geometry.borrow_mut();
+        if let Some(g) = cache.get(&frame) {
+            return Ok(g.clone());
+        }
+        let g = Rc::new(self.cfg.scene.frame(frame).map_err(|e| node.error(e.to_string()))?);
+        cache.retain(|&f, _| f + 1 >= frame);
+        cache.insert(frame, g.clone());
+        Ok(g)
+    }
+
+    fn record<R>(&self, frame: u32, f: impl FnOnce(&mut FrameRecord) -> R) -> R {
+        let mut records = self.records.borrow_mut();
+        let n = self.n as usize;
+        let r = records.entry(frame).or_insert_with(|| FrameRecord {
+            frame,
+            raster_finish: vec![SimTime::ZERO; n],
+            ..FrameRecord::default()
+        });
+        f(r)
+    }
+
+    pub(crate) fn count_message(&self, frame: u32, bytes: Bytes) {
+        self.record(frame, |r| {
+            r.bytes += bytes;
+            r.messages += 1;
+        });
+    }
+
+    async fn send(&self, node: &Node<Msg>, dst: u32, msg: Msg) {
+        let bytes = msg.bytes();
+        self.count_message(msg.frame(), bytes);
+        node.send(dst, bytes, msg).await;
+    }
+
+    /// Triangles per transformation batch: one buffer's worth, so compute is charged at the
+    /// grain messages are sent (events grow with messages, not with pixels).
+    fn batch(&self) -> usize {
+        ((self.settings.buffer.get().saturating_sub(buffers::HEADER_BYTES)) / buffers::TRIANGLE_BYTES).max(1) as usize
+    }
+}
+
+/// The processors' summing and broadcast tree: a binary heap over ids, rooted at 0.
+fn children(me: u32, n: u32) -> impl Iterator<Item = u32> {
+    [2 * me + 1, 2 * me + 2].into_iter().filter(move |&c| c < n)
+}
+
+fn parent(me: u32) -> u32 {
+    (me - 1) / 2
+}
+
+/// Processor 0 starts `frame` by sending `Start` down the tree; every other processor waits
+/// for it (this is also the barrier that ensures the previous frame finished) and passes it on.
+async fn start_frame(node: &Node<Msg>, ctx: &Ctx, frame: u32, assignment: Option<Rc<Assignment>>) -> Option<Rc<Assignment>> {
+    let me = node.id();
+    let assignment = if me == 0 {
+        assignment
+    } else {
+        let env = node.recv(Filter::tag(TAG_START).and_source(parent(me))).await;
+        let Msg::Start { assignment, .. } = env.payload else { unreachable!("filtered by tag") };
+        assignment
+    };
+    for child in children(me, ctx.n) {
+        ctx.send(node, child, Msg::Start { frame, assignment: assignment.clone() }).await;
+    }
+    if me == 0 {
+        let now = node.now();
+        ctx.record(frame, |r| r.start = now);
+    }
+    assignment
+}
+
+/// Waits until the whole subtree below this processor has finished `frame`, then tells the
+/// parent; at processor 0 this is the end of the frame.
+async fn finish_frame(node: &Node<Msg>, ctx: &Ctx, frame: u32) {
+    let me = node.id();
+    for child in children(me, ctx.n) {
+        node.recv(Filter::tag(TAG_DONE).and_source(child)).await;
+    }
+    if me == 0 {
+        let now = node.now();
+        ctx.record(frame, |r| r.end = now);
+    } else {
+        ctx.send(node, parent(me), Msg::Done { frame }).await;
+    }
+}
+
+/// Sums per-region counts up the tree; processor 0 ends with the total.
+async fn sum_counts(node: &Node<Msg>, ctx: &Ctx, frame: u32, mut counts: Vec<u32>) -> Vec<u32> {
+    let me = node.id();
+    for child in children(me, ctx.n) {
+        let env = node.recv(Filter::tag(TAG_COUNTS).and_source(child)).await;
+        let Msg::Counts { counts: theirs, .. } = env.payload else { unreachable!("filtered by tag") };
+        for (a, b) in counts.iter_mut().zip(theirs) {
+            *a += b;
+        }
+        node.compute(&Counts::of(Op::RegionCount, counts.len() as u64)).await;
+    }
+    if me != 0 {
+        ctx.send(node, parent(me), Msg::Counts { frame, counts: counts.clone() }).await;
+    }
+    counts
+}
+
+/// Processor 0 assigns regions by greedy bin packing on estimated costs, charging its own
+/// time for it (and counting that time as its own load, so that it takes no regions when the
+/// assignment fills its frame).
+async fn compute_assignment(node: &Node<Msg>, ctx: &Ctx, counts: &[u32]) -> Assignment {
+    let s = &ctx.settings;
+    let costs = &ctx.cfg.machine.cpu.costs;
+    let work = Counts::of(Op::AssignRegion, counts.len() as u64);
+    let own_time = costs.time(&work);
+    let estimates: Vec<SimTime> = (0..counts.len() as u32)
+        .map(|r| {
+            let pixels = s.grid.rect(r).pixels() as u64;
+            costs.get(Op::ClearPixel).times(pixels) + s.polygon_estimate.times(counts[r as usize] as u64)
+        })
+        .collect();
+    let mut initial = vec![SimTime::ZERO; ctx.n as usize];
+    initial[0] = own_time;
+    node.phase("assign");
+    node.compute(&work).await;
+    Assignment::greedy(&estimates, &initial)
+}
+
+/// Per-region triangle counts of `tris` (the classification `Redistributor::place` also
+/// does, which is where it is charged).
+fn region_counts(ctx: &Ctx, tris: &[ScreenTriangle]) -> Vec<u32> {
+    let mut counts = vec![0; ctx.settings.grid.count() as usize];
+    let mut touched = Vec::new();
+    for tri in tris {
+        touched.clear();
+        ctx.settings.grid.touched_by(tri, &mut touched);
+        for &r in &touched {
+            counts[r as usize] += 1;
+        }
+    }
+    counts
+}
+
+/// Transforms this processor's share of the frame (every n-th polygon) one batch at a time,
+/// handing each batch's screen triangles to `place`, which returns the messages to send.
+async fn transform<P>(node: &Node<Msg>, ctx: &Ctx, frame: u32, mut place: P) -> Result<(), SimError>
+where
+    P: FnMut(&[ScreenTriangle], &mut Counts) -> Vec<redistribute::Outgoing>,
+{
+    node.phase("transform");
+    let geometry = ctx.geometry(node, frame)?;
+    let share: Vec<u32> = (node.id()..geometry.triangles.len() as u32).step_by(ctx.n as usize).collect();
+    let mut tris = Vec::new();
+    for batch in share.chunks(ctx.batch()) {
+        tris.clear();
+        let c = setup_subset(&geometry.vertices, &geometry.triangles, batch, ctx.viewport, &ctx.raster, &mut tris);
+        ctx.record(frame, |r| r.triangles_in_view += c.triangles_in - c.culled_outside - c.culled_invalid);
+        let mut work = charge::front_end(&c);
+        let out = place(&tris, &mut work);
+        node.compute(&work).await;
+        redistribute::send_all(node, ctx, out).await;
+    }
+    Ok(())
+}
+
+/// Rasterizes this processor's regions: its own triangles, then every polygon message until
+/// `streams` senders have sent their last one.
+async fn rasterize(
+    node: &Node<Msg>,
+    ctx: &Ctx,
+    frame: u32,
+    assignment: &Assignment,
+    local: Vec<ScreenTriangle>,
+    streams: u32,
+) -> Result<RegionSet, SimError> {
+    node.phase("rasterize");
+    let me = node.id();
+    let rects: Vec<_> = assignment.regions_of(me).into_iter().map(|r| ctx.settings.grid.rect(r)).collect();
+    let pixels: u64 = rects.iter().map(|r| r.pixels() as u64).sum();
+    let memory = Bytes::new(pixels * (3 + 4));
+    node.alloc("framebuffer", memory)?;
+    let mut target = RegionSet::with_clear(ctx.viewport, rects, ctx.background).map_err(|e| node.error(e.to_string()))?;
+    node.compute(&Counts::of(Op::ClearPixel, pixels)).await;
+    for batch in local.chunks(ctx.batch()) {
+        let c = draw_screen_triangles(batch, &mut target);
+        node.compute(&charge::back_end(&c)).await;
+    }
+    let mut arrivals = redistribute::Streams::default();
+    while arrivals.ended() < streams {
+        let env = node.recv(Filter::tag(TAG_POLYGONS)).await;
+        let Msg::Polygons { frame: f, tris, end } = env.payload else { unreachable!("filtered by tag") };
+        debug_assert_eq!(f, frame, "a polygon message crossed a frame boundary");
+        let c = draw_screen_triangles(&tris, &mut target);
+        node.compute(&charge::back_end(&c)).await;
+        arrivals.arrived(env.src, end);
+    }
+    let now = node.now();
+    ctx.record(frame, |r| r.raster_finish[me as usize] = now);
+    node.free("framebuffer", memory)?;
+    Ok(target)
+}
+
+/// Reads the options of `variant` and checks them.
+fn settings(cfg: &RunConfig, variant: Variant, viewport: Viewport) -> Result<Settings, RunError> {
+    let o = &cfg.options;
+    let n = cfg.machine.nodes;
+    let grid = match variant {
+        Variant::Static => {
+            let size: u32 = o.get("region-size", 64, "a region side in pixels, at least 1")?;
+            if size == 0 {
+                return Err(bad(o, "region-size", "a region side in pixels, at least 1"));
+            }
+            RegionGrid::of_size(viewport, size)
+        }
+        Variant::Ellsworth => {
+            let granularity: u32 = o.get("granularity", 8, "a whole number of regions per processor, at least 1")?;
+            if granularity == 0 {
+                return Err(bad(o, "granularity", "a whole number of regions per processor, at least 1"));
+            }
+            RegionGrid::with_count(viewport, granularity * n).ok_or_else(|| {
+                bad(o, "granularity", &format!("at most {} regions fit a {}x{} screen", viewport.pixels(), viewport.width(), viewport.height()))
+            })?
+        }
+    };
+    let buffer: Bytes = o.get("buffer", Bytes::new(4096), "a buffer size such as 4KiB")?;
+    if buffer.get() < buffers::HEADER_BYTES + buffers::ROUTED_TRIANGLE_BYTES {
+        return Err(bad(o, "buffer", &format!("a buffer of at least {}B (one triangle)", buffers::HEADER_BYTES + buffers::ROUTED_TRIANGLE_BYTES)));
+    }
+    let costs = &cfg.machine.cpu.costs;
+    let default_estimate = costs.get(Op::SetupTriangle) + costs.get(Op::Span).times(3) + (costs.get(Op::PixelTest) + costs.get(Op::PixelWrite)).times(6);
+    let (counts, groups, polygon_estimate) = match variant {
+        Variant::Static => (CountsFrom::Previous, None, default_estimate),
+        Variant::Ellsworth => {
+            let counts = match o.choice("counts", "previous", &["previous", "current"])? {
+                "current" => CountsFrom::Current,
+                _ => CountsFrom::Previous,
+            };
+            let two_step = o.choice("two-step", "off", &["on", "off", "auto"])?;
+            let groups = match two_step {
+                "on" => Some(Groups::near_sqrt(n)),
+                "auto" => two_step_pays(cfg, buffer).then(|| Groups::near_sqrt(n)),
+                _ => None,
+            };
+            let estimate: SimTime = o.get("polygon-estimate", default_estimate, "a time such as 12us")?;
+            (counts, groups, estimate)
+        }
+    };
+    o.finish(cfg.algo.id())?;
+    Ok(Settings { variant, grid, buffer, counts, groups, polygon_estimate })
+}
+
+fn bad(o: &super::Options, key: &str, what: &str) -> RunError {
+    let value = o.pairs().find(|(k, _)| *k == key).map(|(_, v)| v.clone()).unwrap_or_default();
+    RunError::Option(super::OptionError::Invalid { key: key.into(), value, message: format!("expected {what}") })
+}
+
+/// The performance model's verdict on two-step redistribution (paper 002: "an implementation
+/// can determine this automatically"): per processor, one-step pays N-1 message overheads at
+/// least; two-step pays (g-1) + (N/g - 1) but copies and sends every polygon twice.
+fn two_step_pays(cfg: &RunConfig, buffer: Bytes) -> bool {
+    let n = cfg.machine.nodes as u64;
+    if n < 4 {
+        return false;
+    }
+    let cpu = &cfg.machine.cpu;
+    let per_message = cpu.send_overhead + cpu.recv_overhead;
+    let tris = cfg.scene.triangle_count() as u64 / n + 1;
+    let bytes = tris * buffers::TRIANGLE_BYTES;
+    let messages = |streams: u64, bytes: u64| streams.max(bytes.div_ceil(buffer.get()));
+    let g = Groups::near_sqrt(cfg.machine.nodes);
+    let one_step = per_message.times(messages(n - 1, bytes));
+    let (groups, members) = (g.count() as u64, n / g.count() as u64);
+    let two_step = per_message.times(messages(groups - 1, bytes) + messages(members - 1, bytes))
+        + (cpu.send_per_byte + cpu.recv_per_byte + cpu.costs.get(Op::ByteCopy)).times(bytes);
+    two_step < one_step
+}
+
+/// Runs a sort-middle variant.
+pub fn run(cfg: &RunConfig, variant: Variant) -> Result<RunResult, RunError> {
+    let first = cfg.scene.frame(cfg.frames.start)?;
+    let viewport = super::reference::viewport(&first);
+    let settings = settings(cfg, variant, viewport)?;
+    let n = cfg.machine.nodes;
+    let ctx = Rc::new(Ctx {
+        settings,
+        n,
+        cfg: cfg.clone(),
+        viewport,
+        background: first.background,
+        raster: super::reference::raster_options(&first),
+        geometry: RefCell::new(BTreeMap::from([(cfg.frames.start, Rc::new(first))])),
+        records: RefCell::default(),
+        next_assignment: RefCell::default(),
+        images: RefCell::new(vec![None; n as usize]),
+    });
+    let mut sim: Sim<Msg> = Sim::new(&cfg.machine, cfg.seed).map_err(|e| RunError::Unsupported(e.to_string()))?;
+    if cfg.timeline {
+        sim.record_timeline();
+    }
+    for p in 0..n {
+        let (node, ctx) = (sim.node(p), ctx.clone());
+        match variant {
+            Variant::Ellsworth => sim.spawn(p, format!("processor {p}"), ellsworth::processor(node, ctx)),
+            Variant::Static => sim.spawn(p, format!("processor {p}"), static_regions::processor(node, ctx)),
+        }
+    }
+    let stats = sim.run()?;
+    drop(sim);
+    let mut image = Framebuffer::with_clear(viewport, ctx.background);
+    for regions in ctx.images.borrow().iter().flatten() {
+        regions.copy_into(&mut image);
+    }
+    let frames = ctx.records.borrow().values().cloned().collect();
+    Ok(RunResult { stats, frames, image })
+}

@@ -1,0 +1,70 @@
+//! Paper 000's sort-middle renderer as one processor's program: polygons are distributed
+//! evenly for transformation, back-face culling and clipping; only screen coordinates and
+//! colours are sent; the screen is cut into 64x64 regions assigned in a fixed interleaved
+//! pattern; a root process (processor 0) collects the regional images.
+//!
+//! ```text
+//! wait for the frame to start (root)
+//! for (each of my polygons) { transform, cull, clip; send to the owners of its regions }
+//! flush buffers
+//! rasterize my regions
+//! send my regional image to the root; the root waits for every region
+//! ```
+//!
+//! Must never reach into the mechanisms' state: it only calls them.
+
+use std::cell::RefCell;
+use std::rc::Rc;
+
+use super::assign::Assignment;
+use super::redistribute::{self, Redistributor};
+use super::{finish_frame, rasterize, start_frame, transform, Ctx, Msg, TAG_PIXELS};
+use crate::engine::{Filter, Node, SimError};
+use crate::machine::{Counts, Op};
+use crate::units::Bytes;
+
+pub(super) async fn processor(node: Node<Msg>, ctx: Rc<Ctx>) -> Result<(), SimError> {
+    let me = node.id();
+    let assignment = Rc::new(Assignment::interleaved(ctx.settings.grid.count(), ctx.n));
+    let image_bytes = Bytes::new(ctx.viewport.pixels() as u64 * 3);
+    if me == 0 {
+        node.alloc("image", image_bytes)?;
+    }
+    for frame in ctx.frames() {
+        node.phase("synchronize");
+        start_frame(&node, &ctx, frame, None).await;
+
+        let polygons = Rc::new(RefCell::new(Redistributor::new(&ctx, me, frame, assignment.clone())));
+        transform(&node, &ctx, frame, |tris, work| polygons.borrow_mut().place(&ctx, tris, work)).await?;
+        let out = polygons.borrow_mut().own_transform_done();
+        redistribute::send_all(&node, &ctx, out).await;
+
+        let (local, streams) = {
+            let mut p = polygons.borrow_mut();
+            (std::mem::take(&mut p.local), p.expected_streams())
+        };
+        let regions = rasterize(&node, &ctx, frame, &assignment, local, streams).await?;
+        let pixels: u64 = regions.regions().iter().map(|b| b.rect().pixels() as u64).sum();
+        if ctx.is_last(frame) {
+            ctx.images.borrow_mut()[me as usize] = Some(regions);
+        }
+
+        node.phase("collect");
+        if me == 0 {
+            node.compute(&Counts::of(Op::ByteCopy, 3 * pixels)).await;
+            for _ in 1..ctx.n {
+                let env = node.recv(Filter::tag(TAG_PIXELS)).await;
+                let Msg::Pixels { pixels, .. } = env.payload else { unreachable!("filtered by tag") };
+                node.compute(&Counts::of(Op::ByteCopy, 3 * pixels)).await;
+            }
+        } else {
+            ctx.send(&node, 0, Msg::Pixels { frame, pixels }).await;
+        }
+        node.phase("synchronize");
+        finish_frame(&node, &ctx, frame).await;
+    }
+    if me == 0 {
+        node.free("image", image_bytes)?;
+    }
+    Ok(())
+}

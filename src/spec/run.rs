@@ -1,0 +1,165 @@
+//! The run spec: machine, scene, algorithm, processors, frames, seed and `set` options, as
+//! given by `sortsim run` flags or a JSON file (a sweep is a run spec with lists), and its
+//! resolution into a validated `algo::RunConfig`.
+//!
+//! `set` keys that start with `machine.` edit the machine spec before it is validated (so
+//! `machine.network.fidelity=packet` is checked like the file itself); every other key is an
+//! option of the algorithm. Must never run anything.
+
+use std::collections::BTreeMap;
+use std::path::{Path, PathBuf};
+use std::sync::Arc;
+
+use serde::{Deserialize, Serialize};
+
+use super::machine::{validate, MachineSpec};
+use super::SpecError;
+use crate::algo::{AlgorithmId, Options, RunConfig};
+use crate::scene::{Scene, SceneError};
+
+/// One run, as a person writes it.
+#[derive(Clone, Debug, Deserialize, Serialize, PartialEq)]
+#[serde(deny_unknown_fields)]
+pub struct RunSpec {
+    pub machine: PathBuf,
+    pub scene: PathBuf,
+    pub algo: String,
+    pub procs: u32,
+    /// "A..B" (B excluded) or a single frame "A"; all frames when absent.
+    #[serde(default)]
+    pub frames: Option<String>,
+    #[serde(default = "default_seed")]
+    pub seed: u64,
+    /// key = value options; values are strings as on the command line.
+    #[serde(default)]
+    pub set: BTreeMap<String, String>,
+}
+
+fn default_seed() -> u64 {
+    1
+}
+
+/// Why a run cannot be set up.
+#[derive(Debug, thiserror::Error)]
+pub enum RunSpecError {
+    #[error(transparent)]
+    Spec(#[from] SpecError),
+    #[error(transparent)]
+    Scene(#[from] SceneError),
+    #[error("{0}")]
+    Invalid(String),
+}
+
+impl RunSpec {
+    /// Loads the machine and scene and checks everything a run needs before it starts.
+    /// `scene_cache` lets sweeps share one loaded scene between runs.
+    pub fn resolve(&self, scene: Option<Arc<Scene>>) -> Result<RunConfig, RunSpecError> {
+        let algo = AlgorithmId::from_id(&self.algo).ok_or_else(|| {
+            RunSpecError::Invalid(format!("--algo {}: unknown algorithm; valid ids: {}", self.algo, AlgorithmId::valid_ids()))
+        })?;
+        let machine = self.machine_with_overrides()?;
+        if self.procs == 0 {
+            return Err(RunSpecError::Invalid("--procs 0: a run needs at least 1 processor".into()));
+        }
+        let machine = machine
+            .with_nodes(self.procs)
+            .map_err(|e| RunSpecError::Invalid(format!("--procs {}: {e}", self.procs)))?;
+        let scene = match scene {
+            Some(s) => s,
+            None => Arc::new(Scene::load(&self.scene)?),
+        };
+        let frames = parse_frames(self.frames.as_deref(), scene.frame_count())
+            .map_err(|e| RunSpecError::Invalid(format!("--frames {}: {e}", self.frames.as_deref().unwrap_or(""))))?;
+        let options = Options::new(
+            self.set.iter().filter(|(k, _)| !k.starts_with("machine.")).map(|(k, v)| (k.clone(), v.clone())).collect(),
+        );
+        Ok(RunConfig { machine, scene, algo, frames, options, seed: self.seed, timeline: false })
+    }
+
+    /// The machine spec with every `machine.` key of `set` applied, validated.
+    fn machine_with_overrides(&self) -> Result<crate::machine::MachineConfig, RunSpecError> {
+        let text = std::fs::read_to_string(&self.machine).map_err(|source| SpecError::Io { file: self.machine.clone(), source })?;
+        let mut value: serde_json::Value = super::parse_json(&self.machine, &text)?;
+        for (key, raw) in self.set.iter().filter(|(k, _)| k.starts_with("machine.")) {
+            let path: Vec<&str> = key["machine.".len()..].split('.').collect();
+            set_path(&mut value, &path, raw).map_err(|e| RunSpecError::Invalid(format!("--set {key}={raw}: {e}")))?;
+        }
+        let spec: MachineSpec = serde_json::from_value(value.clone()).map_err(|e| {
+            RunSpecError::Invalid(format!("{}: with the --set overrides: {e}", self.machine.display()))
+        })?;
+        Ok(validate(&self.machine, spec)?)
+    }
+}
+
+/// Sets `path` inside `value` to `raw`, read as JSON when it is a number, boolean, list or
+/// object, and as a string otherwise. The path must exist.
+fn set_path(value: &mut serde_json::Value, path: &[&str], raw: &str) -> Result<(), String> {
+    let mut here = value;
+    for (i, key) in path.iter().enumerate() {
+        let obj = here.as_object_mut().ok_or_else(|| format!("`{}` is not an object", path[..i].join(".")))?;
+        let valid = obj.keys().cloned().collect::<Vec<_>>().join(", ");
+        here = obj.get_mut(*key).ok_or_else(|| format!("the machine spec has no field `{}`; valid fields there: {valid}", path[..=i].join(".")))?;
+    }
+    *here = match serde_json::from_str::<serde_json::Value>(raw) {
+        Ok(v) if !v.is_string() => v,
+        _ => serde_json::Value::String(raw.to_string()),
+    };
+    Ok(())
+}
+
+/// "A..B", "A" or all frames.
+pub fn parse_frames(text: Option<&str>, count: u32) -> Result<std::ops::Range<u32>, String> {
+    let valid = format!("the scene has frames 0..{count}; write A..B (B excluded) or A");
+    let range = match text {
+        None => 0..count,
+        Some(t) => match t.split_once("..") {
+            Some((a, b)) => {
+                let a: u32 = a.trim().parse().map_err(|_| valid.clone())?;
+                let b: u32 = b.trim().parse().map_err(|_| valid.clone())?;
+                a..b
+            }
+            None => {
+                let a: u32 = t.trim().parse().map_err(|_| valid.clone())?;
+                a..a + 1
+            }
+        },
+    };
+    if range.is_empty() || range.end > count {
+        return Err(valid);
+    }
+    Ok(range)
+}
+
+/// Resolves a path given relative to a spec file's folder.
+pub fn relative_to(spec_file: &Path, path: &Path) -> PathBuf {
+    if path.is_absolute() {
+        path.to_path_buf()
+    } else {
+        spec_file.parent().unwrap_or(Path::new(".")).join(path)
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn frames_ranges() {
+        assert_eq!(parse_frames(None, 80), Ok(0..80));
+        assert_eq!(parse_frames(Some("3..7"), 80), Ok(3..7));
+        assert_eq!(parse_frames(Some("5"), 80), Ok(5..6));
+        for bad in ["7..3", "0..81", "x", "80", "3..3"] {
+            assert!(parse_frames(Some(bad), 80).unwrap_err().contains("frames 0..80"), "{bad}");
+        }
+    }
+
+    #[test]
+    fn machine_paths_must_exist() {
+        let mut v: serde_json::Value = serde_json::json!({"network": {"fidelity": "flow"}, "nodes": 4});
+        set_path(&mut v, &["network", "fidelity"], "packet").unwrap();
+        set_path(&mut v, &["nodes"], "8").unwrap();
+        assert_eq!(v, serde_json::json!({"network": {"fidelity": "packet"}, "nodes": 8}));
+        let err = set_path(&mut v, &["network", "colour"], "red").unwrap_err();
+        assert!(err.contains("no field `network.colour`; valid fields there: fidelity"), "{err}");
+    }
+}
