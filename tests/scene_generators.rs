@@ -436,3 +436,32 @@ fn polio_shell_builds_and_transforms_quickly() {
     eprintln!("polio shell: load + one frame {took:?}");
     assert!(took.as_secs_f64() < 1.0, "polio shell took {took:?}");
 }
+
+mod properties {
+    use super::*;
+    use proptest::prelude::*;
+
+    proptest! {
+        #![proptest_config(ProptestConfig::with_cases(48))]
+
+        /// Any even number of extra triangles on a closed UV sphere: exact, conforming,
+        /// outward; any number on an open height field: exact, no T-junction.
+        #[test]
+        fn refinement_hits_any_count(rings in 3u32..12, segments in 3u32..12, extra in 0usize..400, seed in 0u64..1000) {
+            let sphere = build(&G::UvSphere { rings, segments }, CTX);
+            let mut m = sphere.clone();
+            let target = sphere.triangles.len() + 2 * extra;
+            refine_to(&mut m, target).unwrap();
+            prop_assert_eq!(m.triangles.len(), target);
+            prop_assert_eq!(unmatched_edges(&m), 0);
+            prop_assert!(volume6(&m) > 0.0);
+
+            let field = build(&G::Terrain { cols: rings, rows: segments, relief: 0.3, seed }, CTX);
+            let mut m = field.clone();
+            let target = field.triangles.len() + extra;
+            refine_to(&mut m, target).unwrap();
+            prop_assert_eq!(m.triangles.len(), target);
+            prop_assert_eq!(t_junctions(&m), 0);
+        }
+    }
+}
