@@ -34,7 +34,7 @@ pub struct SceneSpec {
     /// Number of frames of the animation (at least 1).
     #[serde(default = "one")]
     pub frames: u32,
-    /// Background colour, 8-bit sRGB-free integers 0..=255.
+    /// Background colour, 8-bit RGB, each 0..=255.
     #[serde(default)]
     pub background: [u8; 3],
     /// Whether the rasterizer drops back faces (paper 002's terrain runs with culling off).
