@@ -27,7 +27,7 @@ fn shape(d: Vec3, seed: u64) -> Vec3 {
     r -= 0.06 * bump(d, Vec3::new(-0.4, 0.15, 0.9), 0.006);
     r += 0.06 * bump(d, Vec3::new(0.0, 0.4, -1.0), 0.2); // back of the skull
     r += 0.3 * bump(d, Vec3::new(0.0, -1.0, 0.1), 0.09); // neck
-    // Skin roughness: a fixed function of direction so every seed gives a closed surface.
+                                                         // Skin roughness: a fixed function of direction so every seed gives a closed surface.
     let cell = (
         (d.x * 40.0).floor() as i64 as u64,
         ((d.y * 40.0).floor() as i64 as u64) ^ (((d.z * 40.0).floor() as i64 as u64) << 20),
