@@ -111,8 +111,11 @@ impl Scene {
         Scene::from_spec(path, spec)
     }
 
-    /// Builds a scene from a validated spec; `file` locates OBJ files and names errors.
+    /// Builds a scene from a spec (validated again here, so a spec changed in memory, such as
+    /// by a sweep's overrides, gets the same checks); `file` locates OBJ files and names
+    /// errors.
     pub fn from_spec(file: &Path, spec: SceneSpec) -> Result<Scene, SceneError> {
+        spec.validate(file)?;
         let ctx = gen::GenContext {
             width: spec.resolution[0],
             height: spec.resolution[1],
