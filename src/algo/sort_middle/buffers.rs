@@ -34,14 +34,16 @@ impl<T> Buffers<T> {
     /// Buffers of `buffer_bytes` for `destinations` destinations; at least one item fits.
     pub fn new(destinations: usize, buffer_bytes: Bytes, item_bytes: u64) -> Buffers<T> {
         let capacity = (buffer_bytes.get().saturating_sub(HEADER_BYTES) / item_bytes).max(1) as usize;
-        Buffers { capacity, slots: (0..destinations).map(|_| Vec::with_capacity(capacity)).collect() }
+        // Host vectors grow on demand: a 512-processor run would otherwise hold 512 x 512
+        // full buffers at once (the simulated machine is charged for them regardless).
+        Buffers { capacity, slots: (0..destinations).map(|_| Vec::new()).collect() }
     }
 
     /// Adds `item` for `dst`; returns the buffer's contents when this filled it.
     pub fn push(&mut self, dst: usize, item: T) -> Option<Vec<T>> {
         let slot = &mut self.slots[dst];
         slot.push(item);
-        (slot.len() == self.capacity).then(|| std::mem::replace(slot, Vec::with_capacity(self.capacity)))
+        (slot.len() == self.capacity).then(|| std::mem::take(slot))
     }
 
     /// Empties the buffer of `dst`.

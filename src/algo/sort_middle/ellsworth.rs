@@ -34,6 +34,8 @@ pub(super) async fn processor(node: Node<Msg>, ctx: Rc<Ctx>) -> Result<(), SimEr
     let me = node.id();
     // The first frame's load balancing: region r goes to processor r mod N.
     let mut assignment = Rc::new(Assignment::interleaved(ctx.settings.grid.count(), ctx.n));
+    let buffers = ctx.settings.polygon_buffer_memory(me, ctx.n);
+    node.alloc("polygon buffers", buffers)?;
     for frame in ctx.frames() {
         node.phase("synchronize");
         let update = if me == 0 { ctx.next_assignment.borrow_mut().take() } else { None };
@@ -90,6 +92,7 @@ pub(super) async fn processor(node: Node<Msg>, ctx: Rc<Ctx>) -> Result<(), SimEr
             node.recv(Filter::tag(super::TAG_ASSIGNED)).await;
         }
     }
+    node.free("polygon buffers", buffers)?;
     Ok(())
 }
 

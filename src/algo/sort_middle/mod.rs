@@ -134,6 +134,19 @@ impl Msg {
     }
 }
 
+impl Settings {
+    /// The memory processor `me` keeps for its fixed-size polygon buffers: one per other
+    /// processor, or with two-step redistribution one per other group and one per other
+    /// member of its own group (paper 002).
+    pub fn polygon_buffer_memory(&self, me: u32, n: u32) -> Bytes {
+        let buffers = match &self.groups {
+            None => n - 1,
+            Some(g) => (g.count() - 1) + (g.members(g.group_of(me)).len() as u32 - 1),
+        };
+        self.buffer * buffers as u64
+    }
+}
+
 /// What all processors of one run share on the host: the scene's frames (computed once per
 /// frame, not once per processor), the settings, and the records being written.
 pub(crate) struct Ctx {

@@ -25,7 +25,10 @@ use crate::units::Bytes;
 
 pub(super) async fn processor(node: Node<Msg>, ctx: Rc<Ctx>) -> Result<(), SimError> {
     let me = node.id();
-    let assignment = Rc::new(Assignment::interleaved(ctx.settings.grid.count(), ctx.n));
+    let grid = &ctx.settings.grid;
+    let assignment = Rc::new(Assignment::interleaved_2d(grid.cols(), grid.rows(), ctx.n));
+    let buffers = ctx.settings.polygon_buffer_memory(me, ctx.n);
+    node.alloc("polygon buffers", buffers)?;
     let image_bytes = Bytes::new(ctx.viewport.pixels() as u64 * 3);
     if me == 0 {
         node.alloc("image", image_bytes)?;
@@ -66,5 +69,6 @@ pub(super) async fn processor(node: Node<Msg>, ctx: Rc<Ctx>) -> Result<(), SimEr
     if me == 0 {
         node.free("image", image_bytes)?;
     }
+    node.free("polygon buffers", buffers)?;
     Ok(())
 }
