@@ -30,10 +30,14 @@ pub enum Command {
         files: Vec<PathBuf>,
     },
     /// Simulate an algorithm on a machine and a scene; write its report.
-    #[command(after_help = "Example:\n  sortsim run --machine machines/delta.json --scene scenes/plb-head-standin.json \\\n      --algo sort-middle/ellsworth --procs 64 --frames 0..4 --set granularity=8 -o reports/plb-64")]
+    #[command(
+        after_help = "Example:\n  sortsim run --machine machines/delta.json --scene scenes/plb-head-standin.json \\\n      --algo sort-middle/ellsworth --procs 64 --frames 0..4 --set granularity=8 -o reports/plb-64"
+    )]
     Run(RunArgs),
     /// Draw one frame of a scene with the sequential reference renderer; print its statistics.
-    #[command(after_help = "Example:\n  sortsim render scenes/spd-teapot.json --frame 0 -o teapot.png")]
+    #[command(
+        after_help = "Example:\n  sortsim render scenes/spd-teapot.json --frame 0 -o teapot.png"
+    )]
     Render {
         scene: PathBuf,
         #[arg(long, default_value_t = 0)]
@@ -43,7 +47,9 @@ pub enum Command {
         out: PathBuf,
     },
     /// Statistics of a scene's frames next to the paper's numbers (JSON with --json).
-    #[command(after_help = "Example:\n  sortsim scene-stats scenes/polio-standin.json --frames 0..3 --regions 40x32 --json")]
+    #[command(
+        after_help = "Example:\n  sortsim scene-stats scenes/polio-standin.json --frames 0..3 --regions 40x32 --json"
+    )]
     SceneStats {
         scene: PathBuf,
         /// "A..B" or "A"; frame 0 when absent.

@@ -10,15 +10,15 @@ use std::process::ExitCode;
 
 use clap::Parser;
 use cli::{BenchCommand, Cli, Command, FidelityArg, NetsimArgs, PholdArgs, RunArgs};
+use sortsim::algo::{reference, RunError};
 use sortsim::bench::{phold_report, PholdConfig};
+use sortsim::engine::SimError;
 use sortsim::net::fidelity::{fidelity_table, format_table};
 use sortsim::net::pattern::{run_pattern, Pattern};
 use sortsim::net::Fidelity;
-use sortsim::report::{cost::Stopwatch, to_json, write_atomic};
-use sortsim::algo::{reference, RunError};
-use sortsim::engine::SimError;
 use sortsim::raster::encode_png;
 use sortsim::report::run::{timeline_json, RunSummary};
+use sortsim::report::{cost::Stopwatch, to_json, write_atomic};
 use sortsim::scene::Scene;
 use sortsim::spec::run::{parse_frames, RunSpec, RunSpecError};
 use sortsim::spec::{check::check, load_json, machine::load_machine, SpecError};
@@ -72,7 +72,12 @@ fn main() -> ExitCode {
         Some(Command::Netsim(args)) => netsim(&args),
         Some(Command::Run(args)) => run(&args),
         Some(Command::Render { scene, frame, out }) => render(&scene, frame, &out),
-        Some(Command::SceneStats { scene, frames, regions, json }) => scene_stats(&scene, frames.as_deref(), regions, json),
+        Some(Command::SceneStats {
+            scene,
+            frames,
+            regions,
+            json,
+        }) => scene_stats(&scene, frames.as_deref(), regions, json),
         Some(Command::Bench(BenchCommand::Phold(args))) => bench_phold(&args),
     };
     match outcome {
@@ -167,7 +172,12 @@ fn run(args: &RunArgs) -> Result<(), Failure> {
     }
     write_bytes(&args.out.join(format!("frame-{last:04}.png")), &png)?;
     print!("{}", summary.markdown());
-    println!("\nreport written to {} (simulated in {:.2} s wall, {} events)", args.out.display(), cost.wall_s, cost.events);
+    println!(
+        "\nreport written to {} (simulated in {:.2} s wall, {} events)",
+        args.out.display(),
+        cost.wall_s,
+        cost.events
+    );
     Ok(())
 }
 
@@ -178,7 +188,12 @@ fn render(scene: &Path, frame: u32, out: &Path) -> Result<(), Failure> {
     let png = png_bytes(&image)?;
     write_bytes(out, &png)?;
     println!("{}", to_json(&counters_json(&counters)).trim_end());
-    println!("wrote {} ({}x{})", out.display(), geometry.width, geometry.height);
+    println!(
+        "wrote {} ({}x{})",
+        out.display(),
+        geometry.width,
+        geometry.height
+    );
     Ok(())
 }
 
@@ -198,7 +213,12 @@ fn counters_json(c: &sortsim::raster::Counters) -> serde_json::Value {
     })
 }
 
-fn scene_stats(path: &Path, frames: Option<&str>, regions: Option<(u32, u32)>, json: bool) -> Result<(), Failure> {
+fn scene_stats(
+    path: &Path,
+    frames: Option<&str>,
+    regions: Option<(u32, u32)>,
+    json: bool,
+) -> Result<(), Failure> {
     use sortsim::scene::stats::raster_overlap_factor;
     let scene = Scene::load(path)?;
     let frames = parse_frames(Some(frames.unwrap_or("0")), scene.frame_count())
@@ -251,7 +271,8 @@ fn png_bytes(image: &sortsim::raster::Framebuffer) -> Result<Vec<u8>, Failure> {
 }
 
 fn write_bytes(path: &Path, bytes: &[u8]) -> Result<(), Failure> {
-    write_atomic(path, bytes).map_err(|e| Failure::BadInput(format!("{}: cannot write: {e}", path.display())))
+    write_atomic(path, bytes)
+        .map_err(|e| Failure::BadInput(format!("{}: cannot write: {e}", path.display())))
 }
 
 fn write_file(dir: &Path, name: &str, text: &str) -> Result<(), Failure> {

@@ -7,8 +7,8 @@
 
 pub mod check;
 pub mod machine;
-pub mod run;
 mod quantity;
+pub mod run;
 pub mod scene;
 
 use std::path::{Path, PathBuf};
