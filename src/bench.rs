@@ -310,7 +310,9 @@ pub fn overhead(
         seed: 1,
         set,
     };
-    let cfg = spec.resolve(Some(scene.clone())).map_err(|e| e.to_string())?;
+    let cfg = spec
+        .resolve(Some(scene.clone()))
+        .map_err(|e| e.to_string())?;
     let t1 = Instant::now();
     let result = run(&cfg).map_err(|e| e.to_string())?;
     let simulate_wall = t1.elapsed().as_secs_f64();

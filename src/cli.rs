@@ -129,7 +129,9 @@ pub enum BenchCommand {
     )]
     Phold(PholdArgs),
     /// Simulating one frame of Ellsworth's algorithm against rendering it sequentially.
-    #[command(after_help = "Example:\n  sortsim bench overhead --scene scenes/polio-standin.json --procs 512 --fidelity hops")]
+    #[command(
+        after_help = "Example:\n  sortsim bench overhead --scene scenes/polio-standin.json --procs 512 --fidelity hops"
+    )]
     Overhead {
         #[arg(long, default_value = "machines/delta.json")]
         machine: PathBuf,

@@ -29,6 +29,12 @@ enum Failure {
     Internal(String),
 }
 
+impl From<sortsim::spec::check::CheckError> for Failure {
+    fn from(e: sortsim::spec::check::CheckError) -> Failure {
+        Failure::BadInput(e.to_string())
+    }
+}
+
 impl From<SpecError> for Failure {
     fn from(e: SpecError) -> Failure {
         Failure::BadInput(e.to_string())
@@ -65,6 +71,7 @@ impl From<sortsim::engine::SimError> for Failure {
 }
 
 fn main() -> ExitCode {
+    restore_default_sigpipe();
     let cli = Cli::parse();
     let outcome = match cli.command {
         None => default_job(),
@@ -79,9 +86,13 @@ fn main() -> ExitCode {
             json,
         }) => scene_stats(&scene, frames.as_deref(), regions, json),
         Some(Command::Bench(BenchCommand::Phold(args))) => bench_phold(&args),
-        Some(Command::Bench(BenchCommand::Overhead { machine, scene, procs, frame, fidelity })) => {
-            bench_overhead(&machine, &scene, procs, frame, &fidelity)
-        }
+        Some(Command::Bench(BenchCommand::Overhead {
+            machine,
+            scene,
+            procs,
+            frame,
+            fidelity,
+        })) => bench_overhead(&machine, &scene, procs, frame, &fidelity),
     };
     match outcome {
         Ok(()) => ExitCode::SUCCESS,
@@ -93,6 +104,16 @@ fn main() -> ExitCode {
             eprintln!("internal error (please report it): {msg}");
             ExitCode::from(1)
         }
+    }
+}
+
+/// A closed pipe (`sortsim check ... | head`) ends the process quietly, as for any Unix tool,
+/// instead of making a print fail.
+fn restore_default_sigpipe() {
+    #[cfg(unix)]
+    // SAFETY: called first thing in main, before any thread exists; SIG_DFL is always valid.
+    unsafe {
+        libc::signal(libc::SIGPIPE, libc::SIG_DFL);
     }
 }
 
@@ -284,7 +305,13 @@ fn write_file(dir: &Path, name: &str, text: &str) -> Result<(), Failure> {
         .map_err(|e| Failure::BadInput(format!("{}: cannot write: {e}", path.display())))
 }
 
-fn bench_overhead(machine: &Path, scene: &Path, procs: u32, frame: u32, fidelities: &[FidelityArg]) -> Result<(), Failure> {
+fn bench_overhead(
+    machine: &Path,
+    scene: &Path,
+    procs: u32,
+    frame: u32,
+    fidelities: &[FidelityArg],
+) -> Result<(), Failure> {
     let scene = std::sync::Arc::new(Scene::load(scene)?);
     let levels: Vec<Option<&str>> = if fidelities.is_empty() {
         vec![None]
@@ -292,8 +319,12 @@ fn bench_overhead(machine: &Path, scene: &Path, procs: u32, frame: u32, fideliti
         fidelities.iter().map(|f| Some(fidelity_name(*f))).collect()
     };
     for level in levels {
-        let set = level.map(|l| ("machine.network.fidelity".to_string(), l.to_string())).into_iter().collect();
-        let report = sortsim::bench::overhead(machine, scene.clone(), procs, frame, set).map_err(Failure::BadInput)?;
+        let set = level
+            .map(|l| ("machine.network.fidelity".to_string(), l.to_string()))
+            .into_iter()
+            .collect();
+        let report = sortsim::bench::overhead(machine, scene.clone(), procs, frame, set)
+            .map_err(Failure::BadInput)?;
         print!("{}", to_json(&report));
     }
     Ok(())

@@ -33,7 +33,7 @@ fn corpus(kind: &str) -> Vec<(PathBuf, String)> {
     let mut present: Vec<_> = std::fs::read_dir(&dir)
         .unwrap()
         .map(|e| e.unwrap().path())
-        .filter(|p| p.file_name().unwrap() != "EXPECTED.txt")
+        .filter(|p| p.is_file() && p.file_name().unwrap() != "EXPECTED.txt")
         .collect();
     listed.sort();
     present.sort();
@@ -74,6 +74,21 @@ fn every_bad_machine_is_refused_with_its_message() {
     for (file, fragment) in corpus("machine") {
         let out = sortsim(&["check", file.to_str().unwrap()]);
         check_refusal(&out, &file, &fragment);
+    }
+}
+
+#[test]
+fn every_bad_scene_is_refused_with_its_message() {
+    for (file, fragment) in corpus("scene") {
+        let out = sortsim(&["check", file.to_str().unwrap()]);
+        let stderr = String::from_utf8_lossy(&out.stderr);
+        assert_eq!(out.status.code(), Some(2), "{}: {stderr}", file.display());
+        assert!(
+            stderr.contains(&fragment),
+            "{}: expected {fragment:?} in: {stderr}",
+            file.display()
+        );
+        assert!(!stderr.contains("panicked"), "{stderr}");
     }
 }
 

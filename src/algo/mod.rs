@@ -128,6 +128,16 @@ pub enum RunError {
     Unsupported(String),
 }
 
+/// Checks `cfg`'s options as a run would, without running it.
+pub fn check_options(cfg: &RunConfig) -> Result<(), RunError> {
+    match cfg.algo {
+        AlgorithmId::SortMiddleStatic => sort_middle::check(cfg, sort_middle::Variant::Static),
+        AlgorithmId::SortMiddleEllsworth => {
+            sort_middle::check(cfg, sort_middle::Variant::Ellsworth)
+        }
+    }
+}
+
 /// Runs `cfg` to the end of its last frame.
 pub fn run(cfg: &RunConfig) -> Result<RunResult, RunError> {
     match cfg.algo {

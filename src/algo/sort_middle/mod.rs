@@ -581,6 +581,12 @@ fn two_step_pays(cfg: &RunConfig, buffer: Bytes) -> bool {
     two_step < one_step
 }
 
+/// Checks a variant's options against `cfg` without running it.
+pub fn check(cfg: &RunConfig, variant: Variant) -> Result<(), RunError> {
+    let first = cfg.scene.frame(cfg.frames.start)?;
+    settings(cfg, variant, super::reference::viewport(&first)).map(|_| ())
+}
+
 /// Runs a sort-middle variant.
 pub fn run(cfg: &RunConfig, variant: Variant) -> Result<RunResult, RunError> {
     let first = cfg.scene.frame(cfg.frames.start)?;
