@@ -74,6 +74,7 @@ fn main() -> ExitCode {
         Some(Command::Render { scene, frame, out }) => render(&scene, frame, &out),
         Some(Command::SceneStats { scene, frames, regions, json }) => scene_stats(&scene, frames.as_deref(), regions, json),
         Some(Command::Bench(BenchCommand::Phold(args))) => bench_phold(&args),
+        Some(Command::Utilization(args)) => utilization(&args),
     };
     match outcome {
         Ok(()) => ExitCode::SUCCESS,
@@ -316,4 +317,78 @@ fn default_job() -> Result<(), Failure> {
     write_file(&out, "fidelity.txt", &table)?;
     println!("\nreport written to {}", out.display());
     Ok(())
+}
+
+/// Ellsworth's utilization simulator (paper 002, Figure 4) and performance model (Figure 5).
+fn utilization(args: &cli::UtilizationArgs) -> Result<(), Failure> {
+    use sortsim::algo::sort_middle::utilization::{parse_list, simulate, Config, CountsMode, UtilizationError};
+    let root = Path::new(env!("CARGO_MANIFEST_DIR"));
+    let machine_path = args.machine.clone().unwrap_or_else(|| root.join("machines/delta.json"));
+    let machine = load_machine(&machine_path)?;
+    let scene = Scene::load(&args.scene)?;
+    let list = |flag: &str, text: &str| parse_list(text).map_err(|e| Failure::BadInput(format!("{flag}: {e}")));
+    let (procs, granularities) = (list("--procs", &args.procs)?, list("--granularity", &args.granularity)?);
+    let range = parse_frames(args.frames.as_deref(), scene.frame_count())
+        .map_err(|e| Failure::BadInput(format!("{}: --frames: {e}", args.scene.display())))?;
+    let frames: Vec<u32> = range.clone().step_by(args.frame_step as usize).collect();
+    let cfg = Config::new(&procs, &granularities, &frames).map_err(|e| Failure::BadInput(e.to_string()))?;
+    let modes: Vec<CountsMode> = match args.counts {
+        cli::CountsArg::Current => vec![CountsMode::Current],
+        cli::CountsArg::Previous => vec![CountsMode::Previous],
+        cli::CountsArg::Both => vec![CountsMode::Current, CountsMode::Previous],
+    };
+    let clock = Stopwatch::start();
+    let outcome = simulate(&scene, &machine, &cfg).map_err(|e| match e {
+        UtilizationError::Invalid(m) => Failure::BadInput(m),
+        UtilizationError::Scene(e) => e.into(),
+    })?;
+    let wall = clock.cost(0).wall_s;
+    println!(
+        "{}: {} of {} frames (frames {}..{} every {}), {:.0} screen triangles and {:.0} pixels tested per frame; costs from {}{}",
+        args.scene.display(),
+        frames.len(),
+        scene.frame_count(),
+        range.start,
+        range.end,
+        args.frame_step,
+        outcome.mean_screen_triangles,
+        outcome.mean_pixels_tested,
+        machine_path.display(),
+        if outcome.prices.fallback { " (it prices no rasterization operation: documented fallback costs used, see utilization.json)" } else { "" }
+    );
+    println!();
+    print!("{}", outcome.table(&modes, "Expected rasterization utilization (%)", 1, |c| 100.0 * c.utilization));
+    let figure5 = if modes.contains(&CountsMode::Previous) { CountsMode::Previous } else { CountsMode::Current };
+    print!("{}", outcome.table(&[figure5], "Relative execution time (performance model)", 3, |c| c.relative_time));
+    print!("{}", outcome.table(&[CountsMode::Interleaved], "Baseline utilization (%), no load balancing (region r to r mod N)", 1, |c| 100.0 * c.utilization));
+    if let Some(dir) = &args.out {
+        write_file(dir, "utilization.csv", &outcome.csv())?;
+        let json = outcome.json(&args.scene.display().to_string(), &machine_path.display().to_string());
+        write_file(dir, "utilization.json", &to_json(&json))?;
+        utilization_plots(dir, &outcome, &modes, figure5)?;
+        println!("written to {}", dir.display());
+    }
+    println!("simulated in {wall:.1} s wall");
+    Ok(())
+}
+
+/// The Figure 4 and Figure 5 charts. Until the plotting module lands, their data as CSV.
+fn utilization_plots(
+    dir: &Path,
+    outcome: &sortsim::algo::sort_middle::utilization::Outcome,
+    modes: &[sortsim::algo::sort_middle::utilization::CountsMode],
+    figure5: sortsim::algo::sort_middle::utilization::CountsMode,
+) -> Result<(), Failure> {
+    let mut fig4 = String::from("counts,granularity,procs,utilization_pct\n");
+    let mut fig5 = String::from("procs,granularity,relative_time\n");
+    for c in &outcome.cells {
+        if modes.contains(&c.counts) {
+            fig4.push_str(&format!("{},{},{},{:.4}\n", c.counts.name(), c.granularity, c.procs, 100.0 * c.utilization));
+        }
+        if c.counts == figure5 {
+            fig5.push_str(&format!("{},{},{:.5}\n", c.procs, c.granularity, c.relative_time));
+        }
+    }
+    write_file(dir, "figure4.csv", &fig4)?;
+    write_file(dir, "figure5.csv", &fig5)
 }
