@@ -360,7 +360,7 @@ fn utilization(args: &cli::UtilizationArgs) -> Result<(), Failure> {
     print!("{}", outcome.table(&modes, "Expected rasterization utilization (%)", 1, |c| 100.0 * c.utilization));
     let figure5 = if modes.contains(&CountsMode::Previous) { CountsMode::Previous } else { CountsMode::Current };
     print!("{}", outcome.table(&[figure5], "Relative execution time (performance model)", 3, |c| c.relative_time));
-    print!("{}", outcome.table(&[CountsMode::Interleaved], "Baseline utilization (%), no load balancing (region r to r mod N)", 1, |c| 100.0 * c.utilization));
+    print!("{}", outcome.table(&[CountsMode::Interleaved], "Baseline utilization (%)", 1, |c| 100.0 * c.utilization));
     if let Some(dir) = &args.out {
         write_file(dir, "utilization.csv", &outcome.csv())?;
         let json = outcome.json(&args.scene.display().to_string(), &machine_path.display().to_string());

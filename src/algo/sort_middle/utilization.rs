@@ -56,6 +56,15 @@ pub enum CountsMode {
 impl CountsMode {
     pub const ALL: [CountsMode; 3] = [CountsMode::Current, CountsMode::Previous, CountsMode::Interleaved];
 
+    /// How the assignment was made, for table titles.
+    pub fn describe(self) -> &'static str {
+        match self {
+            CountsMode::Current => "bin packing on the current frame's counts",
+            CountsMode::Previous => "bin packing on the previous frame's counts",
+            CountsMode::Interleaved => "no load balancing (region r to processor r mod N)",
+        }
+    }
+
     pub fn name(self) -> &'static str {
         match self {
             CountsMode::Current => "current",
@@ -462,7 +471,7 @@ impl Outcome {
         let (procs, grans) = self.axes();
         let mut out = String::new();
         for &mode in modes {
-            out.push_str(&format!("{title}, {} frame's counts\n", mode.name()));
+            out.push_str(&format!("{title}, {}\n", mode.describe()));
             out.push_str(&format!("{:>6}", "N \\ g"));
             for g in &grans {
                 out.push_str(&format!(" {g:>6}"));
