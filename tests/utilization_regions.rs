@@ -38,7 +38,13 @@ fn check(scene: &str, frame: u32, region_counts: &[u32]) {
     let geometry = scene.frame(frame).unwrap();
     let vp = viewport(&geometry);
     let mut tris = Vec::new();
-    setup_mesh(&geometry.vertices, &geometry.triangles, vp, &raster_options(&geometry), &mut tris);
+    setup_mesh(
+        &geometry.vertices,
+        &geometry.triangles,
+        vp,
+        &raster_options(&geometry),
+        &mut tris,
+    );
     for &count in region_counts {
         let grid = RegionGrid::with_count(vp, count).unwrap();
         let counts = profile.counts(&grid);
@@ -57,13 +63,19 @@ fn check(scene: &str, frame: u32, region_counts: &[u32]) {
             let rect = grid.rect(r);
             let mut target = RegionSet::new(vp, vec![rect]).unwrap();
             let c = draw_screen_triangles(&mine, &mut target);
-            assert_eq!(counts[r as usize] as u64, c.triangles_scanned, "{count} regions, region {r}: polygon count");
+            assert_eq!(
+                counts[r as usize] as u64, c.triangles_scanned,
+                "{count} regions, region {r}: polygon count"
+            );
             let expected = prices.clear_pixel.times(rect.pixels() as u64)
                 + prices.setup_triangle.times(c.triangles_scanned)
                 + prices.span.times(c.spans)
                 + prices.pixel_test.times(c.pixels_tested)
                 + prices.pixel_write.times(c.pixels_written);
-            assert_eq!(times[r as usize], expected, "{count} regions, region {r}: {c:?}");
+            assert_eq!(
+                times[r as usize], expected,
+                "{count} regions, region {r}: {c:?}"
+            );
         }
     }
 }

@@ -54,7 +54,11 @@ pub enum CountsMode {
 }
 
 impl CountsMode {
-    pub const ALL: [CountsMode; 3] = [CountsMode::Current, CountsMode::Previous, CountsMode::Interleaved];
+    pub const ALL: [CountsMode; 3] = [
+        CountsMode::Current,
+        CountsMode::Previous,
+        CountsMode::Interleaved,
+    ];
 
     /// How the assignment was made, for table titles.
     pub fn describe(self) -> &'static str {
@@ -87,16 +91,24 @@ pub struct Config {
 impl Config {
     /// Processor counts, granularity ratios and the frames to average over (sorted, without
     /// repeats). Every list must be non-empty and hold no zero.
-    pub fn new(procs: &[u32], granularities: &[u32], frames: &[u32]) -> Result<Config, UtilizationError> {
+    pub fn new(
+        procs: &[u32],
+        granularities: &[u32],
+        frames: &[u32],
+    ) -> Result<Config, UtilizationError> {
         let clean = |what: &'static str, v: &[u32], zero_ok: bool| {
             let mut v = v.to_vec();
             v.sort_unstable();
             v.dedup();
             if v.is_empty() {
-                return Err(UtilizationError::Invalid(format!("{what}: the list is empty")));
+                return Err(UtilizationError::Invalid(format!(
+                    "{what}: the list is empty"
+                )));
             }
             if !zero_ok && v[0] == 0 {
-                return Err(UtilizationError::Invalid(format!("{what}: 0 is not allowed; expected whole numbers of at least 1")));
+                return Err(UtilizationError::Invalid(format!(
+                    "{what}: 0 is not allowed; expected whole numbers of at least 1"
+                )));
             }
             Ok(v)
         };
@@ -166,11 +178,20 @@ impl Prices {
     /// rasterization operation.
     pub fn of(machine: &MachineConfig) -> Prices {
         let costs = &machine.cpu.costs;
-        let raster_ops = [Op::SetupTriangle, Op::Span, Op::PixelTest, Op::PixelWrite, Op::ClearPixel];
+        let raster_ops = [
+            Op::SetupTriangle,
+            Op::Span,
+            Op::PixelTest,
+            Op::PixelWrite,
+            Op::ClearPixel,
+        ];
         let fallback = raster_ops.iter().all(|&op| costs.get(op) == SimTime::ZERO);
         let get = |op: Op| {
             if fallback {
-                FALLBACK.iter().find(|(o, _)| *o == op).map_or(SimTime::ZERO, |(_, t)| *t)
+                FALLBACK
+                    .iter()
+                    .find(|(o, _)| *o == op)
+                    .map_or(SimTime::ZERO, |(_, t)| *t)
             } else {
                 costs.get(op)
             }
@@ -252,7 +273,13 @@ impl FrameProfile {
         let geometry = scene.frame(frame)?;
         let vp = viewport(&geometry);
         let mut tris = Vec::new();
-        let front = setup_mesh(&geometry.vertices, &geometry.triangles, vp, &raster_options(&geometry), &mut tris);
+        let front = setup_mesh(
+            &geometry.vertices,
+            &geometry.triangles,
+            vp,
+            &raster_options(&geometry),
+            &mut tris,
+        );
         let mut target = PixelTimes::new(vp, prices);
         let mut counters = Counters::default();
         for t in &tris {
@@ -283,8 +310,15 @@ impl FrameProfile {
         (0..grid.count())
             .map(|r| {
                 let rect = grid.rect(r);
-                let (x0, y0, x1, y1) = (rect.x0() as usize, rect.y0() as usize, rect.x1() as usize, rect.y1() as usize);
-                let inside = self.area[y1 * w1 + x1] + self.area[y0 * w1 + x0] - self.area[y0 * w1 + x1] - self.area[y1 * w1 + x0];
+                let (x0, y0, x1, y1) = (
+                    rect.x0() as usize,
+                    rect.y0() as usize,
+                    rect.x1() as usize,
+                    rect.y1() as usize,
+                );
+                let inside = self.area[y1 * w1 + x1] + self.area[y0 * w1 + x0]
+                    - self.area[y0 * w1 + x1]
+                    - self.area[y1 * w1 + x0];
                 let entering = self.crossing[x0 * h1 + y1] - self.crossing[x0 * h1 + y0];
                 prices.region_overhead(rect)
                     + prices.setup_triangle.times(counts[r as usize] as u64)
@@ -299,7 +333,13 @@ pub fn frame_counts(scene: &Scene, frame: u32) -> Result<(Viewport, Vec<[u16; 4]
     let geometry = scene.frame(frame)?;
     let vp = viewport(&geometry);
     let mut tris = Vec::new();
-    setup_mesh(&geometry.vertices, &geometry.triangles, vp, &raster_options(&geometry), &mut tris);
+    setup_mesh(
+        &geometry.vertices,
+        &geometry.triangles,
+        vp,
+        &raster_options(&geometry),
+        &mut tris,
+    );
     Ok((vp, boxes(&tris, vp)))
 }
 
@@ -376,7 +416,8 @@ impl PixelTimes {
         let mut crossing = vec![0u64; (w + 1) * (h + 1)];
         for x in 0..w {
             for y in 0..h {
-                crossing[x * (h + 1) + y + 1] = crossing[x * (h + 1) + y] + span * self.crossing[y * w + x] as u64;
+                crossing[x * (h + 1) + y + 1] =
+                    crossing[x * (h + 1) + y] + span * self.crossing[y * w + x] as u64;
             }
         }
         (area, crossing)
@@ -449,7 +490,9 @@ pub struct Outcome {
 
 impl Outcome {
     pub fn cell(&self, procs: u32, granularity: u32, counts: CountsMode) -> Option<&Cell> {
-        self.cells.iter().find(|c| c.procs == procs && c.granularity == granularity && c.counts == counts)
+        self.cells
+            .iter()
+            .find(|c| c.procs == procs && c.granularity == granularity && c.counts == counts)
     }
 }
 
@@ -467,7 +510,13 @@ impl Outcome {
 
     /// A table a person reads: rows N, columns granularity, one block per mode, of
     /// `value(cell)` formatted with `digits` decimals.
-    pub fn table(&self, modes: &[CountsMode], title: &str, digits: usize, value: impl Fn(&Cell) -> f64) -> String {
+    pub fn table(
+        &self,
+        modes: &[CountsMode],
+        title: &str,
+        digits: usize,
+        value: impl Fn(&Cell) -> f64,
+    ) -> String {
         let (procs, grans) = self.axes();
         let mut out = String::new();
         for &mode in modes {
@@ -567,7 +616,11 @@ struct Sums {
 }
 
 /// Runs the utilization simulator over the configured frames of `scene`.
-pub fn simulate(scene: &Scene, machine: &MachineConfig, cfg: &Config) -> Result<Outcome, UtilizationError> {
+pub fn simulate(
+    scene: &Scene,
+    machine: &MachineConfig,
+    cfg: &Config,
+) -> Result<Outcome, UtilizationError> {
     if let Some(&bad) = cfg.frames.iter().find(|&&f| f >= scene.frame_count()) {
         return Err(UtilizationError::Invalid(format!(
             "--frames: frame {bad} is past the end; the scene has frames 0..{}",
@@ -595,23 +648,35 @@ pub fn simulate(scene: &Scene, machine: &MachineConfig, cfg: &Config) -> Result<
             }
         };
         for (&regions, pairs) in &grids(cfg) {
-            let grid = RegionGrid::with_count(profile.viewport, regions).ok_or_else(|| too_many(regions, profile.viewport))?;
+            let grid = RegionGrid::with_count(profile.viewport, regions)
+                .ok_or_else(|| too_many(regions, profile.viewport))?;
             let counts = profile.counts(&grid);
             let times = profile.region_times(&grid, &counts, &prices);
             let previous_counts = previous.map(|(vp, b)| classify(b, vp, &grid));
-            let overlap = counts.iter().map(|&c| c as u64).sum::<u64>() as f64 / profile.boxes.len().max(1) as f64;
+            let overlap = counts.iter().map(|&c| c as u64).sum::<u64>() as f64
+                / profile.boxes.len().max(1) as f64;
             for &(n, g) in pairs {
-                let model = |max_load: SimTime| stage_times(&profile, n, overlap, max_load, &prices, cfg.buffer);
+                let model = |max_load: SimTime| {
+                    stage_times(&profile, n, overlap, max_load, &prices, cfg.buffer)
+                };
                 for mode in CountsMode::ALL {
                     let owner = match (mode, &previous_counts) {
                         (CountsMode::Current, _) => balance(&grid, &counts, n, &prices),
                         (CountsMode::Previous, Some(prev)) => balance(&grid, prev, n, &prices),
-                        (CountsMode::Previous, None) | (CountsMode::Interleaved, _) => Assignment::interleaved(regions, n).owner,
+                        (CountsMode::Previous, None) | (CountsMode::Interleaved, _) => {
+                            Assignment::interleaved(regions, n).owner
+                        }
                     };
                     let u = utilization(&times, &owner, n);
-                    let max_load = processor_loads(&times, &owner, n).into_iter().max().unwrap_or(SimTime::ZERO);
+                    let max_load = processor_loads(&times, &owner, n)
+                        .into_iter()
+                        .max()
+                        .unwrap_or(SimTime::ZERO);
                     let (t, d, r) = model(max_load);
-                    let s = sums.entry((mode, n, g)).or_insert(Sums { utilization_min: f64::INFINITY, ..Sums::default() });
+                    let s = sums.entry((mode, n, g)).or_insert(Sums {
+                        utilization_min: f64::INFINITY,
+                        ..Sums::default()
+                    });
                     s.utilization += u;
                     s.utilization_min = s.utilization_min.min(u);
                     s.overlap += overlap;
@@ -657,8 +722,9 @@ fn too_many(regions: u32, vp: Viewport) -> UtilizationError {
 /// multiple-bin packing (largest first, each to the least-loaded processor).
 fn balance(grid: &RegionGrid, counts: &[u32], n: u32, prices: &Prices) -> Vec<u32> {
     let estimate = prices.polygon_estimate();
-    let estimates: Vec<SimTime> =
-        (0..grid.count()).map(|r| prices.region_overhead(grid.rect(r)) + estimate.times(counts[r as usize] as u64)).collect();
+    let estimates: Vec<SimTime> = (0..grid.count())
+        .map(|r| prices.region_overhead(grid.rect(r)) + estimate.times(counts[r as usize] as u64))
+        .collect();
     Assignment::greedy(&estimates, &vec![SimTime::ZERO; n as usize]).owner
 }
 
@@ -667,17 +733,35 @@ fn balance(grid: &RegionGrid, counts: &[u32], n: u32, prices: &Prices) -> Vec<u3
 /// times the overlap factor (copies, bytes, and at least one message to every other
 /// processor), and the rasterization as the largest processor load. No congestion, no load
 /// balancing time, as in the paper.
-fn stage_times(profile: &FrameProfile, n: u32, overlap: f64, max_load: SimTime, prices: &Prices, buffer: Bytes) -> (SimTime, SimTime, SimTime) {
+fn stage_times(
+    profile: &FrameProfile,
+    n: u32,
+    overlap: f64,
+    max_load: SimTime,
+    prices: &Prices,
+    buffer: Bytes,
+) -> (SimTime, SimTime, SimTime) {
     let n64 = n as u64;
-    let transform = prices.transform_vertex.times(3 * profile.triangles_in.div_ceil(n64));
+    let transform = prices
+        .transform_vertex
+        .times(3 * profile.triangles_in.div_ceil(n64));
     // Copies sent per processor: its share of the screen triangles times the overlap factor;
     // the fraction 1/N that stays local is neither sent nor received.
     let copies = (profile.screen_triangles as f64 * overlap / n as f64).round() as u64;
     let remote = copies * (n64 - 1) / n64;
     let bytes = remote * TRIANGLE_BYTES;
-    let per_message = buffer.get().saturating_sub(HEADER_BYTES).max(TRIANGLE_BYTES);
-    let messages = if n == 1 { 0 } else { (n64 - 1).max(bytes.div_ceil(per_message)) };
-    let redistribute = prices.byte_copy.times(copies * TRIANGLE_BYTES) + prices.per_byte.times(bytes) + prices.message.times(messages);
+    let per_message = buffer
+        .get()
+        .saturating_sub(HEADER_BYTES)
+        .max(TRIANGLE_BYTES);
+    let messages = if n == 1 {
+        0
+    } else {
+        (n64 - 1).max(bytes.div_ceil(per_message))
+    };
+    let redistribute = prices.byte_copy.times(copies * TRIANGLE_BYTES)
+        + prices.per_byte.times(bytes)
+        + prices.message.times(messages);
     (transform, redistribute, max_load)
 }
 
@@ -727,12 +811,21 @@ pub fn parse_list(text: &str) -> Result<Vec<u32>, String> {
         if i < 2 || i + 2 != items.len() {
             return Err(format!("'{text}': write an ellipsis as A,B,...,Z"));
         }
-        let number = |s: &str| s.parse::<u32>().map_err(|_| format!("'{s}' is not a whole number"));
+        let number = |s: &str| {
+            s.parse::<u32>()
+                .map_err(|_| format!("'{s}' is not a whole number"))
+        };
         for s in &items[..i - 2] {
             out.push(number(s)?);
         }
-        let (a, b, z) = (number(items[i - 2])?, number(items[i - 1])?, number(items[i + 1])?);
-        out.extend(series(a, b, z).ok_or_else(|| format!("'{text}': {a},{b},... never reaches {z}"))?);
+        let (a, b, z) = (
+            number(items[i - 2])?,
+            number(items[i - 1])?,
+            number(items[i + 1])?,
+        );
+        out.extend(
+            series(a, b, z).ok_or_else(|| format!("'{text}': {a},{b},... never reaches {z}"))?,
+        );
     } else {
         for item in items {
             out.extend(parse_item(item)?);
@@ -747,9 +840,17 @@ pub fn parse_list(text: &str) -> Result<Vec<u32>, String> {
 }
 
 fn parse_item(item: &str) -> Result<Vec<u32>, String> {
-    let number = |s: &str| s.trim().parse::<u32>().map_err(|_| format!("'{s}' is not a whole number (in '{item}')"));
+    let number = |s: &str| {
+        s.trim()
+            .parse::<u32>()
+            .map_err(|_| format!("'{s}' is not a whole number (in '{item}')"))
+    };
     let Some((a, rest)) = item.split_once("..") else {
-        return if item.is_empty() { Ok(Vec::new()) } else { Ok(vec![number(item)?]) };
+        return if item.is_empty() {
+            Ok(Vec::new())
+        } else {
+            Ok(vec![number(item)?])
+        };
     };
     let (b, step) = rest.split_once(':').unwrap_or((rest, "1"));
     let (a, b) = (number(a)?, number(b.trim_start_matches('='))?);
@@ -782,7 +883,10 @@ fn parse_item(item: &str) -> Result<Vec<u32>, String> {
 fn series(a: u32, b: u32, z: u32) -> Option<Vec<u32>> {
     if a >= 1 && b > a && b % a == 0 {
         let f = (b / a) as u64;
-        let v: Vec<u32> = std::iter::successors(Some(a as u64), |x| Some(x * f)).take_while(|&x| x <= z as u64).map(|x| x as u32).collect();
+        let v: Vec<u32> = std::iter::successors(Some(a as u64), |x| Some(x * f))
+            .take_while(|&x| x <= z as u64)
+            .map(|x| x as u32)
+            .collect();
         if v.last() == Some(&z) {
             return Some(v);
         }
@@ -819,13 +923,22 @@ mod tests {
 
     #[test]
     fn loads_sum_each_processors_regions() {
-        assert_eq!(processor_loads(&ps(&[1, 2, 3, 4]), &[1, 0, 1, 2], 3), ps(&[2, 4, 4]));
+        assert_eq!(
+            processor_loads(&ps(&[1, 2, 3, 4]), &[1, 0, 1, 2], 3),
+            ps(&[2, 4, 4])
+        );
     }
 
     #[test]
     fn classify_matches_touched_by() {
         let vp = Viewport::new(37, 23).unwrap();
-        let boxes = [[0u16, 0, 0, 0], [3, 4, 20, 5], [36, 22, 36, 22], [0, 0, 36, 22], [10, 10, 11, 19]];
+        let boxes = [
+            [0u16, 0, 0, 0],
+            [3, 4, 20, 5],
+            [36, 22, 36, 22],
+            [0, 0, 36, 22],
+            [10, 10, 11, 19],
+        ];
         for count in [1, 6, 12, 35, 60] {
             let grid = RegionGrid::with_count(vp, count).unwrap();
             let counts = classify(&boxes, vp, &grid);
@@ -834,7 +947,10 @@ mod tests {
                 let expected = boxes
                     .iter()
                     .filter(|b| {
-                        (b[0] as u32) < rect.x1() && b[2] as u32 >= rect.x0() && (b[1] as u32) < rect.y1() && b[3] as u32 >= rect.y0()
+                        (b[0] as u32) < rect.x1()
+                            && b[2] as u32 >= rect.x0()
+                            && (b[1] as u32) < rect.y1()
+                            && b[3] as u32 >= rect.y0()
                     })
                     .count();
                 assert_eq!(c as usize, expected, "{count} regions, region {r}");
@@ -844,11 +960,20 @@ mod tests {
 
     #[test]
     fn lists_ranges_and_series() {
-        assert_eq!(parse_list("2,4,...,512").unwrap(), vec![2, 4, 8, 16, 32, 64, 128, 256, 512]);
-        assert_eq!(parse_list("1,2,...,12").unwrap(), (1..=12).collect::<Vec<_>>());
+        assert_eq!(
+            parse_list("2,4,...,512").unwrap(),
+            vec![2, 4, 8, 16, 32, 64, 128, 256, 512]
+        );
+        assert_eq!(
+            parse_list("1,2,...,12").unwrap(),
+            (1..=12).collect::<Vec<_>>()
+        );
         assert_eq!(parse_list("1..12").unwrap(), (1..=12).collect::<Vec<_>>());
         assert_eq!(parse_list("2..512:x2").unwrap().len(), 9);
-        assert_eq!(parse_list("2..12:2, 1").unwrap(), vec![1, 2, 4, 6, 8, 10, 12]);
+        assert_eq!(
+            parse_list("2..12:2, 1").unwrap(),
+            vec![1, 2, 4, 6, 8, 10, 12]
+        );
         assert_eq!(parse_list("8,4,8").unwrap(), vec![4, 8]);
         assert!(parse_list("").is_err());
         assert!(parse_list("3..1").is_err());
