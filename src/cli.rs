@@ -76,10 +76,12 @@ pub struct UtilizationArgs {
     /// Machine whose cpu costs price the region times (machines/delta.json when absent).
     #[arg(long)]
     pub machine: Option<PathBuf>,
-    /// Processor counts: a list such as 2,4,...,512 (geometric), 2..512:x2, 8,64,512 or 1..16.
+    /// Processor counts: a list such as 2,4,...,512 (geometric), 2..512:x2, 8,64,512 or 1..16
+    /// (ranges here include both ends).
     #[arg(long, default_value = "2,4,...,512")]
     pub procs: String,
-    /// Granularity ratios (regions per processor): 1..12, 1,2,4,8,12, 2..12:2.
+    /// Granularity ratios (regions per processor): 1..12 (both ends included), 1,2,4,8,12,
+    /// 2..12:2.
     #[arg(long, default_value = "1..12")]
     pub granularity: String,
     /// Whose polygon counts drive the assignment: this frame's, the previous frame's, or both.
