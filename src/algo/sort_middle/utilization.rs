@@ -959,6 +959,52 @@ mod tests {
     }
 
     #[test]
+    fn the_performance_model_charges_shares_copies_and_messages() {
+        let profile = FrameProfile {
+            viewport: Viewport::new(4, 4).unwrap(),
+            boxes: Vec::new(),
+            area: Vec::new(),
+            crossing: Vec::new(),
+            triangles_in: 1000,
+            screen_triangles: 800,
+            counters: Counters::default(),
+        };
+        let prices = Prices {
+            transform_vertex: SimTime::from_ns(1),
+            setup_triangle: SimTime::ZERO,
+            span: SimTime::ZERO,
+            pixel_test: SimTime::ZERO,
+            pixel_write: SimTime::ZERO,
+            clear_pixel: SimTime::ZERO,
+            byte_copy: SimTime::from_ps(1),
+            message: SimTime::from_us(100),
+            per_byte: SimTime::ZERO,
+            fallback: false,
+        };
+        let raster = SimTime::from_us(7);
+        // One processor: everything local, no message.
+        let (t, d, r) = stage_times(&profile, 1, 1.0, raster, &prices, Bytes::new(4096));
+        assert_eq!(t, SimTime::from_ns(3000));
+        assert_eq!(d, SimTime::from_ps(800 * TRIANGLE_BYTES));
+        assert_eq!(r, raster);
+        // Eight processors, overlap 1.5: 150 copies each, at least one message to each of
+        // the 7 others, and more when the remote bytes need more buffers.
+        let (t, d, _) = stage_times(&profile, 8, 1.5, raster, &prices, Bytes::new(4096));
+        assert_eq!(t, SimTime::from_ns(3 * 125));
+        assert_eq!(
+            d,
+            SimTime::from_ps(150 * TRIANGLE_BYTES) + SimTime::from_us(700)
+        );
+        let small = Bytes::new(HEADER_BYTES + 10 * TRIANGLE_BYTES);
+        let (_, d, _) = stage_times(&profile, 8, 1.5, raster, &prices, small);
+        // 150 * 7 / 8 = 131 remote copies in buffers of 10: 14 messages.
+        assert_eq!(
+            d,
+            SimTime::from_ps(150 * TRIANGLE_BYTES) + SimTime::from_us(1400)
+        );
+    }
+
+    #[test]
     fn lists_ranges_and_series() {
         assert_eq!(
             parse_list("2,4,...,512").unwrap(),
