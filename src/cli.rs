@@ -70,6 +70,46 @@ pub enum Command {
     /// Benchmarks of the simulator itself.
     #[command(subcommand)]
     Bench(BenchCommand),
+    /// Ellsworth's utilization simulator and performance model (paper 002, Figures 4 and 5).
+    #[command(after_help = "Example:\n  sortsim utilization scenes/plb-head-standin.json --procs 2,4,...,512 --granularity 1..12 \\\n      --counts both --frame-step 4 -o reports/utilization-plb")]
+    Utilization(UtilizationArgs),
+}
+
+#[derive(Args, Debug)]
+pub struct UtilizationArgs {
+    /// Scene with a viewing sequence.
+    pub scene: PathBuf,
+    /// Machine whose cpu costs price the region times (machines/delta.json when absent).
+    #[arg(long)]
+    pub machine: Option<PathBuf>,
+    /// Processor counts: a list such as 2,4,...,512 (geometric), 2..512:x2, 8,64,512 or 1..16
+    /// (ranges here include both ends).
+    #[arg(long, default_value = "2,4,...,512")]
+    pub procs: String,
+    /// Granularity ratios (regions per processor): 1..12 (both ends included), 1,2,4,8,12,
+    /// 2..12:2.
+    #[arg(long, default_value = "1..12")]
+    pub granularity: String,
+    /// Whose polygon counts drive the assignment: this frame's, the previous frame's, or both.
+    #[arg(long, value_enum, default_value = "both")]
+    pub counts: CountsArg,
+    /// "A..B" (B excluded) or "A"; all frames when absent.
+    #[arg(long)]
+    pub frames: Option<String>,
+    /// Sample every K-th frame of the range (the previous frame's counts are still those of
+    /// the frame just before each sampled one).
+    #[arg(long, default_value_t = 1, value_parser = clap::value_parser!(u32).range(1..))]
+    pub frame_step: u32,
+    /// Also write DIR/utilization.csv, utilization.json and the Figure 4 and 5 plots.
+    #[arg(short, long, value_name = "DIR")]
+    pub out: Option<PathBuf>,
+}
+
+#[derive(ValueEnum, Clone, Copy, Debug, PartialEq, Eq)]
+pub enum CountsArg {
+    Previous,
+    Current,
+    Both,
 }
 
 #[derive(Args, Debug)]

@@ -93,6 +93,7 @@ fn main() -> ExitCode {
             frame,
             fidelity,
         })) => bench_overhead(&machine, &scene, procs, frame, &fidelity),
+        Some(Command::Utilization(args)) => utilization(&args),
     };
     match outcome {
         Ok(()) => ExitCode::SUCCESS,
@@ -395,4 +396,178 @@ fn default_job() -> Result<(), Failure> {
     write_file(&out, "fidelity.txt", &table)?;
     println!("\nreport written to {}", out.display());
     Ok(())
+}
+
+/// Ellsworth's utilization simulator (paper 002, Figure 4) and performance model (Figure 5).
+fn utilization(args: &cli::UtilizationArgs) -> Result<(), Failure> {
+    use sortsim::algo::sort_middle::utilization::{
+        parse_list, simulate, Config, CountsMode, UtilizationError,
+    };
+    let root = Path::new(env!("CARGO_MANIFEST_DIR"));
+    let machine_path = args
+        .machine
+        .clone()
+        .unwrap_or_else(|| root.join("machines/delta.json"));
+    let machine = load_machine(&machine_path)?;
+    let scene = Scene::load(&args.scene)?;
+    let list = |flag: &str, text: &str| {
+        parse_list(text).map_err(|e| Failure::BadInput(format!("{flag}: {e}")))
+    };
+    let (procs, granularities) = (
+        list("--procs", &args.procs)?,
+        list("--granularity", &args.granularity)?,
+    );
+    let range = parse_frames(args.frames.as_deref(), scene.frame_count())
+        .map_err(|e| Failure::BadInput(format!("{}: --frames: {e}", args.scene.display())))?;
+    let frames: Vec<u32> = range.clone().step_by(args.frame_step as usize).collect();
+    let cfg = Config::new(&procs, &granularities, &frames)
+        .map_err(|e| Failure::BadInput(e.to_string()))?;
+    let modes: Vec<CountsMode> = match args.counts {
+        cli::CountsArg::Current => vec![CountsMode::Current],
+        cli::CountsArg::Previous => vec![CountsMode::Previous],
+        cli::CountsArg::Both => vec![CountsMode::Current, CountsMode::Previous],
+    };
+    let clock = Stopwatch::start();
+    let outcome = simulate(&scene, &machine, &cfg).map_err(|e| match e {
+        UtilizationError::Invalid(m) => Failure::BadInput(m),
+        UtilizationError::Scene(e) => e.into(),
+    })?;
+    let wall = clock.cost(0).wall_s;
+    println!(
+        "{}: {} of {} frames (frames {}..{} every {}), {:.0} screen triangles and {:.0} pixels tested per frame; costs from {}{}",
+        args.scene.display(),
+        frames.len(),
+        scene.frame_count(),
+        range.start,
+        range.end,
+        args.frame_step,
+        outcome.mean_screen_triangles,
+        outcome.mean_pixels_tested,
+        machine_path.display(),
+        if outcome.prices.fallback { " (it prices no rasterization operation: documented fallback costs used, see utilization.json)" } else { "" }
+    );
+    println!();
+    print!(
+        "{}",
+        outcome.table(
+            &modes,
+            "Expected rasterization utilization (%)",
+            1,
+            |c| 100.0 * c.utilization
+        )
+    );
+    let figure5 = if modes.contains(&CountsMode::Previous) {
+        CountsMode::Previous
+    } else {
+        CountsMode::Current
+    };
+    print!(
+        "{}",
+        outcome.table(
+            &[figure5],
+            "Relative execution time (performance model)",
+            3,
+            |c| c.relative_time
+        )
+    );
+    print!(
+        "{}",
+        outcome.table(
+            &[CountsMode::Interleaved],
+            "Baseline utilization (%)",
+            1,
+            |c| 100.0 * c.utilization
+        )
+    );
+    if let Some(dir) = &args.out {
+        write_file(dir, "utilization.csv", &outcome.csv())?;
+        let json = outcome.json(
+            &args.scene.display().to_string(),
+            &machine_path.display().to_string(),
+        );
+        write_file(dir, "utilization.json", &to_json(&json))?;
+        utilization_plots(dir, &outcome, &modes, figure5)?;
+        println!("written to {}", dir.display());
+    }
+    println!("simulated in {wall:.1} s wall");
+    Ok(())
+}
+
+/// The Figure 4 and Figure 5 charts (SVG and PNG), and their points as CSV.
+fn utilization_plots(
+    dir: &Path,
+    outcome: &sortsim::algo::sort_middle::utilization::Outcome,
+    modes: &[sortsim::algo::sort_middle::utilization::CountsMode],
+    figure5: sortsim::algo::sort_middle::utilization::CountsMode,
+) -> Result<(), Failure> {
+    use sortsim::report::plot::{line_chart, ChartOptions, PlotError, Series};
+    let mut fig4 = String::from("counts,granularity,procs,utilization_pct\n");
+    let mut fig5 = String::from("procs,granularity,relative_time\n");
+    let mut utilization: Vec<Series> = Vec::new();
+    let mut relative: std::collections::BTreeMap<u32, Vec<(f64, f64)>> =
+        std::collections::BTreeMap::new();
+    let mut grans: Vec<u32> = outcome.cells.iter().map(|c| c.granularity).collect();
+    grans.sort_unstable();
+    grans.dedup();
+    for &mode in modes {
+        for &g in &grans {
+            let points: Vec<(f64, f64)> = outcome
+                .cells
+                .iter()
+                .filter(|c| c.counts == mode && c.granularity == g)
+                .map(|c| (c.procs as f64, 100.0 * c.utilization))
+                .collect();
+            for (n, u) in &points {
+                fig4.push_str(&format!("{},{g},{n},{u:.4}\n", mode.name()));
+            }
+            utilization.push(Series::new(format!("g={g} {}", mode.name()), points));
+        }
+    }
+    for c in outcome.cells.iter().filter(|c| c.counts == figure5) {
+        fig5.push_str(&format!(
+            "{},{},{:.5}\n",
+            c.procs, c.granularity, c.relative_time
+        ));
+        relative
+            .entry(c.procs)
+            .or_default()
+            .push((c.granularity as f64, c.relative_time));
+    }
+    let relative: Vec<Series> = relative
+        .into_iter()
+        .map(|(n, points)| Series::new(format!("N={n}"), points))
+        .collect();
+    write_file(dir, "figure4.csv", &fig4)?;
+    write_file(dir, "figure5.csv", &fig5)?;
+    let failed = |e: PlotError| match e {
+        PlotError::Io { .. } => Failure::BadInput(e.to_string()),
+        _ => Failure::Internal(e.to_string()),
+    };
+    line_chart(
+        &dir.join("figure4-utilization"),
+        "Expected rasterization utilization (paper 002, Fig. 4)",
+        "processors N",
+        "utilization (%)",
+        &utilization,
+        ChartOptions {
+            log_x: true,
+            y_from_zero: true,
+        },
+    )
+    .map_err(failed)?;
+    line_chart(
+        &dir.join("figure5-relative-time"),
+        &format!(
+            "Relative execution time, {} counts (paper 002, Fig. 5)",
+            figure5.name()
+        ),
+        "granularity ratio (regions per processor)",
+        "time / mean time for the same N",
+        &relative,
+        ChartOptions {
+            log_x: false,
+            y_from_zero: false,
+        },
+    )
+    .map_err(failed)
 }

@@ -7,6 +7,7 @@
 //! file: everything goes through `write_atomic`.
 
 pub mod cost;
+pub mod plot;
 pub mod run;
 pub mod summary;
 

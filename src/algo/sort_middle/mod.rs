@@ -18,6 +18,7 @@ mod redistribute;
 pub mod regions;
 mod static_regions;
 pub mod two_step;
+pub mod utilization;
 
 use std::cell::RefCell;
 use std::collections::BTreeMap;

@@ -1,0 +1,417 @@
+//! Line charts for reports (plotters): one chart is written twice, as `STEM.svg` and
+//! `STEM.png`, from the same drawing code. Text is laid out with DejaVu Sans, embedded in the
+//! binary (`fonts/DejaVuSans.ttf`, license beside it), so a PNG has the same labels on every
+//! machine and the SVG's layout does not depend on the host's fonts.
+//!
+//! Owns chart layout: axis ranges, ticks, colours, the legend. Must never compute a metric
+//! (callers hand it finished points), never read the clock or the environment, and never
+//! write a file except through `write_atomic`: both images are rendered in memory first, so
+//! a failed chart leaves no file behind. The same input gives the same SVG bytes.
+//!
+//! ```no_run
+//! use sortsim::report::plot::{line_chart, ChartOptions, Series};
+//! let series = [Series::new("static", vec![(1.0, 1.0), (2.0, 1.9), (4.0, 3.5)])];
+//! let options = ChartOptions { log_x: true, y_from_zero: true };
+//! line_chart("out/speedup".as_ref(), "Speedup", "processors", "speedup", &series, options).unwrap();
+//! ```
+
+use std::ffi::OsString;
+use std::path::{Path, PathBuf};
+use std::sync::OnceLock;
+
+use plotters::coord::Shift;
+use plotters::prelude::*;
+use plotters::style::{register_font, FontStyle};
+
+use super::write_atomic;
+
+/// One line of a chart: its legend label and its points in drawing order.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Series {
+    pub label: String,
+    pub points: Vec<(f64, f64)>,
+}
+
+/// How the axes are scaled.
+#[derive(Debug, Clone, Copy, Default, PartialEq, Eq)]
+pub struct ChartOptions {
+    /// Base-2 logarithmic x axis (processor counts); points with x <= 0 are left out.
+    pub log_x: bool,
+    /// The y axis starts at zero (or below, for negative data) instead of at the data.
+    pub y_from_zero: bool,
+}
+
+/// A chart ready to render: borrowed labels and series.
+#[derive(Debug, Clone, Copy)]
+pub struct LineChart<'a> {
+    pub title: &'a str,
+    pub x_label: &'a str,
+    pub y_label: &'a str,
+    pub series: &'a [Series],
+    pub options: ChartOptions,
+}
+
+#[derive(Debug, thiserror::Error)]
+pub enum PlotError {
+    #[error("the embedded plot font could not be loaded")]
+    Font,
+    #[error("drawing the chart failed: {0}")]
+    Draw(String),
+    #[error("{}: cannot write: {source}", path.display())]
+    Io {
+        path: PathBuf,
+        source: std::io::Error,
+    },
+}
+
+/// Renders a line chart and writes `STEM.svg` and `STEM.png` (the stem gets the extension
+/// appended, so a stem containing dots keeps them).
+pub fn line_chart(
+    path_stem: &Path,
+    title: &str,
+    x_label: &str,
+    y_label: &str,
+    series: &[Series],
+    options: ChartOptions,
+) -> Result<(), PlotError> {
+    LineChart {
+        title,
+        x_label,
+        y_label,
+        series,
+        options,
+    }
+    .write(path_stem)
+}
+
+impl Series {
+    pub fn new(label: impl Into<String>, points: Vec<(f64, f64)>) -> Series {
+        Series {
+            label: label.into(),
+            points,
+        }
+    }
+}
+
+impl LineChart<'_> {
+    /// The chart as SVG text (deterministic).
+    pub fn svg(&self) -> Result<String, PlotError> {
+        ensure_font()?;
+        let size = self.size();
+        let mut text = String::new();
+        {
+            let root = SVGBackend::with_string(&mut text, size).into_drawing_area();
+            self.draw(&root)?;
+            root.present().map_err(draw_error)?;
+        }
+        Ok(text)
+    }
+
+    /// The chart as PNG bytes (RGB, 8 bits per channel).
+    pub fn png(&self) -> Result<Vec<u8>, PlotError> {
+        ensure_font()?;
+        let (w, h) = self.size();
+        let mut rgb = vec![255u8; w as usize * h as usize * 3];
+        {
+            let root = BitMapBackend::with_buffer(&mut rgb, (w, h)).into_drawing_area();
+            self.draw(&root)?;
+            root.present().map_err(draw_error)?;
+        }
+        encode_rgb_png(&rgb, w, h)
+    }
+
+    /// Renders both images, then writes `STEM.svg` and `STEM.png`.
+    pub fn write(&self, path_stem: &Path) -> Result<(), PlotError> {
+        let svg = self.svg()?;
+        let png = self.png()?;
+        for (ext, bytes) in [("svg", svg.as_bytes()), ("png", png.as_slice())] {
+            let path = with_suffix(path_stem, ext);
+            write_atomic(&path, bytes).map_err(|source| PlotError::Io { path, source })?;
+        }
+        Ok(())
+    }
+
+    /// Plot area plus a legend column wide enough for the longest label; taller when the
+    /// legend has many entries, so no entry falls off the image.
+    fn size(&self) -> (u32, u32) {
+        let h = (LEGEND_TOP + LEGEND_ROW * self.series.len() as i32 + 20).max(PLOT_H as i32);
+        (PLOT_W + self.legend_width(), h as u32)
+    }
+
+    fn legend_width(&self) -> u32 {
+        let chars = self
+            .series
+            .iter()
+            .map(|s| legend_label(&s.label).chars().count())
+            .max()
+            .unwrap_or(0) as u32;
+        // ~7 px per character at 13 px DejaVu Sans, plus the swatch and margins.
+        (chars * 7 + 56).clamp(120, 520)
+    }
+
+    fn draw<DB: DrawingBackend>(&self, root: &DrawingArea<DB, Shift>) -> Result<(), PlotError> {
+        root.fill(&WHITE).map_err(draw_error)?;
+        let (plot, legend) = root.split_horizontally(PLOT_W);
+        let lines = self.transformed();
+        let (xr, yr) = (self.x_range(&lines), self.y_range(&lines));
+        let mut chart = ChartBuilder::on(&plot)
+            .caption(self.title, (FONT_NAME, 20))
+            .margin(12)
+            .x_label_area_size(48)
+            .y_label_area_size(78)
+            .build_cartesian_2d(xr.0..xr.1, yr.0..yr.1)
+            .map_err(draw_error)?;
+        let log_x = self.options.log_x;
+        let x_fmt = move |v: &f64| x_tick(*v, log_x);
+        let y_fmt = |v: &f64| format_number(*v);
+        let x_ticks = if log_x {
+            (xr.1 - xr.0).ceil() as usize + 1
+        } else {
+            10
+        };
+        chart
+            .configure_mesh()
+            .x_desc(self.x_label)
+            .y_desc(self.y_label)
+            .x_labels(x_ticks.clamp(2, 24))
+            .y_labels(8)
+            .x_label_formatter(&x_fmt)
+            .y_label_formatter(&y_fmt)
+            .label_style((FONT_NAME, 13))
+            .axis_desc_style((FONT_NAME, 15))
+            .max_light_lines(1)
+            .light_line_style(RGBColor(242, 242, 242))
+            .bold_line_style(RGBColor(215, 215, 215))
+            .draw()
+            .map_err(draw_error)?;
+        for (i, points) in lines.iter().enumerate() {
+            let colour = palette(i);
+            chart
+                .draw_series(LineSeries::new(
+                    points.iter().copied(),
+                    colour.stroke_width(2),
+                ))
+                .map_err(draw_error)?;
+            chart
+                .draw_series(points.iter().map(|&p| Circle::new(p, 3, colour.filled())))
+                .map_err(draw_error)?;
+        }
+        self.draw_legend(&legend)
+    }
+
+    /// The legend as its own column right of the plot, so it never hides a line.
+    fn draw_legend<DB: DrawingBackend>(
+        &self,
+        area: &DrawingArea<DB, Shift>,
+    ) -> Result<(), PlotError> {
+        for (i, s) in self.series.iter().enumerate() {
+            let colour = palette(i);
+            let y = LEGEND_TOP + LEGEND_ROW * i as i32;
+            area.draw(&PathElement::new(
+                vec![(4, y), (30, y)],
+                colour.stroke_width(2),
+            ))
+            .map_err(draw_error)?;
+            area.draw(&Circle::new((17, y), 3, colour.filled()))
+                .map_err(draw_error)?;
+            let style = TextStyle::from((FONT_NAME, 13).into_font()).color(&BLACK);
+            area.draw(&Text::new(legend_label(&s.label), (38, y - 7), style))
+                .map_err(draw_error)?;
+        }
+        Ok(())
+    }
+
+    /// Points in axis coordinates: log2 of x on a log axis; non-finite points dropped (a
+    /// missing value is a gap in the data, not a reason to fail the report).
+    fn transformed(&self) -> Vec<Vec<(f64, f64)>> {
+        let log_x = self.options.log_x;
+        self.series
+            .iter()
+            .map(|s| {
+                s.points
+                    .iter()
+                    .filter(|(x, _)| !log_x || *x > 0.0)
+                    .map(|&(x, y)| (if log_x { x.log2() } else { x }, y))
+                    .filter(|(x, y)| x.is_finite() && y.is_finite())
+                    .collect()
+            })
+            .collect()
+    }
+
+    fn x_range(&self, lines: &[Vec<(f64, f64)>]) -> (f64, f64) {
+        let (lo, hi) = bounds(lines.iter().flatten().map(|p| p.0)).unwrap_or((0.0, 1.0));
+        if self.options.log_x {
+            // Whole powers of two at both ends, a quarter step of air so end markers show.
+            let (lo, hi) = (lo.floor(), hi.ceil().max(lo.floor() + 1.0));
+            return (lo - 0.25, hi + 0.25);
+        }
+        padded(lo, hi, 0.03)
+    }
+
+    fn y_range(&self, lines: &[Vec<(f64, f64)>]) -> (f64, f64) {
+        let (lo, hi) = bounds(lines.iter().flatten().map(|p| p.1)).unwrap_or((0.0, 1.0));
+        if self.options.y_from_zero {
+            let (lo, hi) = (lo.min(0.0), hi.max(0.0));
+            let span = if hi > lo { hi - lo } else { 1.0 };
+            return (
+                lo - if lo < 0.0 { span * 0.05 } else { 0.0 },
+                hi + span * 0.05,
+            );
+        }
+        padded(lo, hi, 0.05)
+    }
+}
+
+const FONT_NAME: &str = "sans-serif";
+const FONT_BYTES: &[u8] = include_bytes!("fonts/DejaVuSans.ttf");
+const PLOT_W: u32 = 720;
+const PLOT_H: u32 = 480;
+const LEGEND_TOP: i32 = 48;
+const LEGEND_ROW: i32 = 20;
+const LEGEND_MAX_CHARS: usize = 66;
+
+/// plotters looks fonts up by family name in a process-wide table; register ours once.
+fn ensure_font() -> Result<(), PlotError> {
+    static REGISTERED: OnceLock<bool> = OnceLock::new();
+    let ok =
+        *REGISTERED.get_or_init(|| register_font(FONT_NAME, FontStyle::Normal, FONT_BYTES).is_ok());
+    if ok {
+        Ok(())
+    } else {
+        Err(PlotError::Font)
+    }
+}
+
+fn draw_error<E: std::fmt::Debug>(e: E) -> PlotError {
+    PlotError::Draw(format!("{e:?}"))
+}
+
+fn with_suffix(stem: &Path, ext: &str) -> PathBuf {
+    let mut name = OsString::from(stem.as_os_str());
+    name.push(".");
+    name.push(ext);
+    PathBuf::from(name)
+}
+
+fn encode_rgb_png(rgb: &[u8], w: u32, h: u32) -> Result<Vec<u8>, PlotError> {
+    let mut bytes = Vec::new();
+    let mut enc = png::Encoder::new(&mut bytes, w, h);
+    enc.set_color(png::ColorType::Rgb);
+    enc.set_depth(png::BitDepth::Eight);
+    let png_error = |e: png::EncodingError| PlotError::Draw(format!("PNG encoding: {e}"));
+    let mut writer = enc.write_header().map_err(png_error)?;
+    writer.write_image_data(rgb).map_err(png_error)?;
+    writer.finish().map_err(png_error)?;
+    Ok(bytes)
+}
+
+/// Ten colours that stay distinguishable in print (the Tableau 10 hues); series past the
+/// tenth reuse them in order.
+fn palette(i: usize) -> RGBColor {
+    const COLOURS: [(u8, u8, u8); 10] = [
+        (31, 119, 180),
+        (255, 127, 14),
+        (44, 160, 44),
+        (214, 39, 40),
+        (148, 103, 189),
+        (140, 86, 75),
+        (227, 119, 194),
+        (127, 127, 127),
+        (188, 189, 34),
+        (23, 190, 207),
+    ];
+    let (r, g, b) = COLOURS[i % COLOURS.len()];
+    RGBColor(r, g, b)
+}
+
+fn legend_label(label: &str) -> String {
+    if label.chars().count() <= LEGEND_MAX_CHARS {
+        return label.to_string();
+    }
+    let mut s: String = label.chars().take(LEGEND_MAX_CHARS - 1).collect();
+    s.push('…');
+    s
+}
+
+fn bounds(values: impl Iterator<Item = f64>) -> Option<(f64, f64)> {
+    values.fold(None, |acc, v| match acc {
+        None => Some((v, v)),
+        Some((lo, hi)) => Some((lo.min(v), hi.max(v))),
+    })
+}
+
+/// `lo..hi` widened by `frac` of its span on each side; a single value gets a span of its
+/// own size (or 1), so a flat line sits in the middle of the chart.
+fn padded(lo: f64, hi: f64, frac: f64) -> (f64, f64) {
+    let span = hi - lo;
+    if span > 0.0 {
+        return (lo - span * frac, hi + span * frac);
+    }
+    let half = if lo != 0.0 { lo.abs() * 0.5 } else { 1.0 };
+    (lo - half, hi + half)
+}
+
+/// A tick on the x axis: on a log axis only whole powers of two get a label (2^v), the
+/// others stay blank rather than show 2.83.
+fn x_tick(v: f64, log_x: bool) -> String {
+    if !log_x {
+        return format_number(v);
+    }
+    let k = v.round();
+    if (v - k).abs() > 1e-9 {
+        return String::new();
+    }
+    format_number(k.exp2())
+}
+
+/// Short tick labels: integers as integers, large and tiny magnitudes in e-notation, at most
+/// three significant decimals otherwise.
+pub fn format_number(v: f64) -> String {
+    let a = v.abs();
+    if v == 0.0 {
+        return "0".to_string();
+    }
+    if !(1e-3..1e7).contains(&a) {
+        let s = format!("{v:.2e}");
+        // "1.50e6" -> "1.5e6", "2.00e-4" -> "2e-4"
+        let (mantissa, exp) = s.split_once('e').unwrap_or((&s, "0"));
+        let mantissa = mantissa.trim_end_matches('0').trim_end_matches('.');
+        return format!("{mantissa}e{exp}");
+    }
+    if (v - v.round()).abs() < 1e-9 {
+        return format!("{}", v.round() as i64);
+    }
+    let s = format!("{v:.3}");
+    s.trim_end_matches('0').trim_end_matches('.').to_string()
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn numbers_are_short() {
+        assert_eq!(format_number(0.0), "0");
+        assert_eq!(format_number(512.0), "512");
+        assert_eq!(format_number(2.5), "2.5");
+        assert_eq!(format_number(0.12345), "0.123");
+        assert_eq!(format_number(15_000_000.0), "1.5e7");
+        assert_eq!(format_number(-0.0002), "-2e-4");
+    }
+
+    #[test]
+    fn log_ticks_label_only_powers_of_two() {
+        assert_eq!(x_tick(9.0, true), "512");
+        assert_eq!(x_tick(0.0, true), "1");
+        assert_eq!(x_tick(1.5, true), "");
+        assert_eq!(x_tick(1.5, false), "1.5");
+    }
+
+    #[test]
+    fn stems_keep_their_dots() {
+        assert_eq!(
+            with_suffix(Path::new("a/p0.5"), "svg"),
+            PathBuf::from("a/p0.5.svg")
+        );
+    }
+}
