@@ -71,7 +71,9 @@ pub enum Command {
     #[command(subcommand)]
     Bench(BenchCommand),
     /// Ellsworth's utilization simulator and performance model (paper 002, Figures 4 and 5).
-    #[command(after_help = "Example:\n  sortsim utilization scenes/plb-head-standin.json --procs 2,4,...,512 --granularity 1..12 \\\n      --counts both --frame-step 4 -o reports/utilization-plb")]
+    #[command(
+        after_help = "Example:\n  sortsim utilization scenes/plb-head-standin.json --procs 2,4,...,512 --granularity 1..12 \\\n      --counts both --frame-step 4 -o reports/utilization-plb"
+    )]
     Utilization(UtilizationArgs),
 }
 
