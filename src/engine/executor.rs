@@ -384,10 +384,11 @@ impl<M: Payload> Sim<M> {
 
     /// Records every stretch of cpu work for a timeline (see `RunStats::timeline`).
     pub fn record_timeline(&mut self) {
-        self.state
-            .borrow_mut()
-            .timeline
-            .get_or_insert_with(Vec::new);
+        let mut st = self.state.borrow_mut();
+        st.timeline.get_or_insert_with(Vec::new);
+        if let Some(net) = st.net.as_mut() {
+            net.record_occupancy();
+        }
     }
 
     /// The handle through which programs on node `id` act.
@@ -522,6 +523,11 @@ impl<M: Payload> Sim<M> {
             links: st.net.as_ref().map(Network::link_stats).unwrap_or_default(),
             memory: st.nodes.iter().map(|n| n.pool.stats()).collect(),
             timeline: st.timeline.clone(),
+            link_timeline: st
+                .timeline
+                .as_ref()
+                .and(st.net.as_ref())
+                .map(Network::link_spans),
         }
     }
 

@@ -55,6 +55,8 @@ pub struct RunStats {
     pub memory: Vec<PoolStats>,
     /// Cpu spans in the order they were reserved, if the run recorded a timeline.
     pub timeline: Option<Vec<CpuSpan>>,
+    /// Link occupancy (messages in flight per link), if the run recorded a timeline.
+    pub link_timeline: Option<Vec<crate::net::LinkSpan>>,
 }
 
 impl RunStats {

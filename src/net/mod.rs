@@ -26,6 +26,7 @@
 //! floating point for a time.
 
 pub mod fidelity;
+mod occupancy;
 pub mod pattern;
 pub mod timing;
 pub mod topology;
@@ -247,7 +248,11 @@ pub struct Network {
     bytes: Vec<Bytes>,
     messages: Vec<u64>,
     route_buf: Vec<LinkId>,
+    /// Per-message link occupancy, when a timeline is recorded.
+    occupancy: Option<occupancy::Occupancy>,
 }
+
+pub use occupancy::LinkSpan;
 
 impl Network {
     /// Builds the network, validating the configuration (dimensions and packet size).
@@ -273,6 +278,7 @@ impl Network {
             bytes: vec![Bytes::ZERO; links],
             messages: vec![0; links],
             route_buf: Vec::new(),
+            occupancy: None,
         })
     }
 
@@ -396,6 +402,9 @@ impl Network {
         }
         let hops = route.len() as u32 / self.topology.links_per_hop();
         let arrival = self.transport.inject(now, msg, &route, hops, bytes);
+        if let Some(o) = &mut self.occupancy {
+            o.injected(msg, now, &route, arrival);
+        }
         self.route_buf = route;
         arrival
     }
@@ -407,7 +416,26 @@ impl Network {
 
     /// Processes the model's internal events at `now`, appending messages delivered at `now`.
     pub fn advance(&mut self, now: SimTime, delivered: &mut Vec<Delivered>) {
+        let before = delivered.len();
         self.transport.advance(now, delivered);
+        if let Some(o) = &mut self.occupancy {
+            for d in &delivered[before..] {
+                o.delivered(d.msg, d.at);
+            }
+        }
+    }
+
+    /// Starts recording which links carry messages when (see [`LinkSpan`]), for timelines.
+    pub fn record_occupancy(&mut self) {
+        self.occupancy.get_or_insert_with(Default::default);
+    }
+
+    /// The recorded link occupancy, merged per link; empty unless recording.
+    pub fn link_spans(&self) -> Vec<LinkSpan> {
+        self.occupancy
+            .as_ref()
+            .map(|o| o.spans())
+            .unwrap_or_default()
     }
 
     /// Traffic per link, in link index order.

@@ -197,8 +197,10 @@ impl RunSummary {
     }
 }
 
-/// timeline.json in Chrome trace-event format: one process, one thread (track) per node,
-/// a complete event per stretch of cpu work, named after its phase. Times in microseconds.
+/// timeline.json in Chrome trace-event format: a process of node cpus (one track per node, a
+/// complete event per stretch of cpu work, named after its phase) and a process of links (one
+/// track per link that carried traffic, a span while at least one message was in flight over
+/// it). Times in microseconds.
 pub fn timeline_json(result: &RunResult) -> Option<String> {
     let spans = result.stats.timeline.as_ref()?;
     let nodes = result.stats.nodes.len();
@@ -212,7 +214,38 @@ pub fn timeline_json(result: &RunResult) -> Option<String> {
             (sp.end - sp.start).as_us_f64()
         )
     });
-    let events: Vec<String> = names.chain(work).collect();
+    let links = result.stats.link_timeline.as_deref().unwrap_or_default();
+    let link_name = |l: u32| {
+        result
+            .stats
+            .links
+            .get(l as usize)
+            .map_or(format!("link {l}"), |s| format!("link {}", s.name))
+    };
+    let mut named: Vec<u32> = links.iter().map(|s| s.link).collect();
+    named.dedup();
+    let link_names = named.into_iter().map(|l| {
+        format!("{{\"name\":\"thread_name\",\"ph\":\"M\",\"pid\":1,\"tid\":{l},\"args\":{{\"name\":\"{}\"}}}}", link_name(l))
+    });
+    let link_work = links.iter().map(|sp| {
+        format!(
+            "{{\"name\":\"in flight\",\"ph\":\"X\",\"pid\":1,\"tid\":{},\"ts\":{:.6},\"dur\":{:.6}}}",
+            sp.link,
+            sp.start.as_us_f64(),
+            (sp.end - sp.start).as_us_f64()
+        )
+    });
+    let processes = [
+        "{\"name\":\"process_name\",\"ph\":\"M\",\"pid\":0,\"args\":{\"name\":\"node cpus\"}}".to_string(),
+        "{\"name\":\"process_name\",\"ph\":\"M\",\"pid\":1,\"args\":{\"name\":\"busy links (messages in flight)\"}}".to_string(),
+    ];
+    let events: Vec<String> = processes
+        .into_iter()
+        .chain(names)
+        .chain(work)
+        .chain(link_names)
+        .chain(link_work)
+        .collect();
     let out = format!(
         "{{\"displayTimeUnit\":\"ns\",\"traceEvents\":[\n{}\n]}}\n",
         events.join(",\n")

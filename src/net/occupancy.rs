@@ -1,0 +1,124 @@
+//! Link occupancy for timelines: for every message, every link of its route counts as
+//! occupied from the message's injection to its delivery; per link the intervals are merged.
+//! This is what a timeline's link tracks show (a message in flight over the link), the same
+//! at every fidelity level; the transports' own busy time stays in `LinkStats`.
+//!
+//! Opt-in (it keeps a record per message). Must never influence a delivery time.
+
+use std::collections::BTreeMap;
+
+use super::{LinkId, MsgId};
+use crate::units::SimTime;
+
+/// A stretch of time during which a link carried at least one message.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct LinkSpan {
+    pub link: LinkId,
+    pub start: SimTime,
+    pub end: SimTime,
+}
+
+#[derive(Default)]
+pub(super) struct Occupancy {
+    /// Messages whose delivery comes later, with their injection time and route.
+    pending: BTreeMap<MsgId, (SimTime, Vec<LinkId>)>,
+    /// Per link, the intervals recorded so far (merged when read).
+    intervals: BTreeMap<LinkId, Vec<(SimTime, SimTime)>>,
+}
+
+impl Occupancy {
+    pub fn injected(
+        &mut self,
+        msg: MsgId,
+        now: SimTime,
+        route: &[LinkId],
+        arrival: Option<SimTime>,
+    ) {
+        match arrival {
+            Some(at) => self.occupy(route, now, at),
+            None => {
+                self.pending.insert(msg, (now, route.to_vec()));
+            }
+        }
+    }
+
+    pub fn delivered(&mut self, msg: MsgId, at: SimTime) {
+        if let Some((start, route)) = self.pending.remove(&msg) {
+            self.occupy(&route, start, at);
+        }
+    }
+
+    fn occupy(&mut self, route: &[LinkId], start: SimTime, end: SimTime) {
+        if end > start {
+            for &l in route {
+                self.intervals.entry(l).or_default().push((start, end));
+            }
+        }
+    }
+
+    /// Merged spans, by link and then by time.
+    pub fn spans(&self) -> Vec<LinkSpan> {
+        let mut out = Vec::new();
+        for (&link, intervals) in &self.intervals {
+            let mut sorted = intervals.clone();
+            sorted.sort_unstable();
+            let mut current: Option<(SimTime, SimTime)> = None;
+            for (s, e) in sorted {
+                current = match current {
+                    Some((cs, ce)) if s <= ce => Some((cs, ce.max(e))),
+                    Some((cs, ce)) => {
+                        out.push(LinkSpan {
+                            link,
+                            start: cs,
+                            end: ce,
+                        });
+                        Some((s, e))
+                    }
+                    None => Some((s, e)),
+                };
+            }
+            if let Some((start, end)) = current {
+                out.push(LinkSpan { link, start, end });
+            }
+        }
+        out
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn t(us: u64) -> SimTime {
+        SimTime::from_us(us)
+    }
+
+    #[test]
+    fn overlapping_messages_merge_and_gaps_stay() {
+        let mut o = Occupancy::default();
+        o.injected(1, t(0), &[3, 4], Some(t(10)));
+        o.injected(2, t(5), &[4], None);
+        o.injected(3, t(30), &[4], Some(t(40)));
+        o.delivered(2, t(20));
+        assert_eq!(
+            o.spans(),
+            vec![
+                LinkSpan {
+                    link: 3,
+                    start: t(0),
+                    end: t(10)
+                },
+                LinkSpan {
+                    link: 4,
+                    start: t(0),
+                    end: t(20)
+                },
+                LinkSpan {
+                    link: 4,
+                    start: t(30),
+                    end: t(40)
+                },
+            ]
+        );
+    }
+}
