@@ -75,6 +75,73 @@ pub enum Command {
         after_help = "Example:\n  sortsim utilization scenes/plb-head-standin.json --procs 2,4,...,512 --granularity 1..12 \\\n      --counts both --frame-step 4 -o reports/utilization-plb"
     )]
     Utilization(UtilizationArgs),
+    /// Pixel traces and the trace-driven merge-traffic simulation (paper 003).
+    #[command(subcommand)]
+    Trace(TraceCommand),
+}
+
+#[derive(Subcommand, Debug)]
+pub enum TraceCommand {
+    /// Record every fragment of one frame, before z-buffering, into a trace file.
+    #[command(
+        after_help = "Example:\n  sortsim trace record scenes/p003-zinnia.json --frame 0 -o traces/p003-zinnia.trace"
+    )]
+    Record {
+        scene: PathBuf,
+        #[arg(long, default_value_t = 0)]
+        frame: u32,
+        /// Trace file to write.
+        #[arg(short, long, value_name = "TRACE")]
+        out: PathBuf,
+    },
+    /// Count the merge traffic of direct send, PixelFlow and distributed snooping on n
+    /// processors, from a trace (no rasterization).
+    #[command(
+        after_help = "Example:\n  sortsim trace replay traces/p003-zinnia.trace --algo snooping --procs 1,2,4,...,64 \\\n      --assign background-last -o reports/zinnia-snooping"
+    )]
+    Replay(TraceReplayArgs),
+}
+
+#[derive(Args, Debug)]
+pub struct TraceReplayArgs {
+    pub trace: PathBuf,
+    /// Merging algorithms, comma-separated.
+    #[arg(
+        long,
+        value_enum,
+        value_delimiter = ',',
+        default_value = "direct-send,pixelflow,snooping"
+    )]
+    pub algo: Vec<MergeAlgoArg>,
+    /// Processor counts: 1,2,4,...,64 (geometric), 1..16 (both ends), 8,64.
+    #[arg(long, default_value = "1,2,4,...,64")]
+    pub procs: String,
+    /// Primitive assignment: round-robin in database order, seeded random, or round-robin
+    /// with the largest primitive given last to the last processor.
+    #[arg(long, value_enum, default_value = "scatter")]
+    pub assign: AssignArg,
+    #[arg(long, default_value_t = 1)]
+    pub seed: u64,
+    /// Direct send z-buffers each processor's fragments first and sends only active pixels.
+    #[arg(long)]
+    pub local_zbuffer: bool,
+    /// Also write DIR/replay.csv, replay.json and the paper 003 Figure 5/6 style plots.
+    #[arg(short, long, value_name = "DIR")]
+    pub out: Option<PathBuf>,
+}
+
+#[derive(ValueEnum, Clone, Copy, Debug, PartialEq, Eq)]
+pub enum MergeAlgoArg {
+    DirectSend,
+    Pixelflow,
+    Snooping,
+}
+
+#[derive(ValueEnum, Clone, Copy, Debug, PartialEq, Eq)]
+pub enum AssignArg {
+    Scatter,
+    Random,
+    BackgroundLast,
 }
 
 #[derive(Args, Debug)]

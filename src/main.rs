@@ -94,6 +94,7 @@ fn main() -> ExitCode {
             fidelity,
         })) => bench_overhead(&machine, &scene, procs, frame, &fidelity),
         Some(Command::Utilization(args)) => utilization(&args),
+        Some(Command::Trace(cmd)) => trace_command(&cmd),
     };
     match outcome {
         Ok(()) => ExitCode::SUCCESS,
@@ -570,4 +571,83 @@ fn utilization_plots(
         },
     )
     .map_err(failed)
+}
+
+/// `sortsim trace record|replay` (paper 003's pixel traces).
+fn trace_command(cmd: &cli::TraceCommand) -> Result<(), Failure> {
+    match cmd {
+        cli::TraceCommand::Record { scene, frame, out } => trace_record(scene, *frame, out),
+        cli::TraceCommand::Replay(args) => trace_replay(args),
+    }
+}
+
+fn trace_record(scene: &Path, frame: u32, out: &Path) -> Result<(), Failure> {
+    let loaded = Scene::load(scene)?;
+    let trace = sortsim::trace::record_scene(&loaded, frame)?;
+    let bytes =
+        sortsim::trace::write_trace(out, &trace).map_err(|e| Failure::BadInput(e.to_string()))?;
+    let m = trace.meta();
+    println!(
+        "{}: frame {frame}, {}x{}, {} primitives, {} fragments -> {} ({bytes} bytes, {:.2} bytes per fragment)",
+        scene.display(),
+        m.width,
+        m.height,
+        m.primitives,
+        trace.len(),
+        out.display(),
+        bytes as f64 / trace.len().max(1) as f64
+    );
+    Ok(())
+}
+
+fn trace_replay(args: &cli::TraceReplayArgs) -> Result<(), Failure> {
+    use sortsim::trace::replay::{Algo, Assign, Replay, ReplayConfig};
+    let procs = sortsim::algo::sort_middle::utilization::parse_list(&args.procs)
+        .map_err(|e| Failure::BadInput(format!("--procs: {e}")))?;
+    if let Some(&bad) = procs.iter().find(|&&n| !(1..=65_536).contains(&n)) {
+        return Err(Failure::BadInput(format!(
+            "--procs: {bad} processors is out of range (valid: 1..=65536)"
+        )));
+    }
+    let mut algos: Vec<Algo> = args
+        .algo
+        .iter()
+        .map(|a| match a {
+            cli::MergeAlgoArg::DirectSend => Algo::DirectSend,
+            cli::MergeAlgoArg::Pixelflow => Algo::PixelFlow,
+            cli::MergeAlgoArg::Snooping => Algo::Snooping,
+        })
+        .collect();
+    algos.sort_unstable();
+    algos.dedup();
+    let assign = match args.assign {
+        cli::AssignArg::Scatter => Assign::Scatter,
+        cli::AssignArg::Random => Assign::Random,
+        cli::AssignArg::BackgroundLast => Assign::BackgroundLast,
+    };
+    let trace = sortsim::trace::read_trace(&args.trace).map_err(|e| match e.kind {
+        sortsim::trace::format::TraceErrorKind::Format(_)
+        | sortsim::trace::format::TraceErrorKind::Read(_) => Failure::BadInput(e.to_string()),
+        _ => Failure::Internal(e.to_string()),
+    })?;
+    let config = ReplayConfig {
+        algos,
+        procs,
+        assign,
+        seed: args.seed,
+        local_zbuffer: args.local_zbuffer,
+    };
+    let clock = Stopwatch::start();
+    let report = Replay::new(&trace).run(&config);
+    let wall = clock.cost(0).wall_s;
+    println!("{}", args.trace.display());
+    print!("{}", report.table());
+    if let Some(dir) = &args.out {
+        write_file(dir, "replay.csv", &report.csv())?;
+        let json = report.json(&args.trace.display().to_string());
+        write_file(dir, "replay.json", &to_json(&json))?;
+        println!("written to {}", dir.display());
+    }
+    println!("replayed in {wall:.2} s wall");
+    Ok(())
 }

@@ -1,0 +1,535 @@
+//! Trace-driven merge-traffic simulation (paper 003, sections 4, 5 and 7): the primitives of a
+//! trace are assigned to n processors and each processor is taken to have rendered exactly
+//! its primitives' fragments; then the pixel traffic of three merging algorithms is counted.
+//!
+//! - direct send (section 4, Kubota Denali): every fragment goes to the node owning its pixel:
+//!   d*A pixels; with a local z-buffer each node sends only its active pixels.
+//! - PixelFlow (section 5): every node streams its whole frame to the next: n*A pixels in
+//!   total, A on each of the n links (the last link feeds the frame buffer).
+//! - distributed snooping (section 7): after local z-buffering, nodes broadcast their
+//!   surviving active pixels in processor order; every listener deletes its pixels a
+//!   broadcast pixel hides. The traffic is the pixels actually broadcast; at one pixel it is
+//!   the number of processors whose local winner is nearer than every earlier processor's.
+//!
+//! "Nearer" is always `raster::target::nearer` ((depth, primitive id) order), so the last
+//! pixel broadcast at each location is the sequential z-buffer's pixel.
+//!
+//! Must never rasterize, never read the clock, never iterate a hash map: a replay is a pure
+//! function of the trace, the assignment rule, n and the seed.
+
+use rand::Rng;
+
+use super::format::Trace;
+use crate::engine::rng_stream;
+use crate::raster::target::nearer;
+use crate::raster::ACTIVE_PIXEL_BYTES;
+
+/// A merging algorithm of paper 003.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, PartialOrd, Ord)]
+pub enum Algo {
+    DirectSend,
+    PixelFlow,
+    Snooping,
+}
+
+impl Algo {
+    pub const ALL: [Algo; 3] = [Algo::DirectSend, Algo::PixelFlow, Algo::Snooping];
+
+    /// The command-line id.
+    pub fn name(self) -> &'static str {
+        match self {
+            Algo::DirectSend => "direct-send",
+            Algo::PixelFlow => "pixelflow",
+            Algo::Snooping => "snooping",
+        }
+    }
+}
+
+/// How primitives are dealt to processors.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Assign {
+    /// Round-robin in database order (paper 003's "round-robin", Molnar's scattering): the
+    /// k-th primitive present in the trace (by id) goes to processor k mod n.
+    Scatter,
+    /// Each primitive present, in id order, draws its processor uniformly from the seeded
+    /// stream `trace/assign/n=<n>`.
+    Random,
+    /// Scatter order over every primitive but the one with the most fragments (ties: lowest
+    /// id), which goes to processor n-1, the last to broadcast when snooping (paper 003's
+    /// advice for background primitives).
+    BackgroundLast,
+}
+
+impl Assign {
+    pub fn name(self) -> &'static str {
+        match self {
+            Assign::Scatter => "scatter",
+            Assign::Random => "random",
+            Assign::BackgroundLast => "background-last",
+        }
+    }
+}
+
+/// What to replay.
+#[derive(Clone, Debug, PartialEq, Eq)]
+pub struct ReplayConfig {
+    pub algos: Vec<Algo>,
+    /// Processor counts, each at least 1.
+    pub procs: Vec<u32>,
+    pub assign: Assign,
+    pub seed: u64,
+    /// Direct send z-buffers locally first and ships only active pixels.
+    pub local_zbuffer: bool,
+}
+
+/// Depth statistics of a trace, independent of n.
+#[derive(Clone, Debug, PartialEq)]
+pub struct DepthStats {
+    /// Screen area A.
+    pub area: u64,
+    /// Fragments: d*A, the maximum traffic.
+    pub fragments: u64,
+    /// Pixel locations with at least one fragment: the minimum traffic.
+    pub active: u64,
+    /// `histogram[d]` = pixel locations of depth d (d = 0 included), so p_d = histogram[d] / A.
+    pub histogram: Vec<u64>,
+    /// A * sum_d p_d H_d (equation 3).
+    pub expected: f64,
+    /// A [(1-a) H_floor(d) + a H_ceil(d)], a = d - floor(d) (equation 4).
+    pub even_bound: f64,
+}
+
+impl DepthStats {
+    /// Depth complexity d.
+    pub fn depth(&self) -> f64 {
+        self.fragments as f64 / self.area as f64
+    }
+}
+
+/// Traffic of one algorithm on n processors.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Row {
+    pub algo: Algo,
+    pub procs: u32,
+    /// Pixels sent over the network in total.
+    pub pixels: u64,
+    /// Pixels on the busiest link (PixelFlow only: A on every link).
+    pub per_link_pixels: Option<u64>,
+    /// The expected traffic (snooping only).
+    pub expected: Option<f64>,
+}
+
+impl Row {
+    pub fn bytes(&self) -> u64 {
+        self.pixels * ACTIVE_PIXEL_BYTES
+    }
+}
+
+/// Everything a replay measured.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Report {
+    pub stats: DepthStats,
+    pub config: ReplayConfig,
+    pub rows: Vec<Row>,
+}
+
+/// A trace prepared for replay: fragments regrouped by pixel once.
+pub struct Replay<'a> {
+    trace: &'a Trace,
+    /// Fragments of pixel p are `order[offsets[p]..offsets[p + 1]]`, in generation order.
+    offsets: Vec<u32>,
+    order: Vec<u32>,
+    /// Depth and primitive of `order[i]`, stored in pixel order for a linear scan.
+    z: Vec<u32>,
+    prim: Vec<u32>,
+    /// Primitive ids present in the trace, ascending, and their fragment counts.
+    present: Vec<u32>,
+    sizes: Vec<u64>,
+    stats: DepthStats,
+}
+
+/// Counts of one pass over the pixels for one assignment.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub struct PassCounts {
+    /// Active pixels summed over the processors' local frame buffers.
+    pub local_active: u64,
+    /// Pixels broadcast by distributed snooping.
+    pub broadcast: u64,
+}
+
+/// One processor's local winner at a pixel.
+#[derive(Clone, Copy, Debug)]
+struct Local {
+    proc: u32,
+    z: u32,
+    prim: u32,
+    index: u32,
+}
+
+impl<'a> Replay<'a> {
+    pub fn new(trace: &'a Trace) -> Replay<'a> {
+        let area = trace.area();
+        let mut offsets = vec![0u32; area + 1];
+        for &p in trace.pixels() {
+            offsets[p as usize + 1] += 1;
+        }
+        let mut histogram = Vec::new();
+        for &count in &offsets[1..] {
+            let d = count as usize;
+            if histogram.len() <= d {
+                histogram.resize(d + 1, 0);
+            }
+            histogram[d] += 1;
+        }
+        for p in 0..area {
+            offsets[p + 1] += offsets[p];
+        }
+        let mut next = offsets.clone();
+        let mut order = vec![0u32; trace.len()];
+        for (i, &p) in trace.pixels().iter().enumerate() {
+            order[next[p as usize] as usize] = i as u32;
+            next[p as usize] += 1;
+        }
+        let z = order.iter().map(|&i| trace.depths()[i as usize]).collect();
+        let prim = order.iter().map(|&i| trace.prims()[i as usize]).collect();
+        let mut per_prim = vec![0u64; trace.meta().primitives as usize];
+        for &p in trace.prims() {
+            per_prim[p as usize] += 1;
+        }
+        let present: Vec<u32> = (0..per_prim.len() as u32)
+            .filter(|&p| per_prim[p as usize] > 0)
+            .collect();
+        let sizes = present.iter().map(|&p| per_prim[p as usize]).collect();
+        let stats = depth_stats(area as u64, trace.len() as u64, histogram);
+        Replay {
+            trace,
+            offsets,
+            order,
+            z,
+            prim,
+            present,
+            sizes,
+            stats,
+        }
+    }
+
+    pub fn stats(&self) -> &DepthStats {
+        &self.stats
+    }
+
+    /// Primitive ids present in the trace, ascending (the database order of the assignment).
+    pub fn present(&self) -> &[u32] {
+        &self.present
+    }
+
+    /// The processor of every primitive id (`u32::MAX` for primitives without fragments).
+    pub fn assignment(&self, rule: Assign, n: u32, seed: u64) -> Vec<u32> {
+        assert!(n >= 1, "at least one processor");
+        let mut out = vec![u32::MAX; self.trace.meta().primitives as usize];
+        match rule {
+            Assign::Scatter => {
+                for (k, &p) in self.present.iter().enumerate() {
+                    out[p as usize] = (k % n as usize) as u32;
+                }
+            }
+            Assign::Random => {
+                let mut rng = rng_stream(seed, &format!("trace/assign/n={n}"));
+                for &p in &self.present {
+                    out[p as usize] = rng.gen_range(0..n);
+                }
+            }
+            Assign::BackgroundLast => {
+                let Some(big) = self.largest() else {
+                    return out;
+                };
+                let others = self.present.iter().filter(|&&p| p != big);
+                for (k, &p) in others.enumerate() {
+                    out[p as usize] = (k % n as usize) as u32;
+                }
+                out[big as usize] = n - 1;
+            }
+        }
+        out
+    }
+
+    /// The primitive with the most fragments (lowest id on ties).
+    pub fn largest(&self) -> Option<u32> {
+        let mut best: Option<(u64, u32)> = None;
+        for (&p, &s) in self.present.iter().zip(&self.sizes) {
+            if best.is_none_or(|(bs, _)| s > bs) {
+                best = Some((s, p));
+            }
+        }
+        best.map(|(_, p)| p)
+    }
+
+    /// One pass over every pixel: local active pixels and snooping broadcasts.
+    pub fn pass(&self, assignment: &[u32]) -> PassCounts {
+        let mut counts = PassCounts::default();
+        let mut scratch = Vec::new();
+        for p in 0..self.trace.area() {
+            let (active, broadcast, _) = self.snoop_pixel(p, assignment, &mut scratch);
+            counts.local_active += active;
+            counts.broadcast += broadcast;
+        }
+        counts
+    }
+
+    /// The merged image of distributed snooping: per pixel, the fragment index of the last
+    /// pixel broadcast (what the global frame buffer holds), `None` where nothing was drawn.
+    pub fn snoop_image(&self, assignment: &[u32]) -> Vec<Option<u32>> {
+        let mut scratch = Vec::new();
+        (0..self.trace.area())
+            .map(|p| self.snoop_pixel(p, assignment, &mut scratch).2)
+            .collect()
+    }
+
+    /// At pixel `p`: (processors with the pixel active, pixels broadcast, last broadcast).
+    #[inline]
+    fn snoop_pixel(
+        &self,
+        p: usize,
+        assignment: &[u32],
+        scratch: &mut Vec<Local>,
+    ) -> (u64, u64, Option<u32>) {
+        let (a, b) = (self.offsets[p] as usize, self.offsets[p + 1] as usize);
+        match b - a {
+            0 => return (0, 0, None),
+            1 => return (1, 1, Some(self.order[a])),
+            _ => {}
+        }
+        scratch.clear();
+        scratch.extend((a..b).map(|i| Local {
+            proc: assignment[self.prim[i] as usize],
+            z: self.z[i],
+            prim: self.prim[i],
+            index: self.order[i],
+        }));
+        // Per processor, nearest first: the first entry of each processor's run is its
+        // local z-buffer's pixel.
+        scratch.sort_unstable_by_key(|l| (l.proc, l.z, l.prim, l.index));
+        let (mut active, mut broadcast) = (0, 0);
+        let mut front: Option<Local> = None;
+        let mut last_proc = None;
+        for l in scratch.iter() {
+            if last_proc == Some(l.proc) {
+                continue;
+            }
+            last_proc = Some(l.proc);
+            active += 1;
+            // Not deleted by any earlier broadcast: it is nearer than all of them.
+            if front.is_none_or(|f| nearer(l.z, l.prim, f.z, f.prim)) {
+                broadcast += 1;
+                front = Some(*l);
+            }
+        }
+        (active, broadcast, front.map(|f| f.index))
+    }
+
+    /// Replays every algorithm for every n of `config`.
+    pub fn run(&self, config: &ReplayConfig) -> Report {
+        let mut rows = Vec::new();
+        let area = self.stats.area;
+        for &n in &config.procs {
+            let needs_pass = config.algos.contains(&Algo::Snooping)
+                || (config.local_zbuffer && config.algos.contains(&Algo::DirectSend));
+            let counts = needs_pass.then(|| {
+                let assignment = self.assignment(config.assign, n, config.seed);
+                self.pass(&assignment)
+            });
+            for &algo in &config.algos {
+                let row = match algo {
+                    Algo::DirectSend => Row {
+                        algo,
+                        procs: n,
+                        pixels: match counts {
+                            Some(c) if config.local_zbuffer => c.local_active,
+                            _ => self.stats.fragments,
+                        },
+                        per_link_pixels: None,
+                        expected: None,
+                    },
+                    Algo::PixelFlow => Row {
+                        algo,
+                        procs: n,
+                        pixels: n as u64 * area,
+                        per_link_pixels: Some(area),
+                        expected: None,
+                    },
+                    Algo::Snooping => Row {
+                        algo,
+                        procs: n,
+                        pixels: counts.expect("snooping makes a pass").broadcast,
+                        per_link_pixels: None,
+                        expected: Some(self.stats.expected),
+                    },
+                };
+                rows.push(row);
+            }
+        }
+        Report {
+            stats: self.stats.clone(),
+            config: config.clone(),
+            rows,
+        }
+    }
+}
+
+/// H_d, the d-th harmonic number (H_0 = 0).
+pub fn harmonic(d: u64) -> f64 {
+    (1..=d).map(|k| 1.0 / k as f64).sum()
+}
+
+fn depth_stats(area: u64, fragments: u64, histogram: Vec<u64>) -> DepthStats {
+    let mut expected = 0.0;
+    let mut h = 0.0;
+    for (d, &count) in histogram.iter().enumerate().skip(1) {
+        h += 1.0 / d as f64;
+        expected += count as f64 * h;
+    }
+    let d = fragments as f64 / area as f64;
+    let lo = d.floor();
+    let a = d - lo;
+    let even_bound = area as f64 * ((1.0 - a) * harmonic(lo as u64) + a * harmonic(lo as u64 + 1));
+    DepthStats {
+        area,
+        fragments,
+        active: area - histogram.first().copied().unwrap_or(0),
+        histogram,
+        expected,
+        even_bound,
+    }
+}
+
+impl Report {
+    /// The table a person reads: one line per algorithm and n.
+    pub fn table(&self) -> String {
+        let s = &self.stats;
+        let mut out = format!(
+            "A = {} pixels, {} fragments (d = {:.3}), {} active; snooping expected {:.0} (A sum p_d H_d), even-depth bound {:.0}\n",
+            s.area,
+            s.fragments,
+            s.depth(),
+            s.active,
+            s.expected,
+            s.even_bound
+        );
+        out.push_str(&format!(
+            "assignment {}, seed {}{}\n\n",
+            self.config.assign.name(),
+            self.config.seed,
+            if self.config.local_zbuffer {
+                ", direct send z-buffers locally"
+            } else {
+                ""
+            }
+        ));
+        out.push_str(&format!(
+            "{:<12} {:>5} {:>12} {:>14} {:>12} {:>10} {:>12} {:>9} {:>9}\n",
+            "algorithm",
+            "n",
+            "observed px",
+            "bytes",
+            "expected px",
+            "min px",
+            "max px (dA)",
+            "obs/dA",
+            "dA/obs"
+        ));
+        for r in &self.rows {
+            out.push_str(&format!(
+                "{:<12} {:>5} {:>12} {:>14} {:>12} {:>10} {:>12} {:>9.4} {:>9.3}\n",
+                r.algo.name(),
+                r.procs,
+                r.pixels,
+                r.bytes(),
+                r.expected.map_or("-".into(), |e| format!("{e:.0}")),
+                s.active,
+                s.fragments,
+                ratio(r.pixels, s.fragments),
+                ratio(s.fragments, r.pixels),
+            ));
+        }
+        out
+    }
+
+    /// One CSV line per algorithm and n.
+    pub fn csv(&self) -> String {
+        let s = &self.stats;
+        let mut out = String::from(
+            "algo,assign,procs,local_zbuffer,traffic_pixels,traffic_bytes,per_link_pixels,expected_pixels,even_bound_pixels,min_pixels,max_pixels,ratio_to_max,reduction\n",
+        );
+        for r in &self.rows {
+            out.push_str(&format!(
+                "{},{},{},{},{},{},{},{},{:.1},{},{},{:.6},{:.6}\n",
+                r.algo.name(),
+                self.config.assign.name(),
+                r.procs,
+                self.config.local_zbuffer,
+                r.pixels,
+                r.bytes(),
+                r.per_link_pixels.map_or(String::new(), |v| v.to_string()),
+                r.expected.map_or(String::new(), |e| format!("{e:.1}")),
+                s.even_bound,
+                s.active,
+                s.fragments,
+                ratio(r.pixels, s.fragments),
+                ratio(s.fragments, r.pixels),
+            ));
+        }
+        out
+    }
+
+    /// The whole report as JSON (units in the key names).
+    pub fn json(&self, trace_file: &str) -> serde_json::Value {
+        let s = &self.stats;
+        let rows: Vec<serde_json::Value> = self
+            .rows
+            .iter()
+            .map(|r| {
+                serde_json::json!({
+                    "algo": r.algo.name(),
+                    "procs": r.procs,
+                    "traffic_pixels": r.pixels,
+                    "traffic_bytes": r.bytes(),
+                    "per_link_pixels": r.per_link_pixels,
+                    "expected_pixels": r.expected.map(round1),
+                    "ratio_to_max": round6(ratio(r.pixels, s.fragments)),
+                    "reduction": round6(ratio(s.fragments, r.pixels)),
+                })
+            })
+            .collect();
+        serde_json::json!({
+            "paper": "003 (Cox and Hanrahan, pixel merging and distributed snooping)",
+            "trace": trace_file,
+            "assign": self.config.assign.name(),
+            "seed": self.config.seed,
+            "local_zbuffer": self.config.local_zbuffer,
+            "bytes_per_pixel": ACTIVE_PIXEL_BYTES,
+            "screen_area_pixels": s.area,
+            "fragments": s.fragments,
+            "depth_complexity": round6(s.depth()),
+            "active_pixels": s.active,
+            "depth_histogram_pixels": s.histogram,
+            "snooping_expected_pixels": round1(s.expected),
+            "snooping_even_depth_bound_pixels": round1(s.even_bound),
+            "rows": rows,
+        })
+    }
+}
+
+fn ratio(a: u64, b: u64) -> f64 {
+    if b == 0 {
+        0.0
+    } else {
+        a as f64 / b as f64
+    }
+}
+
+fn round1(v: f64) -> f64 {
+    (v * 10.0).round() / 10.0
+}
+
+fn round6(v: f64) -> f64 {
+    (v * 1e6).round() / 1e6
+}
