@@ -646,8 +646,42 @@ fn trace_replay(args: &cli::TraceReplayArgs) -> Result<(), Failure> {
         write_file(dir, "replay.csv", &report.csv())?;
         let json = report.json(&args.trace.display().to_string());
         write_file(dir, "replay.json", &to_json(&json))?;
+        trace_plots(dir, &report)?;
         println!("written to {}", dir.display());
     }
     println!("replayed in {wall:.2} s wall");
+    Ok(())
+}
+
+/// Paper 003 Figures 5 and 6 style charts: traffic over d*A and over the minimum, against n.
+fn trace_plots(dir: &Path, report: &sortsim::trace::replay::Report) -> Result<(), Failure> {
+    use sortsim::report::plot::{line_chart, ChartOptions, PlotError};
+    use sortsim::trace::replay::Baseline;
+    let failed = |e: PlotError| match e {
+        PlotError::Io { .. } => Failure::BadInput(e.to_string()),
+        _ => Failure::Internal(e.to_string()),
+    };
+    let assign = report.config.assign.name();
+    for (stem, baseline, y_label) in [
+        ("traffic-over-max", Baseline::Maximum, "traffic / (d*A)"),
+        (
+            "traffic-over-min",
+            Baseline::Minimum,
+            "traffic / active pixels",
+        ),
+    ] {
+        line_chart(
+            &dir.join(stem),
+            &format!("Distributed snooping traffic, {assign} (paper 003, Figs. 5-6)"),
+            "processors n",
+            y_label,
+            &report.figure_series(baseline),
+            ChartOptions {
+                log_x: true,
+                y_from_zero: true,
+            },
+        )
+        .map_err(failed)?;
+    }
     Ok(())
 }

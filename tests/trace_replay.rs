@@ -218,7 +218,8 @@ fn shipped_trace_matches_a_fresh_recording() {
     assert!(record_scene(&scene, 0).unwrap() == shipped_zinnia());
 }
 
-/// The command line writes replay.csv and replay.json, byte-identical across runs.
+/// The command line writes replay.csv, replay.json and the Figure 5/6 style charts,
+/// byte-identical across runs (the PNG is only checked to exist).
 #[test]
 fn cli_replay_writes_identical_reports() {
     let base = std::env::temp_dir().join(format!("sortsim-trace-replay-{}", std::process::id()));
@@ -252,7 +253,9 @@ fn cli_replay_writes_identical_reports() {
         outputs.push((
             std::fs::read(dir.join("replay.csv")).unwrap(),
             std::fs::read(dir.join("replay.json")).unwrap(),
+            std::fs::read(dir.join("traffic-over-max.svg")).unwrap(),
         ));
+        assert!(dir.join("traffic-over-min.png").exists());
     }
     assert_eq!(outputs[0], outputs[1]);
     let csv = String::from_utf8(outputs[0].0.clone()).unwrap();

@@ -23,6 +23,7 @@ use super::format::Trace;
 use crate::engine::rng_stream;
 use crate::raster::target::nearer;
 use crate::raster::ACTIVE_PIXEL_BYTES;
+use crate::report::plot::Series;
 
 /// A merging algorithm of paper 003.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, PartialOrd, Ord)]
@@ -515,6 +516,52 @@ impl Report {
             "snooping_even_depth_bound_pixels": round1(s.even_bound),
             "rows": rows,
         })
+    }
+}
+
+/// The denominator of a traffic chart.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Baseline {
+    /// d*A, the straightforward algorithm's traffic (the maximum).
+    Maximum,
+    /// Active pixels, the least any merge must write (paper 003 Figures 5 and 6's y axis).
+    Minimum,
+}
+
+impl Report {
+    /// Paper 003 Figures 5 and 6 as series over n: snooping observed, expected (equation 3),
+    /// the even-depth bound (equation 4), maximum and minimum, and direct send when replayed,
+    /// each divided by `baseline`. PixelFlow (n*A) is left out: it dwarfs the rest.
+    pub fn figure_series(&self, baseline: Baseline) -> Vec<Series> {
+        let s = &self.stats;
+        let base = match baseline {
+            Baseline::Maximum => s.fragments,
+            Baseline::Minimum => s.active,
+        }
+        .max(1) as f64;
+        let procs = &self.config.procs;
+        let flat = |label: &str, v: f64| {
+            Series::new(label, procs.iter().map(|&n| (n as f64, v / base)).collect())
+        };
+        let observed = |algo: Algo, label: &str| {
+            let points: Vec<(f64, f64)> = self
+                .rows
+                .iter()
+                .filter(|r| r.algo == algo)
+                .map(|r| (r.procs as f64, r.pixels as f64 / base))
+                .collect();
+            (!points.is_empty()).then(|| Series::new(label, points))
+        };
+        let mut out = Vec::new();
+        out.extend(observed(Algo::Snooping, "snooping observed"));
+        out.push(flat("snooping expected (eq. 3)", s.expected));
+        out.push(flat("even-depth bound (eq. 4)", s.even_bound));
+        out.push(flat("maximum d*A", s.fragments as f64));
+        out.push(flat("minimum (active pixels)", s.active as f64));
+        if self.config.local_zbuffer {
+            out.extend(observed(Algo::DirectSend, "direct send, local z-buffer"));
+        }
+        out
     }
 }
 
