@@ -118,11 +118,20 @@ pub struct Row {
     pub per_link_pixels: Option<u64>,
     /// The expected traffic (snooping only).
     pub expected: Option<f64>,
+    /// Active pixels summed over the n local frame buffers, when a pass counted them
+    /// (paper 003 section 5: "on an 8-node machine only 10% of each local frame buffer
+    /// comprises active pixels").
+    pub local_active: Option<u64>,
 }
 
 impl Row {
     pub fn bytes(&self) -> u64 {
         self.pixels * ACTIVE_PIXEL_BYTES
+    }
+
+    /// The mean share of a local frame buffer (A pixels) that is active.
+    pub fn local_fraction(&self, local_active: u64, area: u64) -> f64 {
+        ratio(local_active, self.procs as u64 * area)
     }
 }
 
@@ -349,6 +358,7 @@ impl<'a> Replay<'a> {
                         },
                         per_link_pixels: None,
                         expected: None,
+                        local_active: counts.map(|c| c.local_active),
                     },
                     Algo::PixelFlow => Row {
                         algo,
@@ -356,6 +366,7 @@ impl<'a> Replay<'a> {
                         pixels: n as u64 * area,
                         per_link_pixels: Some(area),
                         expected: None,
+                        local_active: counts.map(|c| c.local_active),
                     },
                     Algo::Snooping => Row {
                         algo,
@@ -363,6 +374,7 @@ impl<'a> Replay<'a> {
                         pixels: counts.expect("snooping makes a pass").broadcast,
                         per_link_pixels: None,
                         expected: Some(self.stats.expected),
+                        local_active: counts.map(|c| c.local_active),
                     },
                 };
                 rows.push(row);
@@ -426,7 +438,7 @@ impl Report {
             }
         ));
         out.push_str(&format!(
-            "{:<12} {:>5} {:>12} {:>14} {:>12} {:>10} {:>12} {:>9} {:>9}\n",
+            "{:<12} {:>5} {:>12} {:>14} {:>12} {:>10} {:>12} {:>9} {:>9} {:>9}\n",
             "algorithm",
             "n",
             "observed px",
@@ -435,11 +447,12 @@ impl Report {
             "min px",
             "max px (dA)",
             "obs/dA",
-            "dA/obs"
+            "dA/obs",
+            "local %"
         ));
         for r in &self.rows {
             out.push_str(&format!(
-                "{:<12} {:>5} {:>12} {:>14} {:>12} {:>10} {:>12} {:>9.4} {:>9.3}\n",
+                "{:<12} {:>5} {:>12} {:>14} {:>12} {:>10} {:>12} {:>9.4} {:>9.3} {:>9}\n",
                 r.algo.name(),
                 r.procs,
                 r.pixels,
@@ -449,6 +462,10 @@ impl Report {
                 s.fragments,
                 ratio(r.pixels, s.fragments),
                 ratio(s.fragments, r.pixels),
+                r.local_active.map_or("-".into(), |a| format!(
+                    "{:.1}",
+                    100.0 * r.local_fraction(a, s.area)
+                )),
             ));
         }
         out
@@ -458,11 +475,11 @@ impl Report {
     pub fn csv(&self) -> String {
         let s = &self.stats;
         let mut out = String::from(
-            "algo,assign,procs,local_zbuffer,traffic_pixels,traffic_bytes,per_link_pixels,expected_pixels,even_bound_pixels,min_pixels,max_pixels,ratio_to_max,reduction\n",
+            "algo,assign,procs,local_zbuffer,traffic_pixels,traffic_bytes,per_link_pixels,expected_pixels,even_bound_pixels,min_pixels,max_pixels,ratio_to_max,reduction,local_active_pixels\n",
         );
         for r in &self.rows {
             out.push_str(&format!(
-                "{},{},{},{},{},{},{},{},{:.1},{},{},{:.6},{:.6}\n",
+                "{},{},{},{},{},{},{},{},{:.1},{},{},{:.6},{:.6},{}\n",
                 r.algo.name(),
                 self.config.assign.name(),
                 r.procs,
@@ -476,6 +493,7 @@ impl Report {
                 s.fragments,
                 ratio(r.pixels, s.fragments),
                 ratio(s.fragments, r.pixels),
+                r.local_active.map_or(String::new(), |a| a.to_string()),
             ));
         }
         out
@@ -494,6 +512,8 @@ impl Report {
                     "traffic_pixels": r.pixels,
                     "traffic_bytes": r.bytes(),
                     "per_link_pixels": r.per_link_pixels,
+                    "local_active_pixels": r.local_active,
+                    "local_active_fraction": r.local_active.map(|a| round6(r.local_fraction(a, s.area))),
                     "expected_pixels": r.expected.map(round1),
                     "ratio_to_max": round6(ratio(r.pixels, s.fragments)),
                     "reduction": round6(ratio(s.fragments, r.pixels)),
