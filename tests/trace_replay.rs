@@ -270,7 +270,7 @@ fn cli_replay_writes_identical_reports() {
 /// Paper 003 section 5: "even on an 8-node machine only 10% of each local frame buffer
 /// comprises active pixels". The replay reports that share; it is the same count direct send
 /// with local z-buffering ships (exact), and it can never exceed d/8 (exact bound). On the
-/// shipped Zinnia stand-in (d = 0.53) it is 6.0% at n = 8 (the larger stand-ins measure
+/// shipped Zinnia stand-in (d = 0.53) it is 6.5% at n = 8 (the larger stand-ins measure
 /// 26% Bike, 46% Roses, 62% Cube: random placement, little overlap inside one processor).
 #[test]
 fn local_frame_buffer_share_is_reported_and_bounded() {
@@ -281,5 +281,5 @@ fn local_frame_buffer_share_is_reported_and_bounded() {
     assert_eq!(snooping.local_active, Some(direct.pixels));
     let share = snooping.local_fraction(direct.pixels, report.stats.area);
     assert!(share <= report.stats.depth() / 8.0 + 1e-12);
-    assert!((share - 0.06).abs() < 0.01, "measured {share:.4}");
+    assert!((share - 0.065).abs() < 0.005, "measured {share:.4}");
 }
