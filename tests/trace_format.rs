@@ -242,3 +242,11 @@ proptest! {
         let _ = decode(&b);
     }
 }
+
+/// A file cut inside the checksum of an empty trace is truncated, not "damaged".
+#[test]
+fn empty_trace_cut_inside_its_checksum_is_truncated() {
+    let t = Trace::new(meta(4, 4, 0), &[]).unwrap();
+    let b = encode(&t);
+    check(&b[..b.len() - 2], "truncated: header says 0 fragments");
+}

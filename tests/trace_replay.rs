@@ -283,3 +283,29 @@ fn local_frame_buffer_share_is_reported_and_bounded() {
     assert!(share <= report.stats.depth() / 8.0 + 1e-12);
     assert!((share - 0.065).abs() < 0.005, "measured {share:.4}");
 }
+
+/// Regression guard: a header claiming 4 billion primitives (with one fragment) must not make
+/// replay allocate per-primitive tables of that size; must not panic.
+#[test]
+fn huge_primitive_count_does_not_blow_up_replay() {
+    let meta = sortsim::trace::format::TraceMeta {
+        width: 4,
+        height: 4,
+        frame: 0,
+        primitives: u32::MAX,
+        culled: false,
+    };
+    let f = sortsim::raster::FragmentRecord {
+        x: 1,
+        y: 2,
+        z: 5,
+        rgb: [1, 2, 3],
+        prim: 9,
+    };
+    let t = Trace::new(meta, &[f]).unwrap();
+    let report = Replay::new(&t).run(&config(&Algo::ALL, &[1, 64], Assign::Random, true));
+    assert!(report
+        .rows
+        .iter()
+        .all(|r| r.algo == Algo::PixelFlow || r.pixels == 1));
+}

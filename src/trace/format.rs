@@ -476,6 +476,11 @@ pub fn decode(bytes: &[u8]) -> Result<Trace, FormatError> {
     let sound = stored == Some(computed);
     match (decoded, sound) {
         (Ok(t), true) => Ok(t),
+        // The file ends inside the checksum of an otherwise complete trace.
+        (Ok(t), false) if stored.is_none() => Err(FormatError::Truncated {
+            expected: h.fragments,
+            got: t.len() as u64,
+        }),
         (Err(BodyError::RanOut(got)), false) => Err(FormatError::Truncated {
             expected: h.fragments,
             got,

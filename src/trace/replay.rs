@@ -202,7 +202,10 @@ impl<'a> Replay<'a> {
         }
         let z = order.iter().map(|&i| trace.depths()[i as usize]).collect();
         let prim = order.iter().map(|&i| trace.prims()[i as usize]).collect();
-        let mut per_prim = vec![0u64; trace.meta().primitives as usize];
+        // Sized by the ids actually present, not the header's count: a damaged but
+        // resealed header must not make replay allocate gigabytes.
+        let ids = trace.prims().iter().max().map_or(0, |&m| m as usize + 1);
+        let mut per_prim = vec![0u64; ids];
         for &p in trace.prims() {
             per_prim[p as usize] += 1;
         }
@@ -232,10 +235,12 @@ impl<'a> Replay<'a> {
         &self.present
     }
 
-    /// The processor of every primitive id (`u32::MAX` for primitives without fragments).
+    /// The processor of every primitive id up to the largest present (`u32::MAX` for
+    /// primitives without fragments).
     pub fn assignment(&self, rule: Assign, n: u32, seed: u64) -> Vec<u32> {
         assert!(n >= 1, "at least one processor");
-        let mut out = vec![u32::MAX; self.trace.meta().primitives as usize];
+        let ids = self.present.last().map_or(0, |&m| m as usize + 1);
+        let mut out = vec![u32::MAX; ids];
         match rule {
             Assign::Scatter => {
                 for (k, &p) in self.present.iter().enumerate() {
