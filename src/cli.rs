@@ -132,8 +132,11 @@ pub struct TraceReplayArgs {
 
 #[derive(ValueEnum, Clone, Copy, Debug, PartialEq, Eq)]
 pub enum MergeAlgoArg {
+    #[value(alias = "sort-last/direct-send")]
     DirectSend,
+    #[value(alias = "sort-last/pixelflow")]
     Pixelflow,
+    #[value(alias = "sort-last/snooping")]
     Snooping,
 }
 
