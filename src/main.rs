@@ -285,7 +285,7 @@ fn sweep(args: &SweepArgs) -> Result<(), Failure> {
         println!("point {} failed: {}", f.point, f.message);
     }
     println!("report written to {} (sweep.csv, sweep.json, plots/)", out.display());
-    match outcome.failures.iter().find(|f| f.internal) {
+    match outcome.failures.iter().find(|f| f.kind == sortsim::sweep::FailureKind::Internal) {
         Some(f) => Err(Failure::Internal(format!("point {}: {}", f.point, f.message))),
         None => Ok(()),
     }

@@ -66,8 +66,20 @@ pub struct SweepOutcome {
 pub struct PointFailure {
     pub point: String,
     pub message: String,
-    /// A deadlock or other engine failure (a bug), as opposed to a machine too small.
-    pub internal: bool,
+    pub kind: FailureKind,
+}
+
+/// Whose a failed point is to fix.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize)]
+#[serde(rename_all = "kebab-case")]
+pub enum FailureKind {
+    /// The machine cannot hold the run (memory): a result in itself, recorded in the row, as
+    /// paper 002 records the partitions too small for the large models.
+    Machine,
+    /// A bad option value or an unsupported combination: the sweep is refused as bad input.
+    BadInput,
+    /// A deadlock or other engine failure: a bug, recorded in the row and reported.
+    Internal,
 }
 
 #[derive(Debug, thiserror::Error)]
@@ -105,6 +117,16 @@ pub fn run_sweep(
     let configs = resolve_pending(sweep, &names, &pending)?;
     let results = run_pending(sweep, out, &names, &pending, configs, options)?;
     let mut failures: Vec<PointFailure> = results.into_iter().filter_map(Result::err).collect();
+    // Options are checked as a run starts; a bad one fails its points at once, before they
+    // simulate anything, and refuses the sweep without a table.
+    if let Some(f) = failures.iter().find(|f| f.kind == FailureKind::BadInput) {
+        let message = format!("point {}: {}", f.point, f.message);
+        return Err(SweepError::Spec(SpecError::invalid(
+            &sweep.file,
+            "",
+            message,
+        )));
+    }
     let metrics = read_metrics(out, &names, &failures)?;
     let rows = table::rows(sweep, &names, &metrics, &failures);
     write_reports(sweep, out, &rows)?;
@@ -283,11 +305,17 @@ fn run_point(
     let result = match crate::algo::run(cfg) {
         Ok(r) => r,
         Err(e) => {
-            let internal = matches!(&e, RunError::Sim(s) if !matches!(s, SimError::Memory { .. }));
+            let kind = match &e {
+                RunError::Sim(SimError::Memory { .. }) => FailureKind::Machine,
+                RunError::Sim(_) => FailureKind::Internal,
+                RunError::Option(_) | RunError::Scene(_) | RunError::Unsupported(_) => {
+                    FailureKind::BadInput
+                }
+            };
             return Ok(Err(PointFailure {
                 point: name.to_string(),
                 message: e.to_string(),
-                internal,
+                kind,
             }));
         }
     };
