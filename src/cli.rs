@@ -57,7 +57,9 @@ pub enum Command {
         json: bool,
     },
     /// Run every point of a sweep spec in parallel; write sweep.csv, sweep.json and plots.
-    #[command(after_help = "Example:\n  sortsim sweep sweeps/p002-fig9-plb.json -o reports/fig9-plb --jobs 2\n\nA sweep spec is a run spec in which machine, scene, algo, procs and seed may be lists,\nplus \"vary\": {\"option\": [values]}; every combination is run. Rerunning with the same\nDIR skips the points whose summary.json exists.")]
+    #[command(
+        after_help = "Example:\n  sortsim sweep sweeps/p002-fig9-plb.json -o reports/fig9-plb --jobs 2\n\nA sweep spec is a run spec in which machine, scene, algo, procs and seed may be lists,\nplus \"vary\": {\"option\": [values]}; every combination is run. Rerunning with the same\nDIR skips the points whose summary.json exists."
+    )]
     Sweep(SweepArgs),
     /// Simulate a list of messages on a machine's network and print each completion time.
     #[command(

@@ -266,11 +266,30 @@ fn write_file(dir: &Path, name: &str, text: &str) -> Result<(), Failure> {
 fn sweep(args: &SweepArgs) -> Result<(), Failure> {
     use sortsim::sweep::{run_sweep, spec::load_sweep, SweepError, SweepOptions};
     let spec = load_sweep(&args.spec)?;
-    let stem = args.spec.file_stem().map_or("sweep".into(), |s| s.to_string_lossy().into_owned());
-    let out = args.out.clone().unwrap_or_else(|| PathBuf::from(format!("reports/sweep-{stem}")));
-    let jobs = args.jobs.map_or_else(|| std::thread::available_parallelism().map_or(1, |n| n.get()), |j| j as usize);
-    let outcome = run_sweep(&spec, &out, SweepOptions { jobs, progress: true }).map_err(|e| match e {
-        SweepError::Spec(_) | SweepError::BadSummary { .. } | SweepError::Write { .. } => Failure::BadInput(e.to_string()),
+    let stem = args
+        .spec
+        .file_stem()
+        .map_or("sweep".into(), |s| s.to_string_lossy().into_owned());
+    let out = args
+        .out
+        .clone()
+        .unwrap_or_else(|| PathBuf::from(format!("reports/sweep-{stem}")));
+    let jobs = args.jobs.map_or_else(
+        || std::thread::available_parallelism().map_or(1, |n| n.get()),
+        |j| j as usize,
+    );
+    let outcome = run_sweep(
+        &spec,
+        &out,
+        SweepOptions {
+            jobs,
+            progress: true,
+        },
+    )
+    .map_err(|e| match e {
+        SweepError::Spec(_) | SweepError::BadSummary { .. } | SweepError::Write { .. } => {
+            Failure::BadInput(e.to_string())
+        }
         SweepError::Plot(_) | SweepError::Pool { .. } => Failure::Internal(e.to_string()),
     })?;
     print!("{}", sortsim::sweep::table::format_rows(&outcome.rows));
@@ -284,9 +303,19 @@ fn sweep(args: &SweepArgs) -> Result<(), Failure> {
     for f in &outcome.failures {
         println!("point {} failed: {}", f.point, f.message);
     }
-    println!("report written to {} (sweep.csv, sweep.json, plots/)", out.display());
-    match outcome.failures.iter().find(|f| f.kind == sortsim::sweep::FailureKind::Internal) {
-        Some(f) => Err(Failure::Internal(format!("point {}: {}", f.point, f.message))),
+    println!(
+        "report written to {} (sweep.csv, sweep.json, plots/)",
+        out.display()
+    );
+    match outcome
+        .failures
+        .iter()
+        .find(|f| f.kind == sortsim::sweep::FailureKind::Internal)
+    {
+        Some(f) => Err(Failure::Internal(format!(
+            "point {}: {}",
+            f.point, f.message
+        ))),
         None => Ok(()),
     }
 }
@@ -358,9 +387,16 @@ fn default_sweep(root: &Path, out: &Path) -> Result<(), Failure> {
     println!("\nThe default sweep ({}):", spec.display());
     match std::fs::remove_dir_all(out.join("points")) {
         Err(e) if e.kind() != std::io::ErrorKind::NotFound => {
-            return Err(Failure::BadInput(format!("{}: cannot clear: {e}", out.join("points").display())))
+            return Err(Failure::BadInput(format!(
+                "{}: cannot clear: {e}",
+                out.join("points").display()
+            )))
         }
         _ => {}
     }
-    sweep(&SweepArgs { spec, out: Some(out.to_path_buf()), jobs: None })
+    sweep(&SweepArgs {
+        spec,
+        out: Some(out.to_path_buf()),
+        jobs: None,
+    })
 }

@@ -13,7 +13,9 @@ fn root() -> &'static Path {
 }
 
 fn out_dir(name: &str) -> PathBuf {
-    let dir = PathBuf::from(env!("CARGO_TARGET_TMPDIR")).join("sweep-run").join(name);
+    let dir = PathBuf::from(env!("CARGO_TARGET_TMPDIR"))
+        .join("sweep-run")
+        .join(name);
     let _ = std::fs::remove_dir_all(&dir);
     dir
 }
@@ -31,7 +33,15 @@ fn spec(procs: &str) -> Sweep {
 }
 
 fn run(sweep: &Sweep, dir: &Path, jobs: usize) -> SweepOutcome {
-    run_sweep(sweep, dir, SweepOptions { jobs, progress: false }).unwrap_or_else(|e| panic!("{e}"))
+    run_sweep(
+        sweep,
+        dir,
+        SweepOptions {
+            jobs,
+            progress: false,
+        },
+    )
+    .unwrap_or_else(|e| panic!("{e}"))
 }
 
 fn read(path: &Path) -> Vec<u8> {
@@ -66,21 +76,40 @@ fn thread_count_does_not_change_a_byte() {
     assert_eq!(one.rows, two.rows);
     let (fa, fb) = (deterministic_files(&a), deterministic_files(&b));
     let names: Vec<_> = fa.iter().map(|(p, _)| p.clone()).collect();
-    assert!(names.contains(&PathBuf::from("sweep.csv")) && names.contains(&PathBuf::from("sweep.json")));
-    for stem in ["triangles-per-s", "speedup", "efficiency", "traffic-per-frame", "load-imbalance"] {
+    assert!(
+        names.contains(&PathBuf::from("sweep.csv")) && names.contains(&PathBuf::from("sweep.json"))
+    );
+    for stem in [
+        "triangles-per-s",
+        "speedup",
+        "efficiency",
+        "traffic-per-frame",
+        "load-imbalance",
+    ] {
         for ext in ["svg", "png"] {
             let p = PathBuf::from(format!("plots/{stem}.{ext}"));
             assert!(names.contains(&p), "{} written", p.display());
         }
     }
-    assert_eq!(fa.len(), 2 + 10 + 6, "table, plots, one summary.json per point: {names:?}");
+    assert_eq!(
+        fa.len(),
+        2 + 10 + 6,
+        "table, plots, one summary.json per point: {names:?}"
+    );
     for ((pa, ba), (pb, bb)) in fa.iter().zip(&fb) {
         assert_eq!(pa, pb);
         assert!(ba == bb, "{} differs between 1 and 2 threads", pa.display());
     }
     let csv = String::from_utf8(read(&a.join("sweep.csv"))).unwrap();
-    assert_eq!(csv.lines().count(), 7, "a header and one line per point:\n{csv}");
-    assert!(!csv.contains(a.to_str().unwrap()), "no output path in the table");
+    assert_eq!(
+        csv.lines().count(),
+        7,
+        "a header and one line per point:\n{csv}"
+    );
+    assert!(
+        !csv.contains(a.to_str().unwrap()),
+        "no output path in the table"
+    );
 }
 
 #[test]
@@ -90,24 +119,42 @@ fn resume_keeps_finished_points_and_runs_the_rest() {
     let first = run(&sweep, &dir, 2);
     assert_eq!((first.ran, first.skipped), (4, 0));
     let points = dir.join("points");
-    let mut folders: Vec<PathBuf> = std::fs::read_dir(&points).unwrap().map(|e| e.unwrap().path()).collect();
+    let mut folders: Vec<PathBuf> = std::fs::read_dir(&points)
+        .unwrap()
+        .map(|e| e.unwrap().path())
+        .collect();
     folders.sort();
     // Tamper with one finished point, and "interrupt" another by removing its summary.
     let kept = folders[0].join("summary.json");
     let text = String::from_utf8(read(&kept)).unwrap();
-    let line = text.lines().find(|l| l.contains("\"mean_triangles_per_s\"")).unwrap();
+    let line = text
+        .lines()
+        .find(|l| l.contains("\"mean_triangles_per_s\""))
+        .unwrap();
     let tampered = text.replacen(line, "  \"mean_triangles_per_s\": 12345.5,", 1);
     std::fs::write(&kept, &tampered).unwrap();
     std::fs::remove_file(folders[1].join("summary.json")).unwrap();
     let second = run(&sweep, &dir, 2);
     assert_eq!((second.ran, second.skipped), (1, 3));
-    assert_eq!(read(&kept), tampered.as_bytes(), "a finished point is never rewritten");
+    assert_eq!(
+        read(&kept),
+        tampered.as_bytes(),
+        "a finished point is never rewritten"
+    );
     assert!(folders[1].join("summary.json").exists());
     let name = folders[0].file_name().unwrap().to_str().unwrap();
     let row = second.rows.iter().find(|r| r.point == name).unwrap();
-    assert_eq!(row.mean_triangles_per_s, Some(12345.5), "the table is read from the kept summary");
+    assert_eq!(
+        row.mean_triangles_per_s,
+        Some(12345.5),
+        "the table is read from the kept summary"
+    );
     let csv = String::from_utf8(read(&dir.join("sweep.csv"))).unwrap();
-    assert!(csv.lines().any(|l| l.starts_with(name) && l.contains(",12345.5,")), "{csv}");
+    assert!(
+        csv.lines()
+            .any(|l| l.starts_with(name) && l.contains(",12345.5,")),
+        "{csv}"
+    );
 }
 
 #[test]
@@ -115,7 +162,10 @@ fn speedup_is_the_triangle_rate_ratio_to_one_processor() {
     let sweep = spec("[4, 16]");
     let dir = out_dir("speedup");
     let outcome = run(&sweep, &dir, 2);
-    assert_eq!(outcome.ran, 6, "4 listed points and 2 implicit one-processor baselines");
+    assert_eq!(
+        outcome.ran, 6,
+        "4 listed points and 2 implicit one-processor baselines"
+    );
     assert_eq!(outcome.rows.len(), 4, "baselines are not rows");
     let baselines: Vec<PathBuf> = std::fs::read_dir(dir.join("points"))
         .unwrap()
@@ -124,8 +174,12 @@ fn speedup_is_the_triangle_rate_ratio_to_one_processor() {
         .collect();
     assert_eq!(baselines.len(), 2);
     for row in &outcome.rows {
-        let base_dir = baselines.iter().find(|p| p.to_str().unwrap().contains(&row.algo.replace('/', "-"))).unwrap();
-        let base: serde_json::Value = serde_json::from_slice(&read(&base_dir.join("summary.json"))).unwrap();
+        let base_dir = baselines
+            .iter()
+            .find(|p| p.to_str().unwrap().contains(&row.algo.replace('/', "-")))
+            .unwrap();
+        let base: serde_json::Value =
+            serde_json::from_slice(&read(&base_dir.join("summary.json"))).unwrap();
         let base_tps = base["mean_triangles_per_s"].as_f64().unwrap();
         assert!(base_tps > 0.0);
         let tps = row.mean_triangles_per_s.unwrap();

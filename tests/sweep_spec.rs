@@ -34,9 +34,23 @@ fn product_order_is_machine_scene_algo_vary_seed_procs() {
             "vary": {"two-step": ["on", "off"], "granularity": [4, 8]}}"#,
     );
     let keys: Vec<&str> = s.dims.iter().map(|d| d.key.as_str()).collect();
-    assert_eq!(keys, ["machine", "scene", "algo", "vary.granularity", "vary.two-step", "seed", "procs"]);
+    assert_eq!(
+        keys,
+        [
+            "machine",
+            "scene",
+            "algo",
+            "vary.granularity",
+            "vary.two-step",
+            "seed",
+            "procs"
+        ]
+    );
     assert_eq!(s.points.len(), 2 * 2 * 2 * 2 * 2 * 2);
-    assert!(s.points.iter().all(|p| p.listed), "1 is listed: no implicit baselines");
+    assert!(
+        s.points.iter().all(|p| p.listed),
+        "1 is listed: no implicit baselines"
+    );
     let values = |i: usize| s.points[i].values.join(" ");
     assert_eq!(values(0), "a.json s.json sort-middle/static 4 on 7 1");
     assert_eq!(values(1), "a.json s.json sort-middle/static 4 on 7 4");
@@ -63,7 +77,11 @@ fn single_values_lists_and_scalars() {
     assert!(s.points[0].listed && !s.points[1].listed);
     assert_eq!(s.points[1].run.procs, 1);
     let run = &s.points[0].run;
-    assert_eq!(run.machine, Path::new("sweeps/../machines/delta.json"), "relative to the sweep file");
+    assert_eq!(
+        run.machine,
+        Path::new("sweeps/../machines/delta.json"),
+        "relative to the sweep file"
+    );
     assert_eq!(run.frames.as_deref(), Some("0..2"));
     assert_eq!(run.seed, 1, "default seed");
     let set: Vec<String> = run.set.iter().map(|(k, v)| format!("{k}={v}")).collect();
@@ -77,7 +95,10 @@ fn baselines_are_one_per_combination_in_product_order() {
             "procs": [4, 16], "vary": {"machine.network.fidelity": ["flow", "packet"]}}"#,
     );
     let listed = s.points.iter().filter(|p| p.listed).count();
-    let baselines: Vec<String> = s.points[listed..].iter().map(|p| p.values.join(" ")).collect();
+    let baselines: Vec<String> = s.points[listed..]
+        .iter()
+        .map(|p| p.values.join(" "))
+        .collect();
     assert_eq!(listed, 8);
     assert_eq!(
         baselines,
@@ -96,8 +117,18 @@ fn point_names_are_stable_readable_and_distinct() {
                    "procs": [1, 2], "vary": {"two-step": ["on", "off"]}}"#;
     let (a, b) = (sweep(json), sweep(json));
     let names: Vec<String> = a.points.iter().map(|p| point_name(&a, p)).collect();
-    assert_eq!(names, b.points.iter().map(|p| point_name(&b, p)).collect::<Vec<_>>());
-    assert!(names[0].starts_with("m_plb_sort-middle-ellsworth_two-step-on_s1_p0001_"), "{}", names[0]);
+    assert_eq!(
+        names,
+        b.points
+            .iter()
+            .map(|p| point_name(&b, p))
+            .collect::<Vec<_>>()
+    );
+    assert!(
+        names[0].starts_with("m_plb_sort-middle-ellsworth_two-step-on_s1_p0001_"),
+        "{}",
+        names[0]
+    );
     let mut unique = names.clone();
     unique.sort();
     unique.dedup();

@@ -56,6 +56,11 @@ const METRICS: [Metric; 5] = [
 pub fn write_plots(sweep: &Sweep, rows: &[Row], dir: &Path) -> Result<(), PlotError> {
     let groups = groups(sweep, rows);
     let procs: Vec<u32> = rows.iter().map(|r| r.procs).collect();
+    // The sweep's file name tells which report a plot belongs to once it is copied out.
+    let name = sweep
+        .file
+        .file_stem()
+        .map_or(String::new(), |s| s.to_string_lossy().into_owned());
     let options = ChartOptions {
         log_x: log_axis(&procs),
         y_from_zero: true,
@@ -72,9 +77,10 @@ pub fn write_plots(sweep: &Sweep, rows: &[Row], dir: &Path) -> Result<(), PlotEr
                 Series::new(label.clone(), points)
             })
             .collect();
+        let title = format!("{} ({name})", m.title);
         line_chart(
             &dir.join(m.stem),
-            m.title,
+            &title,
             "processors",
             m.y_label,
             &series,

@@ -234,7 +234,7 @@ fn line(fields: &[String]) -> String {
 pub fn format_rows(rows: &[Row]) -> String {
     let opt = |v: Option<f64>, prec: usize| v.map_or("-".to_string(), |x| format!("{x:.prec$}"));
     let mut out = format!(
-        "{:<44} {:>5} {:>12} {:>10} {:>8} {:>6} {:>12} {:>8} {:>8}\n",
+        "{:<56} {:>5} {:>12} {:>10} {:>8} {:>6} {:>12} {:>8} {:>8}\n",
         "algo, scene, options",
         "procs",
         "triangles/s",
@@ -251,7 +251,7 @@ pub fn format_rows(rows: &[Row]) -> String {
             what.push_str(&format!(", {k}={v}"));
         }
         out.push_str(&format!(
-            "{:<44} {:>5} {:>12} {:>10} {:>8} {:>6} {:>12} {:>8} {:>8}\n",
+            "{:<56} {:>5} {:>12} {:>10} {:>8} {:>6} {:>12} {:>8} {:>8}\n",
             what,
             r.procs,
             opt(r.mean_triangles_per_s, 0),
