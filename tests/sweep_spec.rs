@@ -162,3 +162,40 @@ fn errors_name_file_and_field() {
         check_refusal(json, fragment);
     }
 }
+
+#[test]
+fn bundled_sweeps_parse_and_name_existing_files() {
+    let dir = Path::new(env!("CARGO_MANIFEST_DIR")).join("sweeps");
+    let mut files: Vec<_> = std::fs::read_dir(&dir)
+        .unwrap()
+        .map(|e| e.unwrap().path())
+        .filter(|p| p.extension().is_some_and(|x| x == "json"))
+        .collect();
+    files.sort();
+    assert!(
+        files.iter().any(|f| f.ends_with("default.json")),
+        "{files:?}"
+    );
+    for file in &files {
+        let s = sortsim::sweep::spec::load_sweep(file).unwrap_or_else(|e| panic!("{e}"));
+        assert!(
+            s.note.is_some(),
+            "{}: says what it is and how long it takes",
+            file.display()
+        );
+        for p in &s.points {
+            assert!(
+                p.run.machine.exists(),
+                "{}: {}",
+                file.display(),
+                p.run.machine.display()
+            );
+            assert!(
+                p.run.scene.exists(),
+                "{}: {}",
+                file.display(),
+                p.run.scene.display()
+            );
+        }
+    }
+}
