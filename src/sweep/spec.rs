@@ -8,7 +8,7 @@
 //! Paths are relative to the sweep file's folder. Owns parsing and validation of sweeps (errors
 //! name the file and the field path); must never run a simulation or touch the report folder.
 
-use std::collections::BTreeMap;
+use std::collections::{BTreeMap, BTreeSet};
 use std::path::{Path, PathBuf};
 
 use serde::{Deserialize, Serialize};
@@ -133,7 +133,7 @@ impl Sweep {
     /// Checks the lists and expands the product. Runs nothing and loads no machine or scene.
     pub fn new(file: &Path, spec: SweepSpec) -> Result<Sweep, SpecError> {
         let dims = dims(file, &spec)?;
-        validate_values(file, &spec, &dims)?;
+        validate_values(file, &spec)?;
         let mut points: Vec<Point> = product(&dims)
             .into_iter()
             .map(|values| point(file, &spec, &dims, values, true))
@@ -229,7 +229,7 @@ fn check_list(file: &Path, d: &Dim) -> Result<(), SpecError> {
 }
 
 /// The checks that need no file: algorithm ids and processor counts.
-fn validate_values(file: &Path, spec: &SweepSpec, dims: &[Dim]) -> Result<(), SpecError> {
+fn validate_values(file: &Path, spec: &SweepSpec) -> Result<(), SpecError> {
     let field = |key: &str, i: usize, many: bool| {
         if many {
             format!("{key}[{i}]")
@@ -269,7 +269,6 @@ fn validate_values(file: &Path, spec: &SweepSpec, dims: &[Dim]) -> Result<(), Sp
             ));
         }
     }
-    debug_assert_eq!(dims.last().map(|d| d.key.as_str()), Some("procs"));
     Ok(())
 }
 
@@ -299,12 +298,13 @@ fn product(dims: &[Dim]) -> Vec<Vec<String>> {
 /// of the other values, in product order.
 fn implicit_baselines(dims: &[Dim], points: &[Point]) -> Vec<Vec<String>> {
     let procs = dims.len() - 1;
+    let listed: BTreeSet<&[String]> = points.iter().map(|p| p.values.as_slice()).collect();
+    let mut added: BTreeSet<Vec<String>> = BTreeSet::new();
     let mut out: Vec<Vec<String>> = Vec::new();
     for p in points {
         let mut base = p.values.clone();
         base[procs] = "1".to_string();
-        let listed = points.iter().any(|q| q.values == base);
-        if !listed && !out.contains(&base) {
+        if !listed.contains(base.as_slice()) && added.insert(base.clone()) {
             out.push(base);
         }
     }

@@ -88,10 +88,16 @@ pub fn rows(
     failures: &[PointFailure],
 ) -> Vec<Row> {
     let procs = sweep.dims.len() - 1;
+    let index: BTreeMap<&[String], usize> = sweep
+        .points
+        .iter()
+        .enumerate()
+        .map(|(i, p)| (p.values.as_slice(), i))
+        .collect();
     let baseline = |values: &[String]| {
         let mut base = values.to_vec();
         base[procs] = "1".into();
-        let i = sweep.points.iter().position(|p| p.values == base)?;
+        let &i = index.get(base.as_slice())?;
         metrics[i]
             .as_ref()
             .map(|m| m.mean_triangles_per_s)
