@@ -270,3 +270,60 @@ mod tests {
         );
     }
 }
+
+/// The simulator's own overhead on a sort-middle run: simulating `frame` of `scene` on
+/// `procs` processors of `machine` against drawing the same frame with the sequential
+/// reference renderer, in the same process (ratio = simulation wall / render wall).
+#[derive(Clone, Debug, Serialize)]
+pub struct OverheadReport {
+    pub scene: String,
+    pub procs: u32,
+    pub fidelity: &'static str,
+    pub render_wall_s: f64,
+    pub simulate_wall_s: f64,
+    pub ratio: f64,
+    pub events: u64,
+    pub messages: u64,
+}
+
+/// Measures one frame; both timings include generating the frame's geometry from the scene.
+pub fn overhead(
+    machine: &std::path::Path,
+    scene: std::sync::Arc<crate::scene::Scene>,
+    procs: u32,
+    frame: u32,
+    set: std::collections::BTreeMap<String, String>,
+) -> Result<OverheadReport, String> {
+    use crate::algo::{reference, run};
+    use crate::spec::run::RunSpec;
+    let t0 = Instant::now();
+    let geometry = scene.frame(frame).map_err(|e| e.to_string())?;
+    let (image, _) = reference::render(&geometry);
+    let render_wall = t0.elapsed().as_secs_f64();
+    drop((image, geometry));
+    let spec = RunSpec {
+        machine: machine.to_path_buf(),
+        scene: scene.file().to_path_buf(),
+        algo: "sort-middle/ellsworth".into(),
+        procs,
+        frames: Some(frame.to_string()),
+        seed: 1,
+        set,
+    };
+    let cfg = spec
+        .resolve(Some(scene.clone()))
+        .map_err(|e| e.to_string())?;
+    let t1 = Instant::now();
+    let result = run(&cfg).map_err(|e| e.to_string())?;
+    let simulate_wall = t1.elapsed().as_secs_f64();
+    Ok(OverheadReport {
+        scene: scene.file().display().to_string(),
+        procs,
+        fidelity: cfg.machine.network.fidelity.name(),
+        render_wall_s: render_wall,
+        simulate_wall_s: simulate_wall,
+        ratio: simulate_wall / render_wall.max(1e-9),
+        events: result.stats.events,
+        messages: result.frames.iter().map(|f| f.messages).sum(),
+    })
+}

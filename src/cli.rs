@@ -30,10 +30,14 @@ pub enum Command {
         files: Vec<PathBuf>,
     },
     /// Simulate an algorithm on a machine and a scene; write its report.
-    #[command(after_help = "Example:\n  sortsim run --machine machines/delta.json --scene scenes/plb-head-standin.json \\\n      --algo sort-middle/ellsworth --procs 64 --frames 0..4 --set granularity=8 -o reports/plb-64")]
+    #[command(
+        after_help = "Example:\n  sortsim run --machine machines/delta.json --scene scenes/plb-head-standin.json \\\n      --algo sort-middle/ellsworth --procs 64 --frames 0..4 --set granularity=8 -o reports/plb-64"
+    )]
     Run(RunArgs),
     /// Draw one frame of a scene with the sequential reference renderer; print its statistics.
-    #[command(after_help = "Example:\n  sortsim render scenes/spd-teapot.json --frame 0 -o teapot.png")]
+    #[command(
+        after_help = "Example:\n  sortsim render scenes/spd-teapot.json --frame 0 -o teapot.png"
+    )]
     Render {
         scene: PathBuf,
         #[arg(long, default_value_t = 0)]
@@ -43,7 +47,9 @@ pub enum Command {
         out: PathBuf,
     },
     /// Statistics of a scene's frames next to the paper's numbers (JSON with --json).
-    #[command(after_help = "Example:\n  sortsim scene-stats scenes/polio-standin.json --frames 0..3 --regions 40x32 --json")]
+    #[command(
+        after_help = "Example:\n  sortsim scene-stats scenes/polio-standin.json --frames 0..3 --regions 40x32 --json"
+    )]
     SceneStats {
         scene: PathBuf,
         /// "A..B" or "A"; frame 0 when absent.
@@ -69,6 +75,48 @@ pub enum Command {
     /// Benchmarks of the simulator itself.
     #[command(subcommand)]
     Bench(BenchCommand),
+    /// Ellsworth's utilization simulator and performance model (paper 002, Figures 4 and 5).
+    #[command(
+        after_help = "Example:\n  sortsim utilization scenes/plb-head-standin.json --procs 2,4,...,512 --granularity 1..12 \\\n      --counts both --frame-step 4 -o reports/utilization-plb"
+    )]
+    Utilization(UtilizationArgs),
+}
+
+#[derive(Args, Debug)]
+pub struct UtilizationArgs {
+    /// Scene with a viewing sequence.
+    pub scene: PathBuf,
+    /// Machine whose cpu costs price the region times (machines/delta.json when absent).
+    #[arg(long)]
+    pub machine: Option<PathBuf>,
+    /// Processor counts: a list such as 2,4,...,512 (geometric), 2..512:x2, 8,64,512 or 1..16
+    /// (ranges here include both ends).
+    #[arg(long, default_value = "2,4,...,512")]
+    pub procs: String,
+    /// Granularity ratios (regions per processor): 1..12 (both ends included), 1,2,4,8,12,
+    /// 2..12:2.
+    #[arg(long, default_value = "1..12")]
+    pub granularity: String,
+    /// Whose polygon counts drive the assignment: this frame's, the previous frame's, or both.
+    #[arg(long, value_enum, default_value = "both")]
+    pub counts: CountsArg,
+    /// "A..B" (B excluded) or "A"; all frames when absent.
+    #[arg(long)]
+    pub frames: Option<String>,
+    /// Sample every K-th frame of the range (the previous frame's counts are still those of
+    /// the frame just before each sampled one).
+    #[arg(long, default_value_t = 1, value_parser = clap::value_parser!(u32).range(1..))]
+    pub frame_step: u32,
+    /// Also write DIR/utilization.csv, utilization.json and the Figure 4 and 5 plots.
+    #[arg(short, long, value_name = "DIR")]
+    pub out: Option<PathBuf>,
+}
+
+#[derive(ValueEnum, Clone, Copy, Debug, PartialEq, Eq)]
+pub enum CountsArg {
+    Previous,
+    Current,
+    Both,
 }
 
 #[derive(Args, Debug)]
@@ -139,6 +187,23 @@ pub enum BenchCommand {
         after_help = "Example:\n  sortsim bench phold --lps 1024 --events-per-lp 16 --end 2ms"
     )]
     Phold(PholdArgs),
+    /// Simulating one frame of Ellsworth's algorithm against rendering it sequentially.
+    #[command(
+        after_help = "Example:\n  sortsim bench overhead --scene scenes/polio-standin.json --procs 512 --fidelity hops"
+    )]
+    Overhead {
+        #[arg(long, default_value = "machines/delta.json")]
+        machine: PathBuf,
+        #[arg(long, default_value = "scenes/polio-standin.json")]
+        scene: PathBuf,
+        #[arg(long, default_value_t = 512)]
+        procs: u32,
+        #[arg(long, default_value_t = 1)]
+        frame: u32,
+        /// Network fidelities to measure (the machine's own when absent).
+        #[arg(long, value_enum)]
+        fidelity: Vec<FidelityArg>,
+    },
 }
 
 #[derive(Args, Debug)]

@@ -10,15 +10,15 @@ use std::process::ExitCode;
 
 use clap::Parser;
 use cli::{BenchCommand, Cli, Command, FidelityArg, NetsimArgs, PholdArgs, RunArgs, SweepArgs};
+use sortsim::algo::{reference, RunError};
 use sortsim::bench::{phold_report, PholdConfig};
+use sortsim::engine::SimError;
 use sortsim::net::fidelity::{fidelity_table, format_table};
 use sortsim::net::pattern::{run_pattern, Pattern};
 use sortsim::net::Fidelity;
-use sortsim::report::{cost::Stopwatch, to_json, write_atomic};
-use sortsim::algo::{reference, RunError};
-use sortsim::engine::SimError;
 use sortsim::raster::encode_png;
 use sortsim::report::run::{timeline_json, RunSummary};
+use sortsim::report::{cost::Stopwatch, to_json, write_atomic};
 use sortsim::scene::Scene;
 use sortsim::spec::run::{parse_frames, RunSpec, RunSpecError};
 use sortsim::spec::{check::check, load_json, machine::load_machine, SpecError};
@@ -27,6 +27,12 @@ use sortsim::spec::{check::check, load_json, machine::load_machine, SpecError};
 enum Failure {
     BadInput(String),
     Internal(String),
+}
+
+impl From<sortsim::spec::check::CheckError> for Failure {
+    fn from(e: sortsim::spec::check::CheckError) -> Failure {
+        Failure::BadInput(e.to_string())
+    }
 }
 
 impl From<SpecError> for Failure {
@@ -65,6 +71,7 @@ impl From<sortsim::engine::SimError> for Failure {
 }
 
 fn main() -> ExitCode {
+    restore_default_sigpipe();
     let cli = Cli::parse();
     let outcome = match cli.command {
         None => default_job(),
@@ -72,8 +79,21 @@ fn main() -> ExitCode {
         Some(Command::Netsim(args)) => netsim(&args),
         Some(Command::Run(args)) => run(&args),
         Some(Command::Render { scene, frame, out }) => render(&scene, frame, &out),
-        Some(Command::SceneStats { scene, frames, regions, json }) => scene_stats(&scene, frames.as_deref(), regions, json),
+        Some(Command::SceneStats {
+            scene,
+            frames,
+            regions,
+            json,
+        }) => scene_stats(&scene, frames.as_deref(), regions, json),
         Some(Command::Bench(BenchCommand::Phold(args))) => bench_phold(&args),
+        Some(Command::Bench(BenchCommand::Overhead {
+            machine,
+            scene,
+            procs,
+            frame,
+            fidelity,
+        })) => bench_overhead(&machine, &scene, procs, frame, &fidelity),
+        Some(Command::Utilization(args)) => utilization(&args),
         Some(Command::Sweep(args)) => sweep(&args),
     };
     match outcome {
@@ -86,6 +106,16 @@ fn main() -> ExitCode {
             eprintln!("internal error (please report it): {msg}");
             ExitCode::from(1)
         }
+    }
+}
+
+/// A closed pipe (`sortsim check ... | head`) ends the process quietly, as for any Unix tool,
+/// instead of making a print fail.
+fn restore_default_sigpipe() {
+    #[cfg(unix)]
+    // SAFETY: called first thing in main, before any thread exists; SIG_DFL is always valid.
+    unsafe {
+        libc::signal(libc::SIGPIPE, libc::SIG_DFL);
     }
 }
 
@@ -168,7 +198,12 @@ fn run(args: &RunArgs) -> Result<(), Failure> {
     }
     write_bytes(&args.out.join(format!("frame-{last:04}.png")), &png)?;
     print!("{}", summary.markdown());
-    println!("\nreport written to {} (simulated in {:.2} s wall, {} events)", args.out.display(), cost.wall_s, cost.events);
+    println!(
+        "\nreport written to {} (simulated in {:.2} s wall, {} events)",
+        args.out.display(),
+        cost.wall_s,
+        cost.events
+    );
     Ok(())
 }
 
@@ -179,7 +214,12 @@ fn render(scene: &Path, frame: u32, out: &Path) -> Result<(), Failure> {
     let png = png_bytes(&image)?;
     write_bytes(out, &png)?;
     println!("{}", to_json(&counters_json(&counters)).trim_end());
-    println!("wrote {} ({}x{})", out.display(), geometry.width, geometry.height);
+    println!(
+        "wrote {} ({}x{})",
+        out.display(),
+        geometry.width,
+        geometry.height
+    );
     Ok(())
 }
 
@@ -199,7 +239,12 @@ fn counters_json(c: &sortsim::raster::Counters) -> serde_json::Value {
     })
 }
 
-fn scene_stats(path: &Path, frames: Option<&str>, regions: Option<(u32, u32)>, json: bool) -> Result<(), Failure> {
+fn scene_stats(
+    path: &Path,
+    frames: Option<&str>,
+    regions: Option<(u32, u32)>,
+    json: bool,
+) -> Result<(), Failure> {
     use sortsim::scene::stats::raster_overlap_factor;
     let scene = Scene::load(path)?;
     let frames = parse_frames(Some(frames.unwrap_or("0")), scene.frame_count())
@@ -252,7 +297,8 @@ fn png_bytes(image: &sortsim::raster::Framebuffer) -> Result<Vec<u8>, Failure> {
 }
 
 fn write_bytes(path: &Path, bytes: &[u8]) -> Result<(), Failure> {
-    write_atomic(path, bytes).map_err(|e| Failure::BadInput(format!("{}: cannot write: {e}", path.display())))
+    write_atomic(path, bytes)
+        .map_err(|e| Failure::BadInput(format!("{}: cannot write: {e}", path.display())))
 }
 
 fn write_file(dir: &Path, name: &str, text: &str) -> Result<(), Failure> {
@@ -317,6 +363,40 @@ fn sweep(args: &SweepArgs) -> Result<(), Failure> {
             f.point, f.message
         ))),
         None => Ok(()),
+    }
+}
+
+fn bench_overhead(
+    machine: &Path,
+    scene: &Path,
+    procs: u32,
+    frame: u32,
+    fidelities: &[FidelityArg],
+) -> Result<(), Failure> {
+    let scene = std::sync::Arc::new(Scene::load(scene)?);
+    let levels: Vec<Option<&str>> = if fidelities.is_empty() {
+        vec![None]
+    } else {
+        fidelities.iter().map(|f| Some(fidelity_name(*f))).collect()
+    };
+    for level in levels {
+        let set = level
+            .map(|l| ("machine.network.fidelity".to_string(), l.to_string()))
+            .into_iter()
+            .collect();
+        let report = sortsim::bench::overhead(machine, scene.clone(), procs, frame, set)
+            .map_err(Failure::BadInput)?;
+        print!("{}", to_json(&report));
+    }
+    Ok(())
+}
+
+fn fidelity_name(f: FidelityArg) -> &'static str {
+    match f {
+        FidelityArg::Ideal => "ideal",
+        FidelityArg::Hops => "hops",
+        FidelityArg::Flow => "flow",
+        FidelityArg::Packet => "packet",
     }
 }
 
@@ -399,4 +479,178 @@ fn default_sweep(root: &Path, out: &Path) -> Result<(), Failure> {
         out: Some(out.to_path_buf()),
         jobs: None,
     })
+}
+
+/// Ellsworth's utilization simulator (paper 002, Figure 4) and performance model (Figure 5).
+fn utilization(args: &cli::UtilizationArgs) -> Result<(), Failure> {
+    use sortsim::algo::sort_middle::utilization::{
+        parse_list, simulate, Config, CountsMode, UtilizationError,
+    };
+    let root = Path::new(env!("CARGO_MANIFEST_DIR"));
+    let machine_path = args
+        .machine
+        .clone()
+        .unwrap_or_else(|| root.join("machines/delta.json"));
+    let machine = load_machine(&machine_path)?;
+    let scene = Scene::load(&args.scene)?;
+    let list = |flag: &str, text: &str| {
+        parse_list(text).map_err(|e| Failure::BadInput(format!("{flag}: {e}")))
+    };
+    let (procs, granularities) = (
+        list("--procs", &args.procs)?,
+        list("--granularity", &args.granularity)?,
+    );
+    let range = parse_frames(args.frames.as_deref(), scene.frame_count())
+        .map_err(|e| Failure::BadInput(format!("{}: --frames: {e}", args.scene.display())))?;
+    let frames: Vec<u32> = range.clone().step_by(args.frame_step as usize).collect();
+    let cfg = Config::new(&procs, &granularities, &frames)
+        .map_err(|e| Failure::BadInput(e.to_string()))?;
+    let modes: Vec<CountsMode> = match args.counts {
+        cli::CountsArg::Current => vec![CountsMode::Current],
+        cli::CountsArg::Previous => vec![CountsMode::Previous],
+        cli::CountsArg::Both => vec![CountsMode::Current, CountsMode::Previous],
+    };
+    let clock = Stopwatch::start();
+    let outcome = simulate(&scene, &machine, &cfg).map_err(|e| match e {
+        UtilizationError::Invalid(m) => Failure::BadInput(m),
+        UtilizationError::Scene(e) => e.into(),
+    })?;
+    let wall = clock.cost(0).wall_s;
+    println!(
+        "{}: {} of {} frames (frames {}..{} every {}), {:.0} screen triangles and {:.0} pixels tested per frame; costs from {}{}",
+        args.scene.display(),
+        frames.len(),
+        scene.frame_count(),
+        range.start,
+        range.end,
+        args.frame_step,
+        outcome.mean_screen_triangles,
+        outcome.mean_pixels_tested,
+        machine_path.display(),
+        if outcome.prices.fallback { " (it prices no rasterization operation: documented fallback costs used, see utilization.json)" } else { "" }
+    );
+    println!();
+    print!(
+        "{}",
+        outcome.table(
+            &modes,
+            "Expected rasterization utilization (%)",
+            1,
+            |c| 100.0 * c.utilization
+        )
+    );
+    let figure5 = if modes.contains(&CountsMode::Previous) {
+        CountsMode::Previous
+    } else {
+        CountsMode::Current
+    };
+    print!(
+        "{}",
+        outcome.table(
+            &[figure5],
+            "Relative execution time (performance model)",
+            3,
+            |c| c.relative_time
+        )
+    );
+    print!(
+        "{}",
+        outcome.table(
+            &[CountsMode::Interleaved],
+            "Baseline utilization (%)",
+            1,
+            |c| 100.0 * c.utilization
+        )
+    );
+    if let Some(dir) = &args.out {
+        write_file(dir, "utilization.csv", &outcome.csv())?;
+        let json = outcome.json(
+            &args.scene.display().to_string(),
+            &machine_path.display().to_string(),
+        );
+        write_file(dir, "utilization.json", &to_json(&json))?;
+        utilization_plots(dir, &outcome, &modes, figure5)?;
+        println!("written to {}", dir.display());
+    }
+    println!("simulated in {wall:.1} s wall");
+    Ok(())
+}
+
+/// The Figure 4 and Figure 5 charts (SVG and PNG), and their points as CSV.
+fn utilization_plots(
+    dir: &Path,
+    outcome: &sortsim::algo::sort_middle::utilization::Outcome,
+    modes: &[sortsim::algo::sort_middle::utilization::CountsMode],
+    figure5: sortsim::algo::sort_middle::utilization::CountsMode,
+) -> Result<(), Failure> {
+    use sortsim::report::plot::{line_chart, ChartOptions, PlotError, Series};
+    let mut fig4 = String::from("counts,granularity,procs,utilization_pct\n");
+    let mut fig5 = String::from("procs,granularity,relative_time\n");
+    let mut utilization: Vec<Series> = Vec::new();
+    let mut relative: std::collections::BTreeMap<u32, Vec<(f64, f64)>> =
+        std::collections::BTreeMap::new();
+    let mut grans: Vec<u32> = outcome.cells.iter().map(|c| c.granularity).collect();
+    grans.sort_unstable();
+    grans.dedup();
+    for &mode in modes {
+        for &g in &grans {
+            let points: Vec<(f64, f64)> = outcome
+                .cells
+                .iter()
+                .filter(|c| c.counts == mode && c.granularity == g)
+                .map(|c| (c.procs as f64, 100.0 * c.utilization))
+                .collect();
+            for (n, u) in &points {
+                fig4.push_str(&format!("{},{g},{n},{u:.4}\n", mode.name()));
+            }
+            utilization.push(Series::new(format!("g={g} {}", mode.name()), points));
+        }
+    }
+    for c in outcome.cells.iter().filter(|c| c.counts == figure5) {
+        fig5.push_str(&format!(
+            "{},{},{:.5}\n",
+            c.procs, c.granularity, c.relative_time
+        ));
+        relative
+            .entry(c.procs)
+            .or_default()
+            .push((c.granularity as f64, c.relative_time));
+    }
+    let relative: Vec<Series> = relative
+        .into_iter()
+        .map(|(n, points)| Series::new(format!("N={n}"), points))
+        .collect();
+    write_file(dir, "figure4.csv", &fig4)?;
+    write_file(dir, "figure5.csv", &fig5)?;
+    let failed = |e: PlotError| match e {
+        PlotError::Io { .. } => Failure::BadInput(e.to_string()),
+        _ => Failure::Internal(e.to_string()),
+    };
+    line_chart(
+        &dir.join("figure4-utilization"),
+        "Expected rasterization utilization (paper 002, Fig. 4)",
+        "processors N",
+        "utilization (%)",
+        &utilization,
+        ChartOptions {
+            log_x: true,
+            y_from_zero: true,
+        },
+    )
+    .map_err(failed)?;
+    line_chart(
+        &dir.join("figure5-relative-time"),
+        &format!(
+            "Relative execution time, {} counts (paper 002, Fig. 5)",
+            figure5.name()
+        ),
+        "granularity ratio (regions per processor)",
+        "time / mean time for the same N",
+        &relative,
+        ChartOptions {
+            log_x: false,
+            y_from_zero: false,
+        },
+    )
+    .map_err(failed)
 }

@@ -33,7 +33,7 @@ fn corpus(kind: &str) -> Vec<(PathBuf, String)> {
     let mut present: Vec<_> = std::fs::read_dir(&dir)
         .unwrap()
         .map(|e| e.unwrap().path())
-        .filter(|p| p.file_name().unwrap() != "EXPECTED.txt")
+        .filter(|p| p.is_file() && p.file_name().unwrap() != "EXPECTED.txt")
         .collect();
     listed.sort();
     present.sort();
@@ -78,6 +78,21 @@ fn every_bad_machine_is_refused_with_its_message() {
 }
 
 #[test]
+fn every_bad_scene_is_refused_with_its_message() {
+    for (file, fragment) in corpus("scene") {
+        let out = sortsim(&["check", file.to_str().unwrap()]);
+        let stderr = String::from_utf8_lossy(&out.stderr);
+        assert_eq!(out.status.code(), Some(2), "{}: {stderr}", file.display());
+        assert!(
+            stderr.contains(&fragment),
+            "{}: expected {fragment:?} in: {stderr}",
+            file.display()
+        );
+        assert!(!stderr.contains("panicked"), "{stderr}");
+    }
+}
+
+#[test]
 fn every_bad_pattern_is_refused_and_writes_nothing() {
     let out_dir = std::env::temp_dir().join(format!("sortsim-bad-pattern-{}", std::process::id()));
     for (file, fragment) in corpus("pattern") {
@@ -118,6 +133,236 @@ fn bad_flags_are_refused_with_exit_code_2() {
             "does-not-exist.json: cannot read",
         ),
         (&["frobnicate"], "unrecognized subcommand"),
+        (
+            &[
+                "run",
+                "--machine",
+                "machines/delta.json",
+                "--scene",
+                "scenes/spd-teapot.json",
+                "--algo",
+                "sort-middle/static",
+                "--procs",
+                "0",
+            ],
+            "--procs 0: a run needs at least 1 processor",
+        ),
+        (
+            &[
+                "run",
+                "--machine",
+                "machines/delta.json",
+                "--scene",
+                "scenes/spd-teapot.json",
+                "--algo",
+                "sort-middle/static",
+                "--procs",
+                "513",
+            ],
+            "has 512 nodes; ask for at most 512",
+        ),
+        (
+            &[
+                "run",
+                "--machine",
+                "machines/delta.json",
+                "--scene",
+                "scenes/spd-teapot.json",
+                "--algo",
+                "sort-middle/static",
+                "--procs",
+                "37",
+            ],
+            "no rectangular partition of 37 nodes fits",
+        ),
+        (
+            &[
+                "run",
+                "--machine",
+                "machines/multicluster-torus.json",
+                "--scene",
+                "scenes/spd-teapot.json",
+                "--algo",
+                "sort-middle/static",
+                "--procs",
+                "8",
+            ],
+            "a torus cannot be partitioned, so ask for exactly 16",
+        ),
+        (
+            &[
+                "run",
+                "--machine",
+                "machines/delta.json",
+                "--scene",
+                "scenes/spd-teapot.json",
+                "--algo",
+                "sort-middle/magic",
+                "--procs",
+                "4",
+            ],
+            "unknown algorithm; valid ids: sort-middle/static, sort-middle/ellsworth",
+        ),
+        (
+            &[
+                "run",
+                "--machine",
+                "machines/delta.json",
+                "--scene",
+                "scenes/spd-teapot.json",
+                "--algo",
+                "sort-middle/ellsworth",
+                "--procs",
+                "4",
+                "--set",
+                "granularity=0",
+            ],
+            "--set granularity=0: expected a whole number of regions per processor, at least 1",
+        ),
+        (
+            &[
+                "run",
+                "--machine",
+                "machines/delta.json",
+                "--scene",
+                "scenes/spd-teapot.json",
+                "--algo",
+                "sort-middle/ellsworth",
+                "--procs",
+                "4",
+                "--set",
+                "granularity=lots",
+            ],
+            "--set granularity=lots: expected",
+        ),
+        (
+            &[
+                "run",
+                "--machine",
+                "machines/delta.json",
+                "--scene",
+                "scenes/spd-teapot.json",
+                "--algo",
+                "sort-middle/ellsworth",
+                "--procs",
+                "4",
+                "--set",
+                "colour=red",
+            ],
+            "has no option 'colour'; valid options:",
+        ),
+        (
+            &[
+                "run",
+                "--machine",
+                "machines/delta.json",
+                "--scene",
+                "scenes/spd-teapot.json",
+                "--algo",
+                "sort-middle/static",
+                "--procs",
+                "4",
+                "--set",
+                "granularity=8",
+            ],
+            "sort-middle/static has no option 'granularity'",
+        ),
+        (
+            &[
+                "run",
+                "--machine",
+                "machines/delta.json",
+                "--scene",
+                "scenes/spd-teapot.json",
+                "--algo",
+                "sort-middle/static",
+                "--procs",
+                "4",
+                "--set",
+                "machine.network.colour=red",
+            ],
+            "no field `network.colour`",
+        ),
+        (
+            &[
+                "run",
+                "--machine",
+                "machines/delta.json",
+                "--scene",
+                "scenes/spd-teapot.json",
+                "--algo",
+                "sort-middle/static",
+                "--procs",
+                "4",
+                "--set",
+                "machine.network.fidelity=exact",
+            ],
+            "unknown variant `exact`",
+        ),
+        (
+            &[
+                "run",
+                "--machine",
+                "machines/delta.json",
+                "--scene",
+                "scenes/spd-teapot.json",
+                "--algo",
+                "sort-middle/static",
+                "--procs",
+                "4",
+                "--set",
+                "counts",
+            ],
+            "--set counts: expected KEY=VALUE",
+        ),
+        (
+            &[
+                "run",
+                "--machine",
+                "machines/delta.json",
+                "--scene",
+                "scenes/plb-head-standin.json",
+                "--algo",
+                "sort-middle/static",
+                "--procs",
+                "4",
+                "--frames",
+                "70..90",
+            ],
+            "the scene has frames 0..80",
+        ),
+        (
+            &[
+                "run",
+                "--machine",
+                "machines/delta.json",
+                "--scene",
+                "scenes/polio-standin.json",
+                "--algo",
+                "sort-middle/ellsworth",
+                "--procs",
+                "1",
+                "--frames",
+                "0",
+            ],
+            "exceeds its memory",
+        ),
+        (
+            &[
+                "run",
+                "--machine",
+                "machines/delta.json",
+                "--scene",
+                "scenes/spd-teapot.json",
+                "--algo",
+                "sort-middle/static",
+                "--procs",
+                "4",
+                "--set",
+                "buffer=10B",
+            ],
+            "--set buffer=10B: expected a buffer of at least",
+        ),
     ];
     for (args, fragment) in cases {
         let out = sortsim(args);

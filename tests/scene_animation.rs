@@ -130,3 +130,17 @@ fn tumble_turns_each_part_about_its_own_centroid() {
         );
     }
 }
+
+#[test]
+fn describe_names_size_frames_and_triangles() {
+    let s = scene(
+        "describe",
+        &format!(
+            r#"{{ "resolution": [64, 48], "frames": 3, {CAMERA}, "geometry": [ {SHAPE} }} ] }}"#
+        ),
+    );
+    assert_eq!(
+        s.describe(),
+        "scene: 64x48, 3 frames, 1 objects, 152 triangles per frame, perspective camera, back-face culling on"
+    );
+}

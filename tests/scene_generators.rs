@@ -275,6 +275,31 @@ fn unmatched_edges(m: &Mesh) -> usize {
     edges.values().filter(|v| **v != 0).count()
 }
 
+/// Unmatched edges with a mesh vertex at their midpoint (where refinement puts new vertices):
+/// T-junctions.
+fn t_junctions(m: &Mesh) -> usize {
+    let key = |p: Vec3| p.to_array().map(f32::to_bits);
+    let vertices: std::collections::BTreeSet<[u32; 3]> =
+        m.positions.iter().map(|p| key(*p)).collect();
+    let mut edges: BTreeMap<([u32; 3], [u32; 3]), (i32, Vec3)> = BTreeMap::new();
+    for t in &m.triangles {
+        for k in 0..3 {
+            let (pa, pb) = (
+                m.positions[t[k] as usize],
+                m.positions[t[(k + 1) % 3] as usize],
+            );
+            let (a, b) = (key(pa), key(pb));
+            let mid = (pa + pb) * 0.5;
+            let e = edges.entry((a.min(b), a.max(b))).or_insert((0, mid));
+            e.0 += if a < b { 1 } else { -1 };
+        }
+    }
+    edges
+        .values()
+        .filter(|(n, mid)| *n != 0 && vertices.contains(&key(*mid)))
+        .count()
+}
+
 #[test]
 fn refinement_is_exact_conforming_and_keeps_area() {
     let area = |m: &Mesh| -> f64 {
@@ -315,23 +340,55 @@ fn refinement_is_exact_conforming_and_keeps_area() {
             );
             assert!(volume6(&m) > 0.0, "{g:?}: still faces outward");
         }
-        // An odd count on a closed surface leaves exactly one T-junction (two unmatched edges
-        // on the long side, one on the halves).
+        // An odd count on a closed surface leaves exactly one T-junction.
         let mut m = base.clone();
         refine_to(&mut m, base.triangles.len() + 1).unwrap();
         assert_eq!(m.triangles.len(), base.triangles.len() + 1);
-        assert!(unmatched_edges(&m) <= 3);
+        assert_eq!(t_junctions(&m), 1, "{g:?}");
         let mut m = base.clone();
         assert_eq!(
             refine_to(&mut m, base.triangles.len() - 1),
             Err(base.triangles.len())
         );
     }
-    // Open meshes take odd counts without T-junctions: the boundary edge is split alone.
-    let mut plane = build(&G::Plane, CTX);
-    refine_to(&mut plane, 7).unwrap();
-    assert_eq!(plane.triangles.len(), 7);
-    assert!((area(&plane) - 4.0).abs() < 1e-5);
+    // Open meshes take odd counts without T-junctions: a boundary edge is split alone, which
+    // adds exactly one unmatched (boundary) edge and nothing else.
+    for g in [
+        G::Plane,
+        G::Terrain {
+            cols: 6,
+            rows: 5,
+            relief: 0.2,
+            seed: 2,
+        },
+        G::Mountain {
+            levels: 2,
+            roughness: 0.3,
+            seed: 4,
+        },
+    ] {
+        let base = build(&g, CTX);
+        let open = unmatched_edges(&base);
+        for extra in [1, 5, 37] {
+            let mut m = base.clone();
+            refine_to(&mut m, base.triangles.len() + extra).unwrap();
+            assert_eq!(m.triangles.len(), base.triangles.len() + extra);
+            assert!(
+                (area(&m) - area(&base)).abs() < 1e-4 * area(&base),
+                "{g:?}: area kept"
+            );
+            let boundary_splits = unmatched_edges(&m) - open;
+            assert!(
+                boundary_splits <= extra,
+                "{g:?} + {extra}: {boundary_splits} new unmatched edges"
+            );
+            assert_eq!(
+                boundary_splits % 2,
+                extra % 2,
+                "{g:?} + {extra}: a T-junction would add 3"
+            );
+        }
+    }
 }
 
 /// The winding convention of `FrameGeometry`: outward faces of a sphere in front of the
@@ -378,4 +435,33 @@ fn polio_shell_builds_and_transforms_quickly() {
     // Budget 1 s for load plus one frame on a shared 2-core machine; typical is far less.
     eprintln!("polio shell: load + one frame {took:?}");
     assert!(took.as_secs_f64() < 1.0, "polio shell took {took:?}");
+}
+
+mod properties {
+    use super::*;
+    use proptest::prelude::*;
+
+    proptest! {
+        #![proptest_config(ProptestConfig::with_cases(48))]
+
+        /// Any even number of extra triangles on a closed UV sphere: exact, conforming,
+        /// outward; any number on an open height field: exact, no T-junction.
+        #[test]
+        fn refinement_hits_any_count(rings in 3u32..12, segments in 3u32..12, extra in 0usize..400, seed in 0u64..1000) {
+            let sphere = build(&G::UvSphere { rings, segments }, CTX);
+            let mut m = sphere.clone();
+            let target = sphere.triangles.len() + 2 * extra;
+            refine_to(&mut m, target).unwrap();
+            prop_assert_eq!(m.triangles.len(), target);
+            prop_assert_eq!(unmatched_edges(&m), 0);
+            prop_assert!(volume6(&m) > 0.0);
+
+            let field = build(&G::Terrain { cols: rings, rows: segments, relief: 0.3, seed }, CTX);
+            let mut m = field.clone();
+            let target = field.triangles.len() + extra;
+            refine_to(&mut m, target).unwrap();
+            prop_assert_eq!(m.triangles.len(), target);
+            prop_assert_eq!(t_junctions(&m), 0);
+        }
+    }
 }

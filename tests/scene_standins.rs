@@ -2,7 +2,9 @@
 //! are exact, and mean triangle area / depth complexity match the published values within
 //! the tolerance written next to each assertion (the table is `sortsim::scene::paper`).
 
+use std::collections::BTreeMap;
 use std::path::{Path, PathBuf};
+use std::sync::{Arc, Mutex, OnceLock};
 
 use sortsim::scene::paper::{reference, REFERENCES};
 use sortsim::scene::stats::{geometric, GeometricStats};
@@ -12,9 +14,26 @@ fn scenes_dir() -> PathBuf {
     Path::new(env!("CARGO_MANIFEST_DIR")).join("scenes")
 }
 
-fn stats_of(name: &str) -> (Scene, GeometricStats) {
+/// Loads a scene under scenes/ once per test binary: several tests measure the same large
+/// stand-ins (the polio shell has 806,640 triangles).
+fn load(name: &str) -> Arc<Scene> {
+    static CACHE: OnceLock<Mutex<BTreeMap<String, Arc<Scene>>>> = OnceLock::new();
+    let cache = CACHE.get_or_init(Default::default);
+    if let Some(s) = cache.lock().unwrap().get(name) {
+        return s.clone();
+    }
     let scene = Scene::load(&scenes_dir().join(format!("{name}.json")))
         .unwrap_or_else(|e| panic!("{name}: {e}"));
+    let scene = Arc::new(scene);
+    cache
+        .lock()
+        .unwrap()
+        .insert(name.to_string(), scene.clone());
+    scene
+}
+
+fn stats_of(name: &str) -> (Arc<Scene>, GeometricStats) {
+    let scene = load(name);
     let frame = scene.frame(0).unwrap();
     let stats = geometric(&frame);
     (scene, stats)
@@ -38,7 +57,7 @@ fn every_scene_file_loads_and_draws_its_first_and_last_frame() {
         names.len()
     );
     for path in names {
-        let scene = Scene::load(&path).unwrap_or_else(|e| panic!("{e}"));
+        let scene = load(&path.file_stem().unwrap().to_string_lossy());
         let first = scene.frame(0).unwrap();
         let last = scene.frame(scene.frame_count() - 1).unwrap();
         assert_eq!(
@@ -101,7 +120,7 @@ fn paper_002_standins_match_mean_triangle_area_within_5_percent() {
         "ct-head-standin",
     ] {
         let r = reference(name).unwrap();
-        let scene = Scene::load(&scenes_dir().join(format!("{name}.json"))).unwrap();
+        let scene = load(name);
         let n = scene.frame_count();
         let frames: Vec<u32> = (0..n).step_by((n as usize).div_ceil(16)).collect();
         let (mut geo, mut ras) = (0.0, 0.0);
@@ -228,7 +247,7 @@ fn paper_002_standins_overlap_factor_for_256_regions_in_published_range() {
 /// The `scene-stats` summary puts achieved and published numbers side by side.
 #[test]
 fn summary_prints_achieved_next_to_paper_numbers() {
-    let scene = Scene::load(&scenes_dir().join("p003-cube.json")).unwrap();
+    let scene = load("p003-cube");
     let s = sortsim::scene::summary::summary(&scene, 0).unwrap();
     let text = s.to_string();
     eprintln!("{text}");
@@ -242,4 +261,69 @@ fn summary_prints_achieved_next_to_paper_numbers() {
         "{d_line}"
     );
     assert!(text.contains("depth histogram: p0="), "{text}");
+}
+
+/// Paper 000 (Fig. 8 scenes, 512x512): share of pixels supersampled, compared with the
+/// pixels a visible polygon edge passes through, averaged over each animation. The letter B
+/// must stay under the paper's 5%. The tetrahedra are held to 25% relative: the paper says
+/// "about" and the estimate counts only edges that change a pixel centre's primitive, so it
+/// reads low (the 3000-tetrahedra stand-in reaches 41% against "about 50%").
+#[test]
+fn paper_000_standins_have_the_published_share_of_edge_pixels() {
+    use sortsim::scene::paper::EDGE_REFERENCES;
+    use sortsim::scene::stats::edge_pixel_fraction;
+    for r in EDGE_REFERENCES {
+        let scene = load(r.scene);
+        let n = scene.frame_count();
+        let sum: f64 = (0..n)
+            .map(|f| edge_pixel_fraction(&scene.frame(f).unwrap()))
+            .sum();
+        let fraction = sum / n as f64;
+        eprintln!(
+            "{}: edge pixels {:.3} (paper {}: {})",
+            r.scene, fraction, r.fraction, r.source
+        );
+        if r.upper_bound {
+            assert!(
+                fraction < r.fraction,
+                "{}: {fraction:.3} not under {} ({})",
+                r.scene,
+                r.fraction,
+                r.source
+            );
+        } else {
+            assert!(
+                within(fraction, r.fraction, 0.25),
+                "{}: {fraction:.3} vs {} ({})",
+                r.scene,
+                r.fraction,
+                r.source
+            );
+        }
+    }
+}
+
+/// Paper 001's table counts triangles of screen-space files "with backfaces culling
+/// performed": every one of the stand-ins' exactly-N triangles faces the camera and lies on
+/// screen, and the rasterizer culls almost none.
+#[test]
+fn paper_001_standins_draw_every_triangle_like_pre_culled_files() {
+    use sortsim::scene::stats::rasterized;
+    for r in REFERENCES.iter().filter(|r| r.paper == "001") {
+        let (scene, s) = stats_of(r.scene);
+        assert!(scene.spec().precull, "{}", r.scene);
+        assert_eq!(s.front_facing as u64, r.triangles, "{}: {s:?}", r.scene);
+        // Refinement may split a triangle on the screen's border so that one half lies
+        // wholly outside: allow 0.5% of them.
+        assert!(
+            (r.triangles - s.on_screen as u64) * 200 <= r.triangles,
+            "{}: {s:?}",
+            r.scene
+        );
+        let c = rasterized(&scene.frame(0).unwrap()).counters;
+        // Snapping to 1/256 pixel can flatten or flip a sliver on the silhouette that was
+        // barely front-facing in floating point; allow 0.5% of them.
+        let lost = c.culled_backface + c.culled_zero_area;
+        assert!(lost * 200 <= r.triangles, "{}: {c:?}", r.scene);
+    }
 }

@@ -11,7 +11,9 @@ use crate::raster::Counters;
 /// mode, as the papers' renderers transform polygons, not shared vertex arrays).
 pub fn front_end(c: &Counters) -> Counts {
     let mut counts = Counts::new();
-    counts.add(Op::TransformVertex, 3 * c.triangles_in).add(Op::ClipTriangle, c.clipped);
+    counts
+        .add(Op::TransformVertex, 3 * c.triangles_in)
+        .add(Op::ClipTriangle, c.clipped);
     counts
 }
 

@@ -32,7 +32,10 @@ pub enum AlgorithmId {
 }
 
 impl AlgorithmId {
-    pub const ALL: [AlgorithmId; 2] = [AlgorithmId::SortMiddleStatic, AlgorithmId::SortMiddleEllsworth];
+    pub const ALL: [AlgorithmId; 2] = [
+        AlgorithmId::SortMiddleStatic,
+        AlgorithmId::SortMiddleEllsworth,
+    ];
 
     pub fn id(self) -> &'static str {
         match self {
@@ -47,7 +50,11 @@ impl AlgorithmId {
 
     /// The valid ids, for error messages.
     pub fn valid_ids() -> String {
-        AlgorithmId::ALL.iter().map(|a| a.id()).collect::<Vec<_>>().join(", ")
+        AlgorithmId::ALL
+            .iter()
+            .map(|a| a.id())
+            .collect::<Vec<_>>()
+            .join(", ")
     }
 }
 
@@ -88,7 +95,11 @@ impl FrameRecord {
     /// (longest finishing time - mean) / longest, in percent (paper 001's definition), with
     /// times measured from the frame's start.
     pub fn load_imbalance_pct(&self) -> f64 {
-        let times: Vec<f64> = self.raster_finish.iter().map(|&t| t.saturating_sub(self.start).as_secs_f64()).collect();
+        let times: Vec<f64> = self
+            .raster_finish
+            .iter()
+            .map(|&t| t.saturating_sub(self.start).as_secs_f64())
+            .collect();
         let longest = times.iter().cloned().fold(0.0, f64::max);
         if longest <= 0.0 {
             return 0.0;
@@ -115,6 +126,16 @@ pub enum RunError {
     Scene(#[from] crate::scene::SceneError),
     #[error("{0}")]
     Unsupported(String),
+}
+
+/// Checks `cfg`'s options as a run would, without running it.
+pub fn check_options(cfg: &RunConfig) -> Result<(), RunError> {
+    match cfg.algo {
+        AlgorithmId::SortMiddleStatic => sort_middle::check(cfg, sort_middle::Variant::Static),
+        AlgorithmId::SortMiddleEllsworth => {
+            sort_middle::check(cfg, sort_middle::Variant::Ellsworth)
+        }
+    }
 }
 
 /// Runs `cfg` to the end of its last frame.

@@ -11,9 +11,17 @@ use std::str::FromStr;
 #[derive(Debug, Clone, PartialEq, Eq, thiserror::Error)]
 pub enum OptionError {
     #[error("--set {key}={value}: {message}")]
-    Invalid { key: String, value: String, message: String },
+    Invalid {
+        key: String,
+        value: String,
+        message: String,
+    },
     #[error("--set {key}: {algo} has no option '{key}'; valid options: {valid}")]
-    Unknown { key: String, algo: &'static str, valid: String },
+    Unknown {
+        key: String,
+        algo: &'static str,
+        valid: String,
+    },
 }
 
 /// `key=value` options, with a record of which keys were read.
@@ -25,11 +33,16 @@ pub struct Options {
 
 impl Options {
     pub fn new(values: BTreeMap<String, String>) -> Options {
-        Options { values, read: RefCell::default() }
+        Options {
+            values,
+            read: RefCell::default(),
+        }
     }
 
     /// Parses `key=value` pairs as given on the command line.
-    pub fn from_pairs<'a>(pairs: impl IntoIterator<Item = &'a str>) -> Result<Options, OptionError> {
+    pub fn from_pairs<'a>(
+        pairs: impl IntoIterator<Item = &'a str>,
+    ) -> Result<Options, OptionError> {
         let mut values = BTreeMap::new();
         for pair in pairs {
             let (k, v) = pair.split_once('=').ok_or_else(|| OptionError::Invalid {
@@ -56,15 +69,26 @@ impl Options {
     }
 
     /// The option `key`, which must be one of `choices`, or `default`.
-    pub fn choice(&self, key: &str, default: &'static str, choices: &[&'static str]) -> Result<&'static str, OptionError> {
+    pub fn choice(
+        &self,
+        key: &str,
+        default: &'static str,
+        choices: &[&'static str],
+    ) -> Result<&'static str, OptionError> {
         self.read.borrow_mut().insert(key.to_string());
         match self.values.get(key) {
             None => Ok(default),
-            Some(v) => choices.iter().copied().find(|c| c == v).ok_or_else(|| OptionError::Invalid {
-                key: key.to_string(),
-                value: v.clone(),
-                message: format!("expected one of {}", choices.join(", ")),
-            }),
+            Some(v) => {
+                choices
+                    .iter()
+                    .copied()
+                    .find(|c| c == v)
+                    .ok_or_else(|| OptionError::Invalid {
+                        key: key.to_string(),
+                        value: v.clone(),
+                        message: format!("expected one of {}", choices.join(", ")),
+                    })
+            }
         }
     }
 
@@ -94,7 +118,11 @@ mod tests {
     fn typed_reads_and_unknown_keys() {
         let o = Options::from_pairs(["granularity=12", "counts=current", "colour=red"]).unwrap();
         assert_eq!(o.get("granularity", 8u32, "a whole number").unwrap(), 12);
-        assert_eq!(o.choice("counts", "previous", &["previous", "current"]).unwrap(), "current");
+        assert_eq!(
+            o.choice("counts", "previous", &["previous", "current"])
+                .unwrap(),
+            "current"
+        );
         assert_eq!(o.get("buffer", 4096u32, "a size").unwrap(), 4096);
         let err = o.finish("sort-middle/ellsworth").unwrap_err().to_string();
         assert_eq!(err, "--set colour: sort-middle/ellsworth has no option 'colour'; valid options: buffer, counts, granularity");
@@ -103,10 +131,24 @@ mod tests {
     #[test]
     fn wrong_types_name_key_value_and_what_is_valid() {
         let o = Options::from_pairs(["granularity=lots", "counts=later"]).unwrap();
-        let e = o.get("granularity", 8u32, "a whole number of regions per processor, at least 1").unwrap_err();
-        assert_eq!(e.to_string(), "--set granularity=lots: expected a whole number of regions per processor, at least 1");
-        let e = o.choice("counts", "previous", &["previous", "current"]).unwrap_err();
-        assert_eq!(e.to_string(), "--set counts=later: expected one of previous, current");
+        let e = o
+            .get(
+                "granularity",
+                8u32,
+                "a whole number of regions per processor, at least 1",
+            )
+            .unwrap_err();
+        assert_eq!(
+            e.to_string(),
+            "--set granularity=lots: expected a whole number of regions per processor, at least 1"
+        );
+        let e = o
+            .choice("counts", "previous", &["previous", "current"])
+            .unwrap_err();
+        assert_eq!(
+            e.to_string(),
+            "--set counts=later: expected one of previous, current"
+        );
         assert!(Options::from_pairs(["novalue"]).is_err());
     }
 }

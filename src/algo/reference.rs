@@ -9,7 +9,13 @@ use crate::scene::FrameGeometry;
 
 /// Front-end options a frame asks for.
 pub fn raster_options(frame: &FrameGeometry) -> RasterOptions {
-    RasterOptions { cull: if frame.cull_backfaces { CullMode::Back } else { CullMode::None } }
+    RasterOptions {
+        cull: if frame.cull_backfaces {
+            CullMode::Back
+        } else {
+            CullMode::None
+        },
+    }
 }
 
 pub fn viewport(frame: &FrameGeometry) -> Viewport {
@@ -20,6 +26,12 @@ pub fn viewport(frame: &FrameGeometry) -> Viewport {
 pub fn render(frame: &FrameGeometry) -> (Framebuffer, Counters) {
     let vp = viewport(frame);
     let mut fb = Framebuffer::with_clear(vp, frame.background);
-    let counters = draw_mesh(&frame.vertices, &frame.triangles, vp, &raster_options(frame), &mut fb);
+    let counters = draw_mesh(
+        &frame.vertices,
+        &frame.triangles,
+        vp,
+        &raster_options(frame),
+        &mut fb,
+    );
     (fb, counters)
 }

@@ -181,7 +181,12 @@ impl<M: Payload> State<M> {
         }
         if let Some(spans) = &mut self.timeline {
             if t > SimTime::ZERO {
-                spans.push(CpuSpan { node, phase, start, end });
+                spans.push(CpuSpan {
+                    node,
+                    phase,
+                    start,
+                    end,
+                });
             }
         }
         end
@@ -379,7 +384,10 @@ impl<M: Payload> Sim<M> {
 
     /// Records every stretch of cpu work for a timeline (see `RunStats::timeline`).
     pub fn record_timeline(&mut self) {
-        self.state.borrow_mut().timeline.get_or_insert_with(Vec::new);
+        self.state
+            .borrow_mut()
+            .timeline
+            .get_or_insert_with(Vec::new);
     }
 
     /// The handle through which programs on node `id` act.
@@ -456,7 +464,14 @@ impl<M: Payload> Sim<M> {
                             Event::NetWake => st.net_wake(),
                             Event::Post { src, dst, payload } => {
                                 let tag = payload.tag();
-                                st.deliver(Envelope { src, dst, tag, bytes: Bytes::ZERO, payload, arrived: at })
+                                st.deliver(Envelope {
+                                    src,
+                                    dst,
+                                    tag,
+                                    bytes: Bytes::ZERO,
+                                    payload,
+                                    arrived: at,
+                                })
                             }
                         }
                         continue;

@@ -217,7 +217,12 @@ impl<M: Payload> Node<M> {
     /// Takes the first message in this node's mailbox that `filter` accepts (in arrival
     /// order), waiting for one if none is there, then pays the receive overhead.
     pub fn recv(&self, filter: Filter) -> Receive<'_, M> {
-        Receive { node: self, filter, registered: false, paying: None }
+        Receive {
+            node: self,
+            filter,
+            registered: false,
+            paying: None,
+        }
     }
 
     /// Delivers `payload` to `dst`'s mailbox after `delay`, with no network or cpu cost: a

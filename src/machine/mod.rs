@@ -37,7 +37,10 @@ impl MachineConfig {
             return Err("the number of processors must be at least 1".into());
         }
         if nodes > self.nodes {
-            return Err(format!("machine '{}' has {} nodes; ask for at most {}", self.name, self.nodes, self.nodes));
+            return Err(format!(
+                "machine '{}' has {} nodes; ask for at most {}",
+                self.name, self.nodes, self.nodes
+            ));
         }
         let mut m = self.clone();
         m.nodes = nodes;
@@ -74,7 +77,10 @@ fn sub_mesh(dims: &[u32], nodes: u32) -> Option<Vec<u32>> {
         } else {
             divisors(rest).map(|b| vec![a, b, rest / b]).collect()
         };
-        for c in candidates.into_iter().filter(|c| c.iter().zip(dims).all(|(x, d)| x <= d)) {
+        for c in candidates
+            .into_iter()
+            .filter(|c| c.iter().zip(dims).all(|(x, d)| x <= d))
+        {
             if best.as_ref().is_none_or(|b| spread(&c) < spread(b)) {
                 best = Some(c);
             }

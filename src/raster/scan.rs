@@ -382,7 +382,6 @@ impl Iterator for Fragments<'_> {
 
 impl ExactSizeIterator for Fragments<'_> {}
 
-
 #[cfg(test)]
 mod tests {
     use super::*;

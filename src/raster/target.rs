@@ -70,10 +70,18 @@ pub fn nearer(z: u32, prim: u32, stored_z: u32, stored_prim: u32) -> bool {
 /// Depth-tests a span into row slices that start at the span's first pixel and are exactly
 /// as long as the span. Returns the number of fragments written.
 #[inline]
-fn depth_test_span(span: &Span<'_>, color: &mut [[u8; 3]], depth: &mut [u32], prims: &mut [u32]) -> u64 {
+fn depth_test_span(
+    span: &Span<'_>,
+    color: &mut [[u8; 3]],
+    depth: &mut [u32],
+    prims: &mut [u32],
+) -> u64 {
     let mut written = 0;
     let prim = span.prim();
-    for (f, ((c, d), p)) in span.fragments().zip(color.iter_mut().zip(depth.iter_mut()).zip(prims.iter_mut())) {
+    for (f, ((c, d), p)) in span
+        .fragments()
+        .zip(color.iter_mut().zip(depth.iter_mut()).zip(prims.iter_mut()))
+    {
         if nearer(f.z, prim, *d, *p) {
             *d = f.z;
             *p = prim;
@@ -268,7 +276,11 @@ impl RegionSet {
     }
 
     /// As `new`, with every region cleared to `clear` (a scene's background).
-    pub fn with_clear(viewport: Viewport, rects: Vec<ScreenRect>, clear: [u8; 3]) -> Result<RegionSet, RegionError> {
+    pub fn with_clear(
+        viewport: Viewport,
+        rects: Vec<ScreenRect>,
+        clear: [u8; 3],
+    ) -> Result<RegionSet, RegionError> {
         let mut set = RegionSet::new(viewport, rects)?;
         for b in &mut set.bufs {
             b.clear(clear);

@@ -7,7 +7,6 @@
 use std::collections::BTreeMap;
 use std::fmt::Write as _;
 
-
 use serde::Serialize;
 
 use super::summary::Summary;
@@ -50,7 +49,11 @@ fn frame_summary(r: &FrameRecord) -> FrameSummary {
         frame: r.frame,
         time_s: t,
         triangles_in_view: r.triangles_in_view,
-        triangles_per_s: if t > 0.0 { r.triangles_in_view as f64 / t } else { 0.0 },
+        triangles_per_s: if t > 0.0 {
+            r.triangles_in_view as f64 / t
+        } else {
+            0.0
+        },
         load_imbalance_pct: r.load_imbalance_pct(),
         bytes: r.bytes.get(),
         messages: r.messages,
@@ -77,7 +80,11 @@ impl RunSummary {
             frames: per_frame.iter().map(|f| f.frame).collect(),
             seed: cfg.seed,
             fidelity: cfg.machine.network.fidelity.name(),
-            options: cfg.options.pairs().map(|(k, v)| (k.clone(), v.clone())).collect(),
+            options: cfg
+                .options
+                .pairs()
+                .map(|(k, v)| (k.clone(), v.clone()))
+                .collect(),
             mean_frame_s: mean(per_frame.iter().map(|f| f.time_s)),
             // The papers average triangles/s over the frames (paper 002, Performance).
             mean_triangles_per_s: mean(per_frame.iter().map(|f| f.triangles_per_s)),
@@ -92,10 +99,22 @@ impl RunSummary {
     /// summary.md: per-frame table, then per-node time by phase and traffic.
     pub fn markdown(&self) -> String {
         let mut s = String::new();
-        let _ = writeln!(s, "# {} on {} ({} processors)\n", self.algo, self.machine, self.procs);
-        let _ = writeln!(s, "scene `{}`, frames {:?}, seed {}, network fidelity `{}`", self.scene, self.frames, self.seed, self.fidelity);
+        let _ = writeln!(
+            s,
+            "# {} on {} ({} processors)\n",
+            self.algo, self.machine, self.procs
+        );
+        let _ = writeln!(
+            s,
+            "scene `{}`, frames {:?}, seed {}, network fidelity `{}`",
+            self.scene, self.frames, self.seed, self.fidelity
+        );
         if !self.options.is_empty() {
-            let opts: Vec<String> = self.options.iter().map(|(k, v)| format!("{k}={v}")).collect();
+            let opts: Vec<String> = self
+                .options
+                .iter()
+                .map(|(k, v)| format!("{k}={v}"))
+                .collect();
             let _ = writeln!(s, "options: {}", opts.join(", "));
         }
         let _ = writeln!(
@@ -109,11 +128,22 @@ impl RunSummary {
             let _ = writeln!(
                 s,
                 "| {} | {:.6} | {} | {:.0} | {:.1} | {} | {} |",
-                f.frame, f.time_s, f.triangles_in_view, f.triangles_per_s, f.load_imbalance_pct, f.bytes, f.messages
+                f.frame,
+                f.time_s,
+                f.triangles_in_view,
+                f.triangles_per_s,
+                f.load_imbalance_pct,
+                f.bytes,
+                f.messages
             );
         }
         let phases: Vec<&String> = {
-            let mut all: Vec<&String> = self.machine_metrics.nodes.iter().flat_map(|n| n.busy_by_phase_s.keys()).collect();
+            let mut all: Vec<&String> = self
+                .machine_metrics
+                .nodes
+                .iter()
+                .flat_map(|n| n.busy_by_phase_s.keys())
+                .collect();
             all.sort();
             all.dedup();
             all
@@ -122,21 +152,47 @@ impl RunSummary {
         for p in &phases {
             let _ = write!(s, " {p} |");
         }
-        let _ = writeln!(s, " busy | comm | idle | sent bytes | sent messages | memory high-water (bytes) |");
-        let _ = writeln!(s, "|---:|{}---:|---:|---:|---:|---:|---:|", "---:|".repeat(phases.len()));
+        let _ = writeln!(
+            s,
+            " busy | comm | idle | sent bytes | sent messages | memory high-water (bytes) |"
+        );
+        let _ = writeln!(
+            s,
+            "|---:|{}---:|---:|---:|---:|---:|---:|",
+            "---:|".repeat(phases.len())
+        );
         for n in &self.machine_metrics.nodes {
             let _ = write!(s, "| {} |", n.node);
             for p in &phases {
-                let _ = write!(s, " {:.6} |", n.busy_by_phase_s.get(*p).copied().unwrap_or(0.0));
+                let _ = write!(
+                    s,
+                    " {:.6} |",
+                    n.busy_by_phase_s.get(*p).copied().unwrap_or(0.0)
+                );
             }
             let _ = writeln!(
                 s,
                 " {:.6} | {:.6} | {:.6} | {} | {} | {} |",
-                n.busy_s, n.comm_s, n.idle_s, n.sent_bytes, n.sent_messages, n.memory_high_water_bytes
+                n.busy_s,
+                n.comm_s,
+                n.idle_s,
+                n.sent_bytes,
+                n.sent_messages,
+                n.memory_high_water_bytes
             );
         }
-        let busiest = self.machine_metrics.links.iter().filter(|l| l.bytes > 0).count();
-        let _ = writeln!(s, "\n{} of {} links carried traffic.", busiest, self.machine_metrics.links.len());
+        let busiest = self
+            .machine_metrics
+            .links
+            .iter()
+            .filter(|l| l.bytes > 0)
+            .count();
+        let _ = writeln!(
+            s,
+            "\n{} of {} links carried traffic.",
+            busiest,
+            self.machine_metrics.links.len()
+        );
         s
     }
 }
@@ -157,6 +213,9 @@ pub fn timeline_json(result: &RunResult) -> Option<String> {
         )
     });
     let events: Vec<String> = names.chain(work).collect();
-    let out = format!("{{\"displayTimeUnit\":\"ns\",\"traceEvents\":[\n{}\n]}}\n", events.join(",\n"));
+    let out = format!(
+        "{{\"displayTimeUnit\":\"ns\",\"traceEvents\":[\n{}\n]}}\n",
+        events.join(",\n")
+    );
     Some(out)
 }

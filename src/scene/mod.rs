@@ -16,6 +16,7 @@ pub mod gen;
 pub mod mesh;
 pub mod obj;
 pub mod paper;
+mod precull;
 pub mod refine;
 pub mod stats;
 pub mod summary;
@@ -32,6 +33,7 @@ use crate::spec::scene::{
 };
 use crate::spec::SpecError;
 use mesh::Mesh;
+use precull::Precull;
 
 /// One frame's geometry as the rasterizer takes it.
 ///
@@ -109,17 +111,27 @@ impl Scene {
         Scene::from_spec(path, spec)
     }
 
-    /// Builds a scene from a validated spec; `file` locates OBJ files and names errors.
+    /// Builds a scene from a spec (validated again here, so a spec changed in memory, such as
+    /// by a sweep's overrides, gets the same checks); `file` locates OBJ files and names
+    /// errors.
     pub fn from_spec(file: &Path, spec: SceneSpec) -> Result<Scene, SceneError> {
+        spec.validate(file)?;
         let ctx = gen::GenContext {
             width: spec.resolution[0],
             height: spec.resolution[1],
         };
+        // Paper 001's input files were screen-space triangles with back faces already culled:
+        // `precull` drops what frame 0 would cull before counts are made exact.
+        let precull = spec.precull.then(|| Precull {
+            to_clip: view_projection(&spec, 0),
+            width: spec.resolution[0],
+            height: spec.resolution[1],
+        });
         let objects = spec
             .geometry
             .iter()
             .enumerate()
-            .map(|(i, o)| build_object(file, i, o, ctx))
+            .map(|(i, o)| build_object(file, i, o, ctx, precull.as_ref()))
             .collect::<Result<Vec<_>, _>>()?;
         Ok(Scene {
             file: file.to_path_buf(),
@@ -140,6 +152,30 @@ impl Scene {
         self.spec.frames
     }
 
+    /// One line for `sortsim check`: size, frames, triangles, camera, culling.
+    pub fn describe(&self) -> String {
+        let [w, h] = self.spec.resolution;
+        let camera = match self.spec.camera {
+            CameraSpec::Perspective { .. } => "perspective",
+            CameraSpec::Screen => "screen",
+        };
+        format!(
+            "scene: {w}x{h}, {} frames, {} objects, {} triangles per frame, {camera} camera, back-face culling {}",
+            self.spec.frames,
+            self.objects.len(),
+            self.triangle_count(),
+            if self.spec.cull_backfaces { "on" } else { "off" }
+        )
+    }
+
+    /// Triangles per object, in spec order.
+    pub fn object_triangle_counts(&self) -> Vec<usize> {
+        self.objects
+            .iter()
+            .map(|o| o.mesh.triangles.len())
+            .collect()
+    }
+
     /// Triangles per frame (the same every frame).
     pub fn triangle_count(&self) -> usize {
         self.objects.iter().map(|o| o.mesh.triangles.len()).sum()
@@ -155,7 +191,7 @@ impl Scene {
             });
         }
         let [w, h] = self.spec.resolution;
-        let to_clip = self.view_projection(n);
+        let to_clip = view_projection(&self.spec, n);
         let light = Lighting::from(&self.spec.shading);
         let total_v: usize = self.objects.iter().map(|o| o.mesh.positions.len()).sum();
         let mut vertices = Vec::with_capacity(total_v);
@@ -174,47 +210,45 @@ impl Scene {
             background: self.spec.background,
         })
     }
+}
 
-    fn view_projection(&self, n: u32) -> ToClip {
-        let [w, h] = self.spec.resolution;
-        match &self.spec.camera {
-            CameraSpec::Screen => ToClip::Screen {
-                width: w as f32,
-                height: h as f32,
-            },
-            CameraSpec::Perspective {
-                eye,
-                target,
-                up,
-                fov_deg,
-                near,
-                far,
-            } => {
-                let (eye, target, up) = match &self.spec.animation {
-                    AnimationSpec::Still => {
-                        (Vec3::from(*eye), Vec3::from(*target), Vec3::from(*up))
-                    }
-                    AnimationSpec::Orbit {
-                        axis,
-                        degrees_per_frame,
-                    } => {
-                        let q = Quat::from_axis_angle(
-                            Vec3::from(*axis).normalize(),
-                            (degrees_per_frame * n as f32).to_radians(),
-                        );
-                        let t = Vec3::from(*target);
-                        (t + q * (Vec3::from(*eye) - t), t, q * Vec3::from(*up))
-                    }
-                    AnimationSpec::Views { views } => {
-                        let v = &views[n as usize % views.len()];
-                        (Vec3::from(v.eye), Vec3::from(v.target), Vec3::from(v.up))
-                    }
-                };
-                let view = Mat4::look_at_rh(eye, target, up);
-                let proj =
-                    Mat4::perspective_rh(fov_deg.to_radians(), w as f32 / h as f32, *near, *far);
-                ToClip::Perspective(proj * view)
-            }
+/// World space to clip space for frame `n`: the camera, moved by the animation.
+fn view_projection(spec: &SceneSpec, n: u32) -> ToClip {
+    let [w, h] = spec.resolution;
+    match &spec.camera {
+        CameraSpec::Screen => ToClip::Screen {
+            width: w as f32,
+            height: h as f32,
+        },
+        CameraSpec::Perspective {
+            eye,
+            target,
+            up,
+            fov_deg,
+            near,
+            far,
+        } => {
+            let (eye, target, up) = match &spec.animation {
+                AnimationSpec::Still => (Vec3::from(*eye), Vec3::from(*target), Vec3::from(*up)),
+                AnimationSpec::Orbit {
+                    axis,
+                    degrees_per_frame,
+                } => {
+                    let q = Quat::from_axis_angle(
+                        Vec3::from(*axis).normalize(),
+                        (degrees_per_frame * n as f32).to_radians(),
+                    );
+                    let t = Vec3::from(*target);
+                    (t + q * (Vec3::from(*eye) - t), t, q * Vec3::from(*up))
+                }
+                AnimationSpec::Views { views } => {
+                    let v = &views[n as usize % views.len()];
+                    (Vec3::from(v.eye), Vec3::from(v.target), Vec3::from(v.up))
+                }
+            };
+            let view = Mat4::look_at_rh(eye, target, up);
+            let proj = Mat4::perspective_rh(fov_deg.to_radians(), w as f32 / h as f32, *near, *far);
+            ToClip::Perspective(proj * view)
         }
     }
 }
@@ -323,6 +357,7 @@ fn build_object(
     index: usize,
     spec: &ObjectSpec,
     ctx: gen::GenContext,
+    precull: Option<&Precull>,
 ) -> Result<Object, SceneError> {
     let mut mesh = match (&spec.generator, &spec.obj) {
         (Some(g), _) => gen::build(g, ctx),
@@ -337,12 +372,18 @@ fn build_object(
         rot,
         Vec3::from(t.translate),
     ));
+    if let Some(view) = precull {
+        precull::prune(&mut mesh, view);
+    }
     if let Some(target) = spec.triangles {
         refine::refine_to(&mut mesh, target as usize).map_err(|base| {
             SpecError::invalid(
                 file,
                 format!("geometry[{index}].triangles"),
-                format!("must be at least the generated count {base} (refinement only adds triangles), got {target}"),
+                format!(
+                    "must be at least the generated count {base}{} (refinement only adds triangles), got {target}",
+                    if precull.is_some() { " left after pre-culling" } else { "" }
+                ),
             )
         })?;
     }

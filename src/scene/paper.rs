@@ -22,6 +22,40 @@ pub struct PaperReference {
     pub tolerance: f64,
 }
 
+/// Paper 000's share of pixels supersampled (edge pixels) for its test scenes, compared with
+/// `stats::edge_pixel_fraction` averaged over the animation.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct EdgeReference {
+    pub scene: &'static str,
+    pub source: &'static str,
+    /// Published fraction of pixels supersampled.
+    pub fraction: f64,
+    /// Whether the paper states an upper bound ("under 5%") rather than a value ("about 24%").
+    pub upper_bound: bool,
+}
+
+/// Paper 000, section on memory use (Fig. 8 scenes at 512x512, 4x4 subpixels).
+pub const EDGE_REFERENCES: &[EdgeReference] = &[
+    EdgeReference {
+        scene: "p000-letter-b",
+        source: "Fig. 8(a): under 5% of pixels supersampled",
+        fraction: 0.05,
+        upper_bound: true,
+    },
+    EdgeReference {
+        scene: "p000-tetra-500",
+        source: "Fig. 8(b): about 24% of pixels supersampled",
+        fraction: 0.24,
+        upper_bound: false,
+    },
+    EdgeReference {
+        scene: "p000-tetra-3000",
+        source: "Fig. 8(d): about 50% of pixels supersampled",
+        fraction: 0.50,
+        upper_bound: false,
+    },
+];
+
 // One table row per call keeps the table readable; a row simply has eight columns.
 #[allow(clippy::too_many_arguments)]
 const fn r(

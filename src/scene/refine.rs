@@ -159,12 +159,37 @@ impl<'a> Refiner<'a> {
             }
             let remaining = target - self.mesh.triangles.len();
             let (a, b) = self.longest_edge(tri);
-            let other = self.neighbour(a, b, tri);
-            match other {
+            match self.neighbour(a, b, tri) {
+                None => self.split_one(tri, a, b),
                 Some(u) if remaining >= 2 => self.split_pair(tri, u, a, b),
-                _ => self.split_one(tri, a, b),
+                // One triangle short across a shared edge: split a boundary edge instead if
+                // the mesh has one, so that only a closed surface ever gets the T-junction.
+                Some(_) => match self.largest_boundary_edge() {
+                    Some((t, a, b)) => self.split_one(t, a, b),
+                    None => self.split_one(tri, a, b),
+                },
             }
         }
+    }
+
+    /// The boundary edge (used by one triangle only) of the largest triangle that has one.
+    fn largest_boundary_edge(&self) -> Option<(u32, u32, u32)> {
+        let mut best: Option<(f32, u32, u32, u32)> = None;
+        for t in 0..self.mesh.triangles.len() as u32 {
+            let v = self.mesh.triangles[t as usize];
+            for k in 0..3 {
+                let (a, b) = (v[k], v[(k + 1) % 3]);
+                let open = self
+                    .edges
+                    .get(&self.key(a, b))
+                    .is_some_and(|slot| slot[1] == NONE);
+                let area = self.area(t);
+                if open && best.is_none_or(|(best_area, ..)| area > best_area) {
+                    best = Some((area, t, a, b));
+                }
+            }
+        }
+        best.map(|(_, t, a, b)| (t, a, b))
     }
 
     /// The longest edge of `t` as a directed edge (a, b) in `t`'s winding.

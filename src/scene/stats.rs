@@ -120,6 +120,74 @@ pub fn raster_overlap_factor(frame: &FrameGeometry, region_w: u32, region_h: u32
     touched as f64 / tris.len() as f64
 }
 
+/// Fraction of the screen's pixels that a visible polygon edge passes through: pixels whose
+/// frontmost primitive (or the background) differs from a 4-neighbour's, marked on both
+/// sides. These are the pixels paper 000's adaptive supersampling stores subpixels for, so
+/// this is how its "percent of pixels supersampled" compares (a pixel-level estimate: an edge
+/// grazing a pixel without changing its centre's primitive is missed).
+pub fn edge_pixel_fraction(frame: &FrameGeometry) -> f64 {
+    let Some(viewport) = Viewport::new(frame.width, frame.height) else {
+        return 0.0;
+    };
+    let mut target = VisibleTarget {
+        rects: [viewport.rect()],
+        depth: vec![u32::MAX; viewport.pixels()],
+        prim: vec![u32::MAX; viewport.pixels()],
+        width: frame.width as usize,
+    };
+    raster::draw_mesh(
+        &frame.vertices,
+        &frame.triangles,
+        viewport,
+        &options(frame),
+        &mut target,
+    );
+    let (w, h) = (frame.width as usize, frame.height as usize);
+    let mut edge = vec![false; w * h];
+    for y in 0..h {
+        for x in 0..w {
+            let i = y * w + x;
+            for j in [(x + 1 < w).then_some(i + 1), (y + 1 < h).then_some(i + w)]
+                .into_iter()
+                .flatten()
+            {
+                if target.prim[i] != target.prim[j] {
+                    edge[i] = true;
+                    edge[j] = true;
+                }
+            }
+        }
+    }
+    edge.iter().filter(|e| **e).count() as f64 / (w * h) as f64
+}
+
+/// A z-buffer that keeps the frontmost primitive id per pixel (ties: first drawn stays, as in
+/// the rasterizer's own targets).
+struct VisibleTarget {
+    rects: [raster::ScreenRect; 1],
+    depth: Vec<u32>,
+    prim: Vec<u32>,
+    width: usize,
+}
+
+impl raster::Target for VisibleTarget {
+    fn rects(&self) -> &[raster::ScreenRect] {
+        &self.rects
+    }
+    fn span(&mut self, _rect: usize, span: &raster::Span<'_>, counters: &mut Counters) {
+        let row = span.y() as usize * self.width;
+        for f in span.fragments() {
+            let i = row + f.x as usize;
+            counters.pixels_tested += 1;
+            if f.z < self.depth[i] {
+                self.depth[i] = f.z;
+                self.prim[i] = span.prim();
+                counters.pixels_written += 1;
+            }
+        }
+    }
+}
+
 fn options(frame: &FrameGeometry) -> RasterOptions {
     RasterOptions {
         cull: if frame.cull_backfaces {
@@ -174,6 +242,19 @@ pub fn geometric(frame: &FrameGeometry) -> GeometricStats {
     s
 }
 
+/// Per triangle: would it be drawn (front-facing, or culling off, and with some area on
+/// screen)? The same rule `geometric` counts as `on_screen`.
+pub(crate) fn drawn_mask(frame: &FrameGeometry) -> Vec<bool> {
+    frame
+        .triangles
+        .iter()
+        .map(|t| {
+            measure(frame, t)
+                .is_some_and(|m| m.screen_area > 0.0 && (m.front || !frame.cull_backfaces))
+        })
+        .collect()
+}
+
 /// Mean number of `region_w` x `region_h` pixel regions a drawn triangle's on-screen bounding
 /// box touches (paper 002's overlap factor; a bounding-box estimate, exact for the regions
 /// test most sort-middle implementations use).
@@ -206,31 +287,55 @@ struct Measured {
 /// None when the triangle is wholly in front of the near plane or behind the far plane.
 fn measure(frame: &FrameGeometry, t: &[u32; 3]) -> Option<Measured> {
     let (w, h) = (frame.width as f64, frame.height as f64);
-    let clip: Vec<DVec4> = t
-        .iter()
-        .map(|&i| frame.vertices[i as usize].clip.as_dvec4())
-        .collect();
+    let mut clip = Poly::default();
+    for &i in t {
+        clip.push(frame.vertices[i as usize].clip.as_dvec4());
+    }
     // Near: z >= 0; far: z <= w (glam's perspective_rh depth range).
-    let poly = clip_homogeneous(clip, |v| v.z);
-    let poly = clip_homogeneous(poly, |v| v.w - v.z);
-    if poly.len() < 3 || poly.iter().any(|v| v.w <= 0.0) {
+    let poly = clip_generic(&clip, |v| v.z, lerp4);
+    let poly = clip_generic(&poly, |v| v.w - v.z, lerp4);
+    if poly.len() < 3 || poly.as_slice().iter().any(|v| v.w <= 0.0) {
         return None;
     }
-    let px: Vec<DVec2> = poly
-        .iter()
-        .map(|v| DVec2::new((v.x / v.w + 1.0) * 0.5 * w, (1.0 - v.y / v.w) * 0.5 * h))
-        .collect();
-    let signed = shoelace(&px);
-    let inside = clip_rect(px, w, h);
-    let bbox = inside.iter().fold(
+    let mut px = Poly::default();
+    for v in poly.as_slice() {
+        px.push(DVec2::new(
+            (v.x / v.w + 1.0) * 0.5 * w,
+            (1.0 - v.y / v.w) * 0.5 * h,
+        ));
+    }
+    let signed = shoelace(px.as_slice());
+    let inside = clip_rect(&px, w, h);
+    let bbox = inside.as_slice().iter().fold(
         (DVec2::splat(f64::MAX), DVec2::splat(f64::MIN)),
         |(lo, hi), p| (lo.min(*p), hi.max(*p)),
     );
     Some(Measured {
         front: signed < 0.0,
-        screen_area: shoelace(&inside).abs(),
+        screen_area: shoelace(inside.as_slice()).abs(),
         bbox,
     })
+}
+
+/// A convex polygon on the stack: a triangle clipped by at most six planes has at most nine
+/// corners, and `measure` runs for every triangle of every frame, so no heap allocation.
+#[derive(Clone, Copy, Default)]
+struct Poly<T: Copy + Default> {
+    n: usize,
+    v: [T; 12],
+}
+
+impl<T: Copy + Default> Poly<T> {
+    fn push(&mut self, p: T) {
+        self.v[self.n] = p;
+        self.n += 1;
+    }
+    fn len(&self) -> usize {
+        self.n
+    }
+    fn as_slice(&self) -> &[T] {
+        &self.v[..self.n]
+    }
 }
 
 /// Signed area with y down: negative means counter-clockwise to the viewer.
@@ -246,30 +351,39 @@ fn shoelace(p: &[DVec2]) -> f64 {
     a * 0.5
 }
 
-/// Sutherland-Hodgman against `dist(v) >= 0`, in homogeneous coordinates.
-fn clip_homogeneous(poly: Vec<DVec4>, dist: impl Fn(DVec4) -> f64) -> Vec<DVec4> {
-    clip_generic(poly, dist, |a, b, t| a + (b - a) * t)
+fn lerp4(a: DVec4, b: DVec4, t: f64) -> DVec4 {
+    a + (b - a) * t
 }
 
-fn clip_rect(poly: Vec<DVec2>, w: f64, h: f64) -> Vec<DVec2> {
-    let lerp = |a: DVec2, b: DVec2, t: f64| a + (b - a) * t;
-    let p = clip_generic(poly, |v| v.x, lerp);
-    let p = clip_generic(p, |v| w - v.x, lerp);
-    let p = clip_generic(p, |v| v.y, lerp);
-    clip_generic(p, |v| h - v.y, lerp)
+fn lerp2(a: DVec2, b: DVec2, t: f64) -> DVec2 {
+    a + (b - a) * t
 }
 
-fn clip_generic<T: Copy>(
-    poly: Vec<T>,
-    dist: impl Fn(T) -> f64,
-    lerp: impl Fn(T, T, f64) -> T,
-) -> Vec<T> {
-    if poly.is_empty() {
-        return poly;
+fn clip_rect(poly: &Poly<DVec2>, w: f64, h: f64) -> Poly<DVec2> {
+    // Most triangles lie wholly inside: skip the four passes.
+    if poly
+        .as_slice()
+        .iter()
+        .all(|p| p.x >= 0.0 && p.x <= w && p.y >= 0.0 && p.y <= h)
+    {
+        return *poly;
     }
-    let mut out = Vec::with_capacity(poly.len() + 2);
-    for i in 0..poly.len() {
-        let (a, b) = (poly[i], poly[(i + 1) % poly.len()]);
+    let p = clip_generic(poly, |v| v.x, lerp2);
+    let p = clip_generic(&p, |v| w - v.x, lerp2);
+    let p = clip_generic(&p, |v| v.y, lerp2);
+    clip_generic(&p, |v| h - v.y, lerp2)
+}
+
+/// Sutherland-Hodgman against the half-space `dist(v) >= 0`.
+fn clip_generic<T: Copy + Default>(
+    poly: &Poly<T>,
+    dist: impl Fn(T) -> f64,
+    lerp: fn(T, T, f64) -> T,
+) -> Poly<T> {
+    let mut out = Poly::default();
+    let p = poly.as_slice();
+    for i in 0..p.len() {
+        let (a, b) = (p[i], p[(i + 1) % p.len()]);
         let (da, db) = (dist(a), dist(b));
         if da >= 0.0 {
             out.push(a);

@@ -6,8 +6,10 @@
 
 use std::fmt;
 
-use super::paper::{reference, PaperReference};
-use super::stats::{geometric, raster_overlap_factor, rasterized, GeometricStats, RasterStats};
+use super::paper::{reference, PaperReference, EDGE_REFERENCES};
+use super::stats::{
+    edge_pixel_fraction, geometric, raster_overlap_factor, rasterized, GeometricStats, RasterStats,
+};
 use super::{Scene, SceneError};
 
 /// One frame of one scene, measured, with its paper reference if it is a stand-in.
@@ -22,6 +24,8 @@ pub struct Summary {
     pub raster: RasterStats,
     /// Overlap factor for a 16 x 16 grid of regions (256 regions, as in paper 002).
     pub overlap_256: f64,
+    /// Share of pixels a visible polygon edge passes through (paper 000's supersampled pixels).
+    pub edge_pixels: f64,
     pub reference: Option<&'static PaperReference>,
 }
 
@@ -43,6 +47,7 @@ pub fn summary(scene: &Scene, frame: u32) -> Result<Summary, SceneError> {
         geometric: geometric(&geometry),
         raster: rasterized(&geometry),
         overlap_256: raster_overlap_factor(&geometry, w.div_ceil(16), h.div_ceil(16)),
+        edge_pixels: edge_pixel_fraction(&geometry),
     })
 }
 
@@ -112,6 +117,15 @@ impl fmt::Display for Summary {
             "overlap factor, 256 regions",
             format!("{:.3}", self.overlap_256),
             overlap,
+        )?;
+        let edge = EDGE_REFERENCES
+            .iter()
+            .find(|e| e.scene == self.scene)
+            .map(|e| format!("{}{}", if e.upper_bound { "< " } else { "~" }, e.fraction));
+        row(
+            "share of edge pixels (supersampled)",
+            format!("{:.3}", self.edge_pixels),
+            edge,
         )?;
         let p_d = r.p_d(self.width, self.height);
         let shown: Vec<String> = p_d

@@ -4,10 +4,26 @@
 
 use std::path::Path;
 
-use super::{machine::load_machine, SpecError, SpecKind};
+use super::run::{RunSpec, RunSpecError};
+use super::{load_json, machine::load_machine, SpecError, SpecKind};
+use crate::scene::{Scene, SceneError};
+
+/// Why a spec did not check out.
+#[derive(Debug, thiserror::Error)]
+pub enum CheckError {
+    #[error(transparent)]
+    Spec(#[from] SpecError),
+    #[error(transparent)]
+    Scene(#[from] SceneError),
+    #[error("{}: {source}", file.display())]
+    Run {
+        source: RunSpecError,
+        file: std::path::PathBuf,
+    },
+}
 
 /// Validates the spec at `path`; on success, a one-line description of what it holds.
-pub fn check(path: &Path) -> Result<String, SpecError> {
+pub fn check(path: &Path) -> Result<String, CheckError> {
     match SpecKind::detect(path)? {
         SpecKind::Machine => {
             let m = load_machine(path)?;
@@ -23,15 +39,29 @@ pub fn check(path: &Path) -> Result<String, SpecError> {
                 m.network.fidelity.name()
             ))
         }
-        SpecKind::Scene => Err(SpecError::invalid(
-            path,
-            "",
-            "scene specs are checked once scenes are supported",
-        )),
-        SpecKind::Pattern => Err(SpecError::invalid(
-            path,
-            "",
-            "network patterns are checked by `sortsim netsim`",
-        )),
+        SpecKind::Scene => Ok(Scene::load(path)?.describe()),
+        SpecKind::Run => {
+            let mut spec: RunSpec = load_json(path)?;
+            spec.machine = super::run::relative_to(path, &spec.machine);
+            spec.scene = super::run::relative_to(path, &spec.scene);
+            let run_error = |source| CheckError::Run {
+                source,
+                file: path.to_path_buf(),
+            };
+            let cfg = spec.resolve(None).map_err(run_error)?;
+            crate::algo::check_options(&cfg)
+                .map_err(|e| run_error(RunSpecError::Invalid(e.to_string())))?;
+            Ok(format!(
+                "run: {} on {} processors of '{}', frames {:?}",
+                cfg.algo.id(),
+                cfg.machine.nodes,
+                cfg.machine.name,
+                cfg.frames
+            ))
+        }
+        SpecKind::Pattern => {
+            let _: crate::net::pattern::Pattern = load_json(path)?;
+            Ok("network pattern (run it with `sortsim netsim MACHINE PATTERN`)".into())
+        }
     }
 }

@@ -7,8 +7,8 @@
 
 pub mod check;
 pub mod machine;
-pub mod run;
 mod quantity;
+pub mod run;
 pub mod scene;
 
 use std::path::{Path, PathBuf};
@@ -130,6 +130,7 @@ fn strip_position(message: &str) -> String {
 pub enum SpecKind {
     Machine,
     Scene,
+    Run,
     Pattern,
 }
 
@@ -142,13 +143,15 @@ impl SpecKind {
             Ok(SpecKind::Machine)
         } else if has("geometry") || has("resolution") {
             Ok(SpecKind::Scene)
+        } else if has("algo") {
+            Ok(SpecKind::Run)
         } else if has("messages") {
             Ok(SpecKind::Pattern)
         } else {
             Err(SpecError::invalid(
                 path,
                 "",
-                "cannot tell what kind of spec this is: a machine has `network`, a scene has `geometry`, a network pattern has `messages`",
+                "cannot tell what kind of spec this is: a machine has `network`, a scene has `geometry`, a run has `algo`, a network pattern has `messages`",
             ))
         }
     }

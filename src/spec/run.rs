@@ -55,11 +55,17 @@ impl RunSpec {
     /// `scene_cache` lets sweeps share one loaded scene between runs.
     pub fn resolve(&self, scene: Option<Arc<Scene>>) -> Result<RunConfig, RunSpecError> {
         let algo = AlgorithmId::from_id(&self.algo).ok_or_else(|| {
-            RunSpecError::Invalid(format!("--algo {}: unknown algorithm; valid ids: {}", self.algo, AlgorithmId::valid_ids()))
+            RunSpecError::Invalid(format!(
+                "--algo {}: unknown algorithm; valid ids: {}",
+                self.algo,
+                AlgorithmId::valid_ids()
+            ))
         })?;
         let machine = self.machine_with_overrides()?;
         if self.procs == 0 {
-            return Err(RunSpecError::Invalid("--procs 0: a run needs at least 1 processor".into()));
+            return Err(RunSpecError::Invalid(
+                "--procs 0: a run needs at least 1 processor".into(),
+            ));
         }
         let machine = machine
             .with_nodes(self.procs)
@@ -68,24 +74,47 @@ impl RunSpec {
             Some(s) => s,
             None => Arc::new(Scene::load(&self.scene)?),
         };
-        let frames = parse_frames(self.frames.as_deref(), scene.frame_count())
-            .map_err(|e| RunSpecError::Invalid(format!("--frames {}: {e}", self.frames.as_deref().unwrap_or(""))))?;
+        let frames = parse_frames(self.frames.as_deref(), scene.frame_count()).map_err(|e| {
+            RunSpecError::Invalid(format!(
+                "--frames {}: {e}",
+                self.frames.as_deref().unwrap_or("")
+            ))
+        })?;
         let options = Options::new(
-            self.set.iter().filter(|(k, _)| !k.starts_with("machine.")).map(|(k, v)| (k.clone(), v.clone())).collect(),
+            self.set
+                .iter()
+                .filter(|(k, _)| !k.starts_with("machine."))
+                .map(|(k, v)| (k.clone(), v.clone()))
+                .collect(),
         );
-        Ok(RunConfig { machine, scene, algo, frames, options, seed: self.seed, timeline: false })
+        Ok(RunConfig {
+            machine,
+            scene,
+            algo,
+            frames,
+            options,
+            seed: self.seed,
+            timeline: false,
+        })
     }
 
     /// The machine spec with every `machine.` key of `set` applied, validated.
     fn machine_with_overrides(&self) -> Result<crate::machine::MachineConfig, RunSpecError> {
-        let text = std::fs::read_to_string(&self.machine).map_err(|source| SpecError::Io { file: self.machine.clone(), source })?;
+        let text = std::fs::read_to_string(&self.machine).map_err(|source| SpecError::Io {
+            file: self.machine.clone(),
+            source,
+        })?;
         let mut value: serde_json::Value = super::parse_json(&self.machine, &text)?;
         for (key, raw) in self.set.iter().filter(|(k, _)| k.starts_with("machine.")) {
             let path: Vec<&str> = key["machine.".len()..].split('.').collect();
-            set_path(&mut value, &path, raw).map_err(|e| RunSpecError::Invalid(format!("--set {key}={raw}: {e}")))?;
+            set_path(&mut value, &path, raw)
+                .map_err(|e| RunSpecError::Invalid(format!("--set {key}={raw}: {e}")))?;
         }
         let spec: MachineSpec = serde_json::from_value(value.clone()).map_err(|e| {
-            RunSpecError::Invalid(format!("{}: with the --set overrides: {e}", self.machine.display()))
+            RunSpecError::Invalid(format!(
+                "{}: with the --set overrides: {e}",
+                self.machine.display()
+            ))
         })?;
         Ok(validate(&self.machine, spec)?)
     }
@@ -96,9 +125,16 @@ impl RunSpec {
 fn set_path(value: &mut serde_json::Value, path: &[&str], raw: &str) -> Result<(), String> {
     let mut here = value;
     for (i, key) in path.iter().enumerate() {
-        let obj = here.as_object_mut().ok_or_else(|| format!("`{}` is not an object", path[..i].join(".")))?;
+        let obj = here
+            .as_object_mut()
+            .ok_or_else(|| format!("`{}` is not an object", path[..i].join(".")))?;
         let valid = obj.keys().cloned().collect::<Vec<_>>().join(", ");
-        here = obj.get_mut(*key).ok_or_else(|| format!("the machine spec has no field `{}`; valid fields there: {valid}", path[..=i].join(".")))?;
+        here = obj.get_mut(*key).ok_or_else(|| {
+            format!(
+                "the machine spec has no field `{}`; valid fields there: {valid}",
+                path[..=i].join(".")
+            )
+        })?;
     }
     *here = match serde_json::from_str::<serde_json::Value>(raw) {
         Ok(v) if !v.is_string() => v,
@@ -149,17 +185,29 @@ mod tests {
         assert_eq!(parse_frames(Some("3..7"), 80), Ok(3..7));
         assert_eq!(parse_frames(Some("5"), 80), Ok(5..6));
         for bad in ["7..3", "0..81", "x", "80", "3..3"] {
-            assert!(parse_frames(Some(bad), 80).unwrap_err().contains("frames 0..80"), "{bad}");
+            assert!(
+                parse_frames(Some(bad), 80)
+                    .unwrap_err()
+                    .contains("frames 0..80"),
+                "{bad}"
+            );
         }
     }
 
     #[test]
     fn machine_paths_must_exist() {
-        let mut v: serde_json::Value = serde_json::json!({"network": {"fidelity": "flow"}, "nodes": 4});
+        let mut v: serde_json::Value =
+            serde_json::json!({"network": {"fidelity": "flow"}, "nodes": 4});
         set_path(&mut v, &["network", "fidelity"], "packet").unwrap();
         set_path(&mut v, &["nodes"], "8").unwrap();
-        assert_eq!(v, serde_json::json!({"network": {"fidelity": "packet"}, "nodes": 8}));
+        assert_eq!(
+            v,
+            serde_json::json!({"network": {"fidelity": "packet"}, "nodes": 8})
+        );
         let err = set_path(&mut v, &["network", "colour"], "red").unwrap_err();
-        assert!(err.contains("no field `network.colour`; valid fields there: fidelity"), "{err}");
+        assert!(
+            err.contains("no field `network.colour`; valid fields there: fidelity"),
+            "{err}"
+        );
     }
 }

@@ -34,12 +34,17 @@ pub struct SceneSpec {
     /// Number of frames of the animation (at least 1).
     #[serde(default = "one")]
     pub frames: u32,
-    /// Background colour, 8-bit sRGB-free integers 0..=255.
+    /// Background colour, 8-bit RGB, each 0..=255.
     #[serde(default)]
     pub background: [u8; 3],
     /// Whether the rasterizer drops back faces (paper 002's terrain runs with culling off).
     #[serde(default = "yes")]
     pub cull_backfaces: bool,
+    /// Keep only the triangles frame 0 draws (front-facing, on screen) before object
+    /// `triangles` counts are made exact, as paper 001's pre-culled input files were.
+    /// Single-frame scenes only.
+    #[serde(default)]
+    pub precull: bool,
     pub camera: CameraSpec,
     #[serde(default)]
     pub animation: AnimationSpec,
@@ -296,6 +301,12 @@ impl SceneSpec {
         }
         if self.frames == 0 {
             return bad("frames", "must be at least 1".into());
+        }
+        if self.precull && self.frames != 1 {
+            return bad(
+                "precull",
+                format!("only a single-frame scene can be culled in advance (frame 0's view); `frames` is {}", self.frames),
+            );
         }
         self.validate_camera(file)?;
         self.validate_animation(file)?;

@@ -19,12 +19,34 @@ pub struct Assignment {
 impl Assignment {
     /// Region `r` to processor `r mod n`.
     pub fn interleaved(regions: u32, processors: u32) -> Assignment {
-        Assignment { owner: (0..regions).map(|r| r % processors).collect() }
+        Assignment {
+            owner: (0..regions).map(|r| r % processors).collect(),
+        }
+    }
+
+    /// A fixed interleaved pattern over a `cols x rows` grid that also shifts each row, so
+    /// that no processor is left with whole screen columns when `cols` is a multiple of `n`:
+    /// region (row, col) goes to (col + row * s) mod n, with s the smallest shift >= 2 coprime
+    /// with n (a Latin-square pattern when cols = n).
+    pub fn interleaved_2d(cols: u32, rows: u32, processors: u32) -> Assignment {
+        let shift = (2..)
+            .find(|&s| gcd(s, processors.max(1)) == 1)
+            .expect("a coprime shift exists");
+        let owner = (0..rows)
+            .flat_map(|row| {
+                (0..cols).map(move |col| {
+                    ((col as u64 + row as u64 * shift as u64) % processors as u64) as u32
+                })
+            })
+            .collect();
+        Assignment { owner }
     }
 
     /// The regions processor `p` rasterizes, in index order.
     pub fn regions_of(&self, p: u32) -> Vec<u32> {
-        (0..self.owner.len() as u32).filter(|&r| self.owner[r as usize] == p).collect()
+        (0..self.owner.len() as u32)
+            .filter(|&r| self.owner[r as usize] == p)
+            .collect()
     }
 
     /// Greedy multiple-bin packing: regions in decreasing estimated cost (ties by index) go
@@ -35,8 +57,11 @@ impl Assignment {
     pub fn greedy(costs: &[SimTime], initial_load: &[SimTime]) -> Assignment {
         let mut order: Vec<u32> = (0..costs.len() as u32).collect();
         order.sort_by_key(|&r| (Reverse(costs[r as usize]), r));
-        let mut loads: BinaryHeap<Reverse<(SimTime, u32)>> =
-            initial_load.iter().enumerate().map(|(p, &l)| Reverse((l, p as u32))).collect();
+        let mut loads: BinaryHeap<Reverse<(SimTime, u32)>> = initial_load
+            .iter()
+            .enumerate()
+            .map(|(p, &l)| Reverse((l, p as u32)))
+            .collect();
         let mut owner = vec![0; costs.len()];
         for r in order {
             let Reverse((load, p)) = loads.pop().expect("at least one processor");
@@ -53,6 +78,14 @@ impl Assignment {
             loads[p as usize] += costs[r];
         }
         loads
+    }
+}
+
+fn gcd(a: u32, b: u32) -> u32 {
+    if b == 0 {
+        a
+    } else {
+        gcd(b, a % b)
     }
 }
 
@@ -81,8 +114,27 @@ mod tests {
     }
 
     #[test]
+    fn interleaving_in_2d_spreads_every_processor_over_all_columns() {
+        let a = Assignment::interleaved_2d(8, 8, 8);
+        for p in 0..8 {
+            let mut cols: Vec<u32> = a.regions_of(p).iter().map(|r| r % 8).collect();
+            cols.sort();
+            assert_eq!(cols, (0..8).collect::<Vec<_>>(), "processor {p}");
+        }
+        assert_eq!(Assignment::interleaved_2d(4, 1, 2).owner, vec![0, 1, 0, 1]);
+        assert_eq!(
+            Assignment::interleaved_2d(2, 2, 2).owner,
+            vec![0, 1, 1, 0],
+            "a checkerboard"
+        );
+    }
+
+    #[test]
     fn interleaved_is_r_mod_n() {
-        assert_eq!(Assignment::interleaved(7, 3).owner, vec![0, 1, 2, 0, 1, 2, 0]);
+        assert_eq!(
+            Assignment::interleaved(7, 3).owner,
+            vec![0, 1, 2, 0, 1, 2, 0]
+        );
         assert_eq!(Assignment::interleaved(7, 3).regions_of(1), vec![1, 4]);
     }
 }

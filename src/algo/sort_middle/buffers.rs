@@ -33,15 +33,21 @@ pub struct Buffers<T> {
 impl<T> Buffers<T> {
     /// Buffers of `buffer_bytes` for `destinations` destinations; at least one item fits.
     pub fn new(destinations: usize, buffer_bytes: Bytes, item_bytes: u64) -> Buffers<T> {
-        let capacity = (buffer_bytes.get().saturating_sub(HEADER_BYTES) / item_bytes).max(1) as usize;
-        Buffers { capacity, slots: (0..destinations).map(|_| Vec::with_capacity(capacity)).collect() }
+        let capacity =
+            (buffer_bytes.get().saturating_sub(HEADER_BYTES) / item_bytes).max(1) as usize;
+        // Host vectors grow on demand: a 512-processor run would otherwise hold 512 x 512
+        // full buffers at once (the simulated machine is charged for them regardless).
+        Buffers {
+            capacity,
+            slots: (0..destinations).map(|_| Vec::new()).collect(),
+        }
     }
 
     /// Adds `item` for `dst`; returns the buffer's contents when this filled it.
     pub fn push(&mut self, dst: usize, item: T) -> Option<Vec<T>> {
         let slot = &mut self.slots[dst];
         slot.push(item);
-        (slot.len() == self.capacity).then(|| std::mem::replace(slot, Vec::with_capacity(self.capacity)))
+        (slot.len() == self.capacity).then(|| std::mem::take(slot))
     }
 
     /// Empties the buffer of `dst`.
@@ -61,7 +67,10 @@ mod tests {
     #[test]
     fn a_4kb_buffer_holds_what_fits_after_the_header() {
         let mut b: Buffers<u32> = Buffers::new(2, Bytes::new(4096), TRIANGLE_BYTES);
-        assert_eq!(b.capacity(), ((4096 - HEADER_BYTES) / TRIANGLE_BYTES) as usize);
+        assert_eq!(
+            b.capacity(),
+            ((4096 - HEADER_BYTES) / TRIANGLE_BYTES) as usize
+        );
         for i in 0..b.capacity() as u32 - 1 {
             assert!(b.push(1, i).is_none());
         }

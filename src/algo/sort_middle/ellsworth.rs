@@ -24,19 +24,28 @@ use std::rc::Rc;
 use super::assign::Assignment;
 use super::redistribute::{self, Redistributor};
 use super::{
-    compute_assignment, finish_frame, rasterize, region_counts, start_frame, sum_counts, transform, CountsFrom, Ctx, Msg,
+    compute_assignment, finish_frame, rasterize, region_counts, start_frame, sum_counts, transform,
+    CountsFrom, Ctx, Msg,
 };
-use crate::machine::Counts;
 use crate::engine::{Filter, Node, SimError};
+use crate::machine::Counts;
 use crate::units::SimTime;
 
 pub(super) async fn processor(node: Node<Msg>, ctx: Rc<Ctx>) -> Result<(), SimError> {
     let me = node.id();
     // The first frame's load balancing: region r goes to processor r mod N.
     let mut assignment = Rc::new(Assignment::interleaved(ctx.settings.grid.count(), ctx.n));
+    let buffers = ctx.settings.polygon_buffer_memory(me, ctx.n);
+    node.alloc("polygon buffers", buffers)?;
+    let database = ctx.database_memory(me);
+    node.alloc("database", database)?;
     for frame in ctx.frames() {
         node.phase("synchronize");
-        let update = if me == 0 { ctx.next_assignment.borrow_mut().take() } else { None };
+        let update = if me == 0 {
+            ctx.next_assignment.borrow_mut().take()
+        } else {
+            None
+        };
         if let Some(new) = start_frame(&node, &ctx, frame, update).await {
             assignment = new;
         }
@@ -44,10 +53,16 @@ pub(super) async fn processor(node: Node<Msg>, ctx: Rc<Ctx>) -> Result<(), SimEr
         let polygons = match ctx.settings.counts {
             CountsFrom::Previous => {
                 let polygons = redistributor(&node, &ctx, frame, &assignment);
-                transform(&node, &ctx, frame, |tris, work| polygons.borrow_mut().place(&ctx, tris, work)).await?;
+                transform(&node, &ctx, frame, |tris, work| {
+                    polygons.borrow_mut().place(&ctx, tris, work)
+                })
+                .await?;
                 flush(&node, &ctx, &polygons).await;
                 let counts = std::mem::take(&mut polygons.borrow_mut().counts);
-                node.spawn(format!("summing tree {me}"), assign_next_frame(node.clone(), ctx.clone(), frame, counts));
+                node.spawn(
+                    format!("summing tree {me}"),
+                    assign_next_frame(node.clone(), ctx.clone(), frame, counts),
+                );
                 polygons
             }
             CountsFrom::Current => {
@@ -59,7 +74,11 @@ pub(super) async fn processor(node: Node<Msg>, ctx: Rc<Ctx>) -> Result<(), SimEr
                 .await?;
                 node.phase("load balance");
                 let total = sum_counts(&node, &ctx, frame, region_counts(&ctx, &screen)).await;
-                let new = if me == 0 { Some(Rc::new(compute_assignment(&node, &ctx, &total).await)) } else { None };
+                let new = if me == 0 {
+                    Some(Rc::new(compute_assignment(&node, &ctx, &total).await))
+                } else {
+                    None
+                };
                 node.phase("synchronize");
                 if let Some(new) = start_frame(&node, &ctx, frame, new).await {
                     assignment = new;
@@ -90,15 +109,30 @@ pub(super) async fn processor(node: Node<Msg>, ctx: Rc<Ctx>) -> Result<(), SimEr
             node.recv(Filter::tag(super::TAG_ASSIGNED)).await;
         }
     }
+    node.free("polygon buffers", buffers)?;
+    node.free("database", database)?;
     Ok(())
 }
 
 /// This frame's redistribution state, with the two-step forwarding handler running when this
 /// processor forwards for other groups.
-fn redistributor(node: &Node<Msg>, ctx: &Rc<Ctx>, frame: u32, assignment: &Rc<Assignment>) -> Rc<RefCell<Redistributor>> {
-    let polygons = Rc::new(RefCell::new(Redistributor::new(ctx, node.id(), frame, assignment.clone())));
+fn redistributor(
+    node: &Node<Msg>,
+    ctx: &Rc<Ctx>,
+    frame: u32,
+    assignment: &Rc<Assignment>,
+) -> Rc<RefCell<Redistributor>> {
+    let polygons = Rc::new(RefCell::new(Redistributor::new(
+        ctx,
+        node.id(),
+        frame,
+        assignment.clone(),
+    )));
     if polygons.borrow().forwards() {
-        node.spawn(format!("forwarder {}", node.id()), redistribute::forward(node.clone(), ctx.clone(), polygons.clone()));
+        node.spawn(
+            format!("forwarder {}", node.id()),
+            redistribute::forward(node.clone(), ctx.clone(), polygons.clone()),
+        );
     }
     polygons
 }
@@ -111,7 +145,12 @@ async fn flush(node: &Node<Msg>, ctx: &Ctx, polygons: &Rc<RefCell<Redistributor>
 
 /// The summing tree's handler for one frame: passes this subtree's counts up; processor 0
 /// then assigns the next frame's regions and tells its own main program.
-async fn assign_next_frame(node: Node<Msg>, ctx: Rc<Ctx>, frame: u32, counts: Vec<u32>) -> Result<(), SimError> {
+async fn assign_next_frame(
+    node: Node<Msg>,
+    ctx: Rc<Ctx>,
+    frame: u32,
+    counts: Vec<u32>,
+) -> Result<(), SimError> {
     node.phase("load balance");
     let total = sum_counts(&node, &ctx, frame, counts).await;
     if node.id() == 0 && !ctx.is_last(frame) {

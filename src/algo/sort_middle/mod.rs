@@ -18,6 +18,7 @@ mod redistribute;
 pub mod regions;
 mod static_regions;
 pub mod two_step;
+pub mod utilization;
 
 use std::cell::RefCell;
 use std::collections::BTreeMap;
@@ -32,7 +33,8 @@ use super::{FrameRecord, RunConfig, RunError, RunResult};
 use crate::engine::{Filter, Node, Payload, Sim, SimError};
 use crate::machine::{Counts, Op};
 use crate::raster::{
-    draw_screen_triangles, setup_subset, Framebuffer, RasterOptions, RegionSet, ScreenTriangle, Viewport,
+    draw_screen_triangles, setup_subset, Framebuffer, RasterOptions, RegionSet, ScreenTriangle,
+    Viewport,
 };
 use crate::scene::FrameGeometry;
 use crate::units::{Bytes, SimTime};
@@ -78,14 +80,25 @@ pub(crate) enum Msg {
     /// Screen triangles for the receiver's regions. The last message of a sender's stream
     /// says how many messages the stream had (`end`), since a network may deliver two
     /// messages of one pair out of order (the flow model shares bandwidth between them).
-    Polygons { frame: u32, tris: Vec<ScreenTriangle>, end: Option<u32> },
+    Polygons {
+        frame: u32,
+        tris: Vec<ScreenTriangle>,
+        end: Option<u32>,
+    },
     /// First step of two-step redistribution: triangles with their final destination.
-    Forward { frame: u32, tris: Vec<(u32, ScreenTriangle)>, end: Option<u32> },
+    Forward {
+        frame: u32,
+        tris: Vec<(u32, ScreenTriangle)>,
+        end: Option<u32>,
+    },
     /// Per-region polygon counts on their way up the summing tree.
     Counts { frame: u32, counts: Vec<u32> },
     /// The start of a frame, down the tree from processor 0, with the region assignment when
     /// it changed.
-    Start { frame: u32, assignment: Option<Rc<Assignment>> },
+    Start {
+        frame: u32,
+        assignment: Option<Rc<Assignment>>,
+    },
     /// A subtree has finished rasterizing `frame`.
     Done { frame: u32 },
     /// A processor's regional image for the root (paper 000).
@@ -127,10 +140,39 @@ impl Msg {
         match self {
             Msg::Polygons { .. } | Msg::Forward { .. } => redistribute::polygon_bytes(self),
             Msg::Counts { counts, .. } => Bytes::new(header + 4 * counts.len() as u64),
-            Msg::Start { assignment, .. } => Bytes::new(header + assignment.as_ref().map_or(0, |a| 2 * a.owner.len() as u64)),
+            Msg::Start { assignment, .. } => {
+                Bytes::new(header + assignment.as_ref().map_or(0, |a| 2 * a.owner.len() as u64))
+            }
             Msg::Done { .. } | Msg::Assigned { .. } => Bytes::new(header),
             Msg::Pixels { pixels, .. } => Bytes::new(header + 3 * pixels),
         }
+    }
+}
+
+/// Bytes of one triangle of the retained database a processor stores: three vertices with
+/// position and normal as 32-bit floats, and a colour (paper 002: "the database can be broken
+/// up and stored in the processors' memories").
+pub const DATABASE_BYTES_PER_TRIANGLE: u64 = 3 * (12 + 12) + 4;
+
+impl Ctx {
+    /// The memory processor `me` holds for its share (every n-th triangle) of the model.
+    fn database_memory(&self, me: u32) -> Bytes {
+        let triangles = self.cfg.scene.triangle_count() as u64;
+        let share = triangles / self.n as u64 + u64::from((me as u64) < triangles % self.n as u64);
+        Bytes::new(share * DATABASE_BYTES_PER_TRIANGLE)
+    }
+}
+
+impl Settings {
+    /// The memory processor `me` keeps for its fixed-size polygon buffers: one per other
+    /// processor, or with two-step redistribution one per other group and one per other
+    /// member of its own group (paper 002).
+    pub fn polygon_buffer_memory(&self, me: u32, n: u32) -> Bytes {
+        let buffers = match &self.groups {
+            None => n - 1,
+            Some(g) => (g.count() - 1) + (g.members(g.group_of(me)).len() as u32 - 1),
+        };
+        self.buffer * buffers as u64
     }
 }
 
@@ -166,7 +208,12 @@ impl Ctx {
         if let Some(g) = cache.get(&frame) {
             return Ok(g.clone());
         }
-        let g = Rc::new(self.cfg.scene.frame(frame).map_err(|e| node.error(e.to_string()))?);
+        let g = Rc::new(
+            self.cfg
+                .scene
+                .frame(frame)
+                .map_err(|e| node.error(e.to_string()))?,
+        );
         cache.retain(|&f, _| f + 1 >= frame);
         cache.insert(frame, g.clone());
         Ok(g)
@@ -199,7 +246,13 @@ impl Ctx {
     /// Triangles per transformation batch: one buffer's worth, so compute is charged at the
     /// grain messages are sent (events grow with messages, not with pixels).
     fn batch(&self) -> usize {
-        ((self.settings.buffer.get().saturating_sub(buffers::HEADER_BYTES)) / buffers::TRIANGLE_BYTES).max(1) as usize
+        ((self
+            .settings
+            .buffer
+            .get()
+            .saturating_sub(buffers::HEADER_BYTES))
+            / buffers::TRIANGLE_BYTES)
+            .max(1) as usize
     }
 }
 
@@ -214,17 +267,34 @@ fn parent(me: u32) -> u32 {
 
 /// Processor 0 starts `frame` by sending `Start` down the tree; every other processor waits
 /// for it (this is also the barrier that ensures the previous frame finished) and passes it on.
-async fn start_frame(node: &Node<Msg>, ctx: &Ctx, frame: u32, assignment: Option<Rc<Assignment>>) -> Option<Rc<Assignment>> {
+async fn start_frame(
+    node: &Node<Msg>,
+    ctx: &Ctx,
+    frame: u32,
+    assignment: Option<Rc<Assignment>>,
+) -> Option<Rc<Assignment>> {
     let me = node.id();
     let assignment = if me == 0 {
         assignment
     } else {
-        let env = node.recv(Filter::tag(TAG_START).and_source(parent(me))).await;
-        let Msg::Start { assignment, .. } = env.payload else { unreachable!("filtered by tag") };
+        let env = node
+            .recv(Filter::tag(TAG_START).and_source(parent(me)))
+            .await;
+        let Msg::Start { assignment, .. } = env.payload else {
+            unreachable!("filtered by tag")
+        };
         assignment
     };
     for child in children(me, ctx.n) {
-        ctx.send(node, child, Msg::Start { frame, assignment: assignment.clone() }).await;
+        ctx.send(
+            node,
+            child,
+            Msg::Start {
+                frame,
+                assignment: assignment.clone(),
+            },
+        )
+        .await;
     }
     if me == 0 {
         let now = node.now();
@@ -253,14 +323,25 @@ async fn sum_counts(node: &Node<Msg>, ctx: &Ctx, frame: u32, mut counts: Vec<u32
     let me = node.id();
     for child in children(me, ctx.n) {
         let env = node.recv(Filter::tag(TAG_COUNTS).and_source(child)).await;
-        let Msg::Counts { counts: theirs, .. } = env.payload else { unreachable!("filtered by tag") };
+        let Msg::Counts { counts: theirs, .. } = env.payload else {
+            unreachable!("filtered by tag")
+        };
         for (a, b) in counts.iter_mut().zip(theirs) {
             *a += b;
         }
-        node.compute(&Counts::of(Op::RegionCount, counts.len() as u64)).await;
+        node.compute(&Counts::of(Op::RegionCount, counts.len() as u64))
+            .await;
     }
     if me != 0 {
-        ctx.send(node, parent(me), Msg::Counts { frame, counts: counts.clone() }).await;
+        ctx.send(
+            node,
+            parent(me),
+            Msg::Counts {
+                frame,
+                counts: counts.clone(),
+            },
+        )
+        .await;
     }
     counts
 }
@@ -276,7 +357,8 @@ async fn compute_assignment(node: &Node<Msg>, ctx: &Ctx, counts: &[u32]) -> Assi
     let estimates: Vec<SimTime> = (0..counts.len() as u32)
         .map(|r| {
             let pixels = s.grid.rect(r).pixels() as u64;
-            costs.get(Op::ClearPixel).times(pixels) + s.polygon_estimate.times(counts[r as usize] as u64)
+            costs.get(Op::ClearPixel).times(pixels)
+                + s.polygon_estimate.times(counts[r as usize] as u64)
         })
         .collect();
     let mut initial = vec![SimTime::ZERO; ctx.n as usize];
@@ -309,12 +391,23 @@ where
 {
     node.phase("transform");
     let geometry = ctx.geometry(node, frame)?;
-    let share: Vec<u32> = (node.id()..geometry.triangles.len() as u32).step_by(ctx.n as usize).collect();
+    let share: Vec<u32> = (node.id()..geometry.triangles.len() as u32)
+        .step_by(ctx.n as usize)
+        .collect();
     let mut tris = Vec::new();
     for batch in share.chunks(ctx.batch()) {
         tris.clear();
-        let c = setup_subset(&geometry.vertices, &geometry.triangles, batch, ctx.viewport, &ctx.raster, &mut tris);
-        ctx.record(frame, |r| r.triangles_in_view += c.triangles_in - c.culled_outside - c.culled_invalid);
+        let c = setup_subset(
+            &geometry.vertices,
+            &geometry.triangles,
+            batch,
+            ctx.viewport,
+            &ctx.raster,
+            &mut tris,
+        );
+        ctx.record(frame, |r| {
+            r.triangles_in_view += c.triangles_in - c.culled_outside - c.culled_invalid
+        });
         let mut work = charge::front_end(&c);
         let out = place(&tris, &mut work);
         node.compute(&work).await;
@@ -335,11 +428,16 @@ async fn rasterize(
 ) -> Result<RegionSet, SimError> {
     node.phase("rasterize");
     let me = node.id();
-    let rects: Vec<_> = assignment.regions_of(me).into_iter().map(|r| ctx.settings.grid.rect(r)).collect();
+    let rects: Vec<_> = assignment
+        .regions_of(me)
+        .into_iter()
+        .map(|r| ctx.settings.grid.rect(r))
+        .collect();
     let pixels: u64 = rects.iter().map(|r| r.pixels() as u64).sum();
     let memory = Bytes::new(pixels * (3 + 4));
     node.alloc("framebuffer", memory)?;
-    let mut target = RegionSet::with_clear(ctx.viewport, rects, ctx.background).map_err(|e| node.error(e.to_string()))?;
+    let mut target = RegionSet::with_clear(ctx.viewport, rects, ctx.background)
+        .map_err(|e| node.error(e.to_string()))?;
     node.compute(&Counts::of(Op::ClearPixel, pixels)).await;
     for batch in local.chunks(ctx.batch()) {
         let c = draw_screen_triangles(batch, &mut target);
@@ -348,7 +446,14 @@ async fn rasterize(
     let mut arrivals = redistribute::Streams::default();
     while arrivals.ended() < streams {
         let env = node.recv(Filter::tag(TAG_POLYGONS)).await;
-        let Msg::Polygons { frame: f, tris, end } = env.payload else { unreachable!("filtered by tag") };
+        let Msg::Polygons {
+            frame: f,
+            tris,
+            end,
+        } = env.payload
+        else {
+            unreachable!("filtered by tag")
+        };
         debug_assert_eq!(f, frame, "a polygon message crossed a frame boundary");
         let c = draw_screen_triangles(&tris, &mut target);
         node.compute(&charge::back_end(&c)).await;
@@ -373,21 +478,47 @@ fn settings(cfg: &RunConfig, variant: Variant, viewport: Viewport) -> Result<Set
             RegionGrid::of_size(viewport, size)
         }
         Variant::Ellsworth => {
-            let granularity: u32 = o.get("granularity", 8, "a whole number of regions per processor, at least 1")?;
+            let granularity: u32 = o.get(
+                "granularity",
+                8,
+                "a whole number of regions per processor, at least 1",
+            )?;
             if granularity == 0 {
-                return Err(bad(o, "granularity", "a whole number of regions per processor, at least 1"));
+                return Err(bad(
+                    o,
+                    "granularity",
+                    "a whole number of regions per processor, at least 1",
+                ));
             }
             RegionGrid::with_count(viewport, granularity * n).ok_or_else(|| {
-                bad(o, "granularity", &format!("at most {} regions fit a {}x{} screen", viewport.pixels(), viewport.width(), viewport.height()))
+                bad(
+                    o,
+                    "granularity",
+                    &format!(
+                        "at most {} regions fit a {}x{} screen",
+                        viewport.pixels(),
+                        viewport.width(),
+                        viewport.height()
+                    ),
+                )
             })?
         }
     };
     let buffer: Bytes = o.get("buffer", Bytes::new(4096), "a buffer size such as 4KiB")?;
     if buffer.get() < buffers::HEADER_BYTES + buffers::ROUTED_TRIANGLE_BYTES {
-        return Err(bad(o, "buffer", &format!("a buffer of at least {}B (one triangle)", buffers::HEADER_BYTES + buffers::ROUTED_TRIANGLE_BYTES)));
+        return Err(bad(
+            o,
+            "buffer",
+            &format!(
+                "a buffer of at least {}B (one triangle)",
+                buffers::HEADER_BYTES + buffers::ROUTED_TRIANGLE_BYTES
+            ),
+        ));
     }
     let costs = &cfg.machine.cpu.costs;
-    let default_estimate = costs.get(Op::SetupTriangle) + costs.get(Op::Span).times(3) + (costs.get(Op::PixelTest) + costs.get(Op::PixelWrite)).times(6);
+    let default_estimate = costs.get(Op::SetupTriangle)
+        + costs.get(Op::Span).times(3)
+        + (costs.get(Op::PixelTest) + costs.get(Op::PixelWrite)).times(6);
     let (counts, groups, polygon_estimate) = match variant {
         Variant::Static => (CountsFrom::Previous, None, default_estimate),
         Variant::Ellsworth => {
@@ -401,17 +532,33 @@ fn settings(cfg: &RunConfig, variant: Variant, viewport: Viewport) -> Result<Set
                 "auto" => two_step_pays(cfg, buffer).then(|| Groups::near_sqrt(n)),
                 _ => None,
             };
-            let estimate: SimTime = o.get("polygon-estimate", default_estimate, "a time such as 12us")?;
+            let estimate: SimTime =
+                o.get("polygon-estimate", default_estimate, "a time such as 12us")?;
             (counts, groups, estimate)
         }
     };
     o.finish(cfg.algo.id())?;
-    Ok(Settings { variant, grid, buffer, counts, groups, polygon_estimate })
+    Ok(Settings {
+        variant,
+        grid,
+        buffer,
+        counts,
+        groups,
+        polygon_estimate,
+    })
 }
 
 fn bad(o: &super::Options, key: &str, what: &str) -> RunError {
-    let value = o.pairs().find(|(k, _)| *k == key).map(|(_, v)| v.clone()).unwrap_or_default();
-    RunError::Option(super::OptionError::Invalid { key: key.into(), value, message: format!("expected {what}") })
+    let value = o
+        .pairs()
+        .find(|(k, _)| *k == key)
+        .map(|(_, v)| v.clone())
+        .unwrap_or_default();
+    RunError::Option(super::OptionError::Invalid {
+        key: key.into(),
+        value,
+        message: format!("expected {what}"),
+    })
 }
 
 /// The performance model's verdict on two-step redistribution (paper 002: "an implementation
@@ -435,6 +582,12 @@ fn two_step_pays(cfg: &RunConfig, buffer: Bytes) -> bool {
     two_step < one_step
 }
 
+/// Checks a variant's options against `cfg` without running it.
+pub fn check(cfg: &RunConfig, variant: Variant) -> Result<(), RunError> {
+    let first = cfg.scene.frame(cfg.frames.start)?;
+    settings(cfg, variant, super::reference::viewport(&first)).map(|_| ())
+}
+
 /// Runs a sort-middle variant.
 pub fn run(cfg: &RunConfig, variant: Variant) -> Result<RunResult, RunError> {
     let first = cfg.scene.frame(cfg.frames.start)?;
@@ -453,15 +606,22 @@ pub fn run(cfg: &RunConfig, variant: Variant) -> Result<RunResult, RunError> {
         next_assignment: RefCell::default(),
         images: RefCell::new(vec![None; n as usize]),
     });
-    let mut sim: Sim<Msg> = Sim::new(&cfg.machine, cfg.seed).map_err(|e| RunError::Unsupported(e.to_string()))?;
+    let mut sim: Sim<Msg> =
+        Sim::new(&cfg.machine, cfg.seed).map_err(|e| RunError::Unsupported(e.to_string()))?;
     if cfg.timeline {
         sim.record_timeline();
     }
     for p in 0..n {
         let (node, ctx) = (sim.node(p), ctx.clone());
         match variant {
-            Variant::Ellsworth => sim.spawn(p, format!("processor {p}"), ellsworth::processor(node, ctx)),
-            Variant::Static => sim.spawn(p, format!("processor {p}"), static_regions::processor(node, ctx)),
+            Variant::Ellsworth => {
+                sim.spawn(p, format!("processor {p}"), ellsworth::processor(node, ctx))
+            }
+            Variant::Static => sim.spawn(
+                p,
+                format!("processor {p}"),
+                static_regions::processor(node, ctx),
+            ),
         }
     }
     let stats = sim.run()?;
@@ -471,5 +631,9 @@ pub fn run(cfg: &RunConfig, variant: Variant) -> Result<RunResult, RunError> {
         regions.copy_into(&mut image);
     }
     let frames = ctx.records.borrow().values().cloned().collect();
-    Ok(RunResult { stats, frames, image })
+    Ok(RunResult {
+        stats,
+        frames,
+        image,
+    })
 }

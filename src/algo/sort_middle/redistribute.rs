@@ -55,14 +55,22 @@ impl Redistributor {
         let n = ctx.n as usize;
         let groups = ctx.settings.groups.clone();
         let forwarding = groups.as_ref().is_some_and(|g| g.forwarded_sources(me) > 0);
-        debug_assert!(groups.as_ref().is_none_or(|g| g.members(g.group_of(me)).contains(&me)));
+        debug_assert!(groups
+            .as_ref()
+            .is_none_or(|g| g.members(g.group_of(me)).contains(&me)));
         Redistributor {
             me,
             processors: ctx.n,
             frame,
             assignment,
             direct: Buffers::new(n, ctx.settings.buffer, TRIANGLE_BYTES),
-            first_step: groups.as_ref().map(|g| Buffers::new(g.count() as usize, ctx.settings.buffer, ROUTED_TRIANGLE_BYTES)),
+            first_step: groups.as_ref().map(|g| {
+                Buffers::new(
+                    g.count() as usize,
+                    ctx.settings.buffer,
+                    ROUTED_TRIANGLE_BYTES,
+                )
+            }),
             sent_direct: vec![0; n],
             sent_first: vec![0; groups.as_ref().map_or(0, |g| g.count() as usize)],
             groups,
@@ -76,7 +84,12 @@ impl Redistributor {
 
     /// Classifies `tris` by region and destination, adding the classification and copying
     /// work to `charge`; returns the buffers that filled up.
-    pub fn place(&mut self, ctx: &Ctx, tris: &[ScreenTriangle], charge: &mut Counts) -> Vec<Outgoing> {
+    pub fn place(
+        &mut self,
+        ctx: &Ctx,
+        tris: &[ScreenTriangle],
+        charge: &mut Counts,
+    ) -> Vec<Outgoing> {
         let mut out = Vec::new();
         let mut copied = 0u64;
         for tri in tris {
@@ -111,7 +124,14 @@ impl Redistributor {
                 let group = groups.group_of(dst);
                 if let Some(tris) = first.push(group as usize, (dst, tri)) {
                     self.sent_first[group as usize] += 1;
-                    out.push((groups.forwarder(self.me, group), Msg::Forward { frame, tris, end: None }));
+                    out.push((
+                        groups.forwarder(self.me, group),
+                        Msg::Forward {
+                            frame,
+                            tris,
+                            end: None,
+                        },
+                    ));
                 }
                 ROUTED_TRIANGLE_BYTES
             }
@@ -126,7 +146,14 @@ impl Redistributor {
     fn push_direct(&mut self, dst: u32, tri: ScreenTriangle, out: &mut Vec<Outgoing>) {
         if let Some(tris) = self.direct.push(dst as usize, tri) {
             self.sent_direct[dst as usize] += 1;
-            out.push((dst, Msg::Polygons { frame: self.frame, tris, end: None }));
+            out.push((
+                dst,
+                Msg::Polygons {
+                    frame: self.frame,
+                    tris,
+                    end: None,
+                },
+            ));
         }
     }
 
@@ -139,7 +166,14 @@ impl Redistributor {
             for group in (0..groups.count()).filter(|&k| k != mine) {
                 let tris = first.take(group as usize);
                 let end = Some(self.sent_first[group as usize] + 1);
-                out.push((groups.forwarder(self.me, group), Msg::Forward { frame: self.frame, tris, end }));
+                out.push((
+                    groups.forwarder(self.me, group),
+                    Msg::Forward {
+                        frame: self.frame,
+                        tris,
+                        end,
+                    },
+                ));
             }
         }
         out.extend(self.condition_met());
@@ -157,7 +191,14 @@ impl Redistributor {
             .filter(|&d| d != me)
             .map(|d| {
                 let end = Some(self.sent_direct[d as usize] + 1);
-                (d, Msg::Polygons { frame, tris: self.direct.take(d as usize), end })
+                (
+                    d,
+                    Msg::Polygons {
+                        frame,
+                        tris: self.direct.take(d as usize),
+                        end,
+                    },
+                )
             })
             .collect()
     }
@@ -171,7 +212,9 @@ impl Redistributor {
 
     /// Whether this processor forwards first-step polygons for other groups.
     pub fn forwards(&self) -> bool {
-        self.groups.as_ref().is_some_and(|g| g.forwarded_sources(self.me) > 0)
+        self.groups
+            .as_ref()
+            .is_some_and(|g| g.forwarded_sources(self.me) > 0)
     }
 
     /// How many `last` polygon messages this processor's rasterizer must wait for.
@@ -193,17 +236,31 @@ pub(super) async fn send_all(node: &Node<Msg>, ctx: &Ctx, out: Vec<Outgoing>) {
 /// The forwarding handler of two-step redistribution: copies first-step polygons into the
 /// buffers for this group's members until every source that uses this processor has sent
 /// its last message. Polygons for this processor itself are posted to its own rasterizer.
-pub(super) async fn forward(node: Node<Msg>, ctx: Rc<Ctx>, state: Rc<RefCell<Redistributor>>) -> Result<(), SimError> {
+pub(super) async fn forward(
+    node: Node<Msg>,
+    ctx: Rc<Ctx>,
+    state: Rc<RefCell<Redistributor>>,
+) -> Result<(), SimError> {
     let me = node.id();
     let (frame, sources) = {
         let s = state.borrow();
-        (s.frame, s.groups.as_ref().map_or(0, |g| g.forwarded_sources(me)))
+        (
+            s.frame,
+            s.groups.as_ref().map_or(0, |g| g.forwarded_sources(me)),
+        )
     };
     let mut for_me = Vec::new();
     let mut arrivals = Streams::default();
     while arrivals.ended() < sources {
         let env = node.recv(Filter::tag(TAG_FORWARD)).await;
-        let Msg::Forward { frame: f, tris, end } = env.payload else { unreachable!("filtered by tag") };
+        let Msg::Forward {
+            frame: f,
+            tris,
+            end,
+        } = env.payload
+        else {
+            unreachable!("filtered by tag")
+        };
         debug_assert_eq!(f, frame, "a first-step message crossed a frame boundary");
         let mut out = Vec::new();
         {
@@ -216,11 +273,23 @@ pub(super) async fn forward(node: Node<Msg>, ctx: Rc<Ctx>, state: Rc<RefCell<Red
                 }
             }
         }
-        node.compute(&Counts::of(Op::ByteCopy, tris.len() as u64 * TRIANGLE_BYTES)).await;
+        node.compute(&Counts::of(
+            Op::ByteCopy,
+            tris.len() as u64 * TRIANGLE_BYTES,
+        ))
+        .await;
         send_all(&node, &ctx, out).await;
         arrivals.arrived(env.src, end);
     }
-    node.post(me, crate::units::SimTime::ZERO, Msg::Polygons { frame, tris: for_me, end: Some(1) });
+    node.post(
+        me,
+        crate::units::SimTime::ZERO,
+        Msg::Polygons {
+            frame,
+            tris: for_me,
+            end: Some(1),
+        },
+    );
     let out = state.borrow_mut().condition_met();
     send_all(&node, &ctx, out).await;
     Ok(())

@@ -19,7 +19,11 @@ impl RegionGrid {
     /// 000's renderer uses with 64.
     pub fn of_size(viewport: Viewport, size: u32) -> RegionGrid {
         let size = size.max(1);
-        RegionGrid { viewport, cols: viewport.width().div_ceil(size), rows: viewport.height().div_ceil(size) }
+        RegionGrid {
+            viewport,
+            cols: viewport.width().div_ceil(size),
+            rows: viewport.height().div_ceil(size),
+        }
     }
 
     /// Exactly `count` regions: the factorization `cols x rows = count` whose regions are
@@ -30,10 +34,15 @@ impl RegionGrid {
             .filter(|c| count % c == 0 && *c <= w && count / c <= h)
             .map(|cols| (cols, count / cols))
             .min_by(|&(c1, r1), &(c2, r2)| {
-                let skew = |c: u32, r: u32| ((w as f64 / c as f64) / (h as f64 / r as f64)).ln().abs();
+                let skew =
+                    |c: u32, r: u32| ((w as f64 / c as f64) / (h as f64 / r as f64)).ln().abs();
                 skew(c1, r1).total_cmp(&skew(c2, r2)).then(c1.cmp(&c2))
             })
-            .map(|(cols, rows)| RegionGrid { viewport, cols, rows })
+            .map(|(cols, rows)| RegionGrid {
+                viewport,
+                cols,
+                rows,
+            })
     }
 
     pub fn count(&self) -> u32 {
@@ -58,11 +67,17 @@ impl RegionGrid {
 
     /// Appends the regions that `tri`'s pixel bounding box touches, in index order.
     pub fn touched_by(&self, tri: &ScreenTriangle, out: &mut Vec<u32>) {
-        let Some((x0, y0, x1, y1)) = pixel_bounds(tri, self.viewport) else { return };
+        let Some((x0, y0, x1, y1)) = pixel_bounds(tri, self.viewport) else {
+            return;
+        };
         // Region c starts at floor(c * W / cols); pixel x lies in the last region starting at
         // or before it, c = floor(((x + 1) * cols - 1) / W).
-        let col = |x: u32| (((x as u64 + 1) * self.cols as u64 - 1) / self.viewport.width() as u64) as u32;
-        let row = |y: u32| (((y as u64 + 1) * self.rows as u64 - 1) / self.viewport.height() as u64) as u32;
+        let col = |x: u32| {
+            (((x as u64 + 1) * self.cols as u64 - 1) / self.viewport.width() as u64) as u32
+        };
+        let row = |y: u32| {
+            (((y as u64 + 1) * self.rows as u64 - 1) / self.viewport.height() as u64) as u32
+        };
         for r in row(y0)..=row(y1) {
             for c in col(x0)..=col(x1) {
                 out.push(r * self.cols + c);
@@ -81,8 +96,12 @@ pub fn pixel_bounds(tri: &ScreenTriangle, viewport: Viewport) -> Option<(u32, u3
     let (min_y, max_y) = (ys.clone().min()?, ys.max()?);
     let x0 = min_x.first_centre_at_or_after().max(0);
     let y0 = min_y.first_centre_at_or_after().max(0);
-    let x1 = max_x.last_centre_at_or_before().min(viewport.width() as i64 - 1);
-    let y1 = max_y.last_centre_at_or_before().min(viewport.height() as i64 - 1);
+    let x1 = max_x
+        .last_centre_at_or_before()
+        .min(viewport.width() as i64 - 1);
+    let y1 = max_y
+        .last_centre_at_or_before()
+        .min(viewport.height() as i64 - 1);
     (x0 <= x1 && y0 <= y1).then_some((x0 as u32, y0 as u32, x1 as u32, y1 as u32))
 }
 
@@ -100,7 +119,10 @@ mod tests {
             for y in 0..h {
                 for x in 0..w {
                     let r = row(y) * grid.cols() + col(x);
-                    assert!(grid.rect(r).contains(x, y), "{w}x{h}/{count}: ({x},{y}) -> {r}");
+                    assert!(
+                        grid.rect(r).contains(x, y),
+                        "{w}x{h}/{count}: ({x},{y}) -> {r}"
+                    );
                 }
             }
         }
@@ -113,7 +135,13 @@ mod tests {
         assert_eq!((g.cols(), g.rows()), (64, 64));
         let g = RegionGrid::with_count(vp, 8 * 3).unwrap();
         assert_eq!((g.cols(), g.rows()), (6, 4));
-        assert_eq!(RegionGrid::of_size(Viewport::new(512, 512).unwrap(), 64).count(), 64);
-        assert_eq!(RegionGrid::with_count(Viewport::new(4, 4).unwrap(), 17), None);
+        assert_eq!(
+            RegionGrid::of_size(Viewport::new(512, 512).unwrap(), 64).count(),
+            64
+        );
+        assert_eq!(
+            RegionGrid::with_count(Viewport::new(4, 4).unwrap(), 17),
+            None
+        );
     }
 }

@@ -25,7 +25,12 @@ use crate::units::Bytes;
 
 pub(super) async fn processor(node: Node<Msg>, ctx: Rc<Ctx>) -> Result<(), SimError> {
     let me = node.id();
-    let assignment = Rc::new(Assignment::interleaved(ctx.settings.grid.count(), ctx.n));
+    let grid = &ctx.settings.grid;
+    let assignment = Rc::new(Assignment::interleaved_2d(grid.cols(), grid.rows(), ctx.n));
+    let buffers = ctx.settings.polygon_buffer_memory(me, ctx.n);
+    node.alloc("polygon buffers", buffers)?;
+    let database = ctx.database_memory(me);
+    node.alloc("database", database)?;
     let image_bytes = Bytes::new(ctx.viewport.pixels() as u64 * 3);
     if me == 0 {
         node.alloc("image", image_bytes)?;
@@ -34,8 +39,16 @@ pub(super) async fn processor(node: Node<Msg>, ctx: Rc<Ctx>) -> Result<(), SimEr
         node.phase("synchronize");
         start_frame(&node, &ctx, frame, None).await;
 
-        let polygons = Rc::new(RefCell::new(Redistributor::new(&ctx, me, frame, assignment.clone())));
-        transform(&node, &ctx, frame, |tris, work| polygons.borrow_mut().place(&ctx, tris, work)).await?;
+        let polygons = Rc::new(RefCell::new(Redistributor::new(
+            &ctx,
+            me,
+            frame,
+            assignment.clone(),
+        )));
+        transform(&node, &ctx, frame, |tris, work| {
+            polygons.borrow_mut().place(&ctx, tris, work)
+        })
+        .await?;
         let out = polygons.borrow_mut().own_transform_done();
         redistribute::send_all(&node, &ctx, out).await;
 
@@ -44,7 +57,11 @@ pub(super) async fn processor(node: Node<Msg>, ctx: Rc<Ctx>) -> Result<(), SimEr
             (std::mem::take(&mut p.local), p.expected_streams())
         };
         let regions = rasterize(&node, &ctx, frame, &assignment, local, streams).await?;
-        let pixels: u64 = regions.regions().iter().map(|b| b.rect().pixels() as u64).sum();
+        let pixels: u64 = regions
+            .regions()
+            .iter()
+            .map(|b| b.rect().pixels() as u64)
+            .sum();
         if ctx.is_last(frame) {
             ctx.images.borrow_mut()[me as usize] = Some(regions);
         }
@@ -54,7 +71,9 @@ pub(super) async fn processor(node: Node<Msg>, ctx: Rc<Ctx>) -> Result<(), SimEr
             node.compute(&Counts::of(Op::ByteCopy, 3 * pixels)).await;
             for _ in 1..ctx.n {
                 let env = node.recv(Filter::tag(TAG_PIXELS)).await;
-                let Msg::Pixels { pixels, .. } = env.payload else { unreachable!("filtered by tag") };
+                let Msg::Pixels { pixels, .. } = env.payload else {
+                    unreachable!("filtered by tag")
+                };
                 node.compute(&Counts::of(Op::ByteCopy, 3 * pixels)).await;
             }
         } else {
@@ -66,5 +85,7 @@ pub(super) async fn processor(node: Node<Msg>, ctx: Rc<Ctx>) -> Result<(), SimEr
     if me == 0 {
         node.free("image", image_bytes)?;
     }
+    node.free("polygon buffers", buffers)?;
+    node.free("database", database)?;
     Ok(())
 }

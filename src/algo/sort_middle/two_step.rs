@@ -17,7 +17,11 @@ impl Groups {
     /// `g` groups over `n` processors (1 <= g <= n).
     pub fn new(n: u32, g: u32) -> Groups {
         let g = g.clamp(1, n.max(1));
-        Groups { starts: (0..=g).map(|k| (k as u64 * n as u64 / g as u64) as u32).collect() }
+        Groups {
+            starts: (0..=g)
+                .map(|k| (k as u64 * n as u64 / g as u64) as u32)
+                .collect(),
+        }
     }
 
     /// g = round(sqrt(n)), the message-count minimum.
@@ -58,11 +62,15 @@ impl Groups {
     /// The minimum number of messages one frame needs (each non-empty stream one message).
     pub fn min_messages(&self) -> u64 {
         let n: u64 = self.starts.last().copied().unwrap_or(0) as u64;
-        let first: u64 = (0..self.count()).map(|k| self.members(k).len() as u64 * (self.count() as u64 - 1)).sum();
-        let second: u64 = (0..self.count()).map(|k| {
-            let m = self.members(k).len() as u64;
-            m * (m - 1)
-        }).sum();
+        let first: u64 = (0..self.count())
+            .map(|k| self.members(k).len() as u64 * (self.count() as u64 - 1))
+            .sum();
+        let second: u64 = (0..self.count())
+            .map(|k| {
+                let m = self.members(k).len() as u64;
+                m * (m - 1)
+            })
+            .sum();
         debug_assert!(n > 0 || first + second == 0);
         first + second
     }
@@ -79,19 +87,32 @@ mod tests {
         assert_eq!(g.group_of(11), 2);
         assert_eq!(g.forwarder(1, 3), 13);
         assert_eq!(g.forwarder(6, 0), 2);
-        assert!((0..16).all(|p| g.forwarded_sources(p) == 3), "every processor forwards for one per other group");
+        assert!(
+            (0..16).all(|p| g.forwarded_sources(p) == 3),
+            "every processor forwards for one per other group"
+        );
     }
 
     #[test]
     fn message_count_is_ellsworths_formula_and_least_near_sqrt_n() {
         for n in [16u32, 64, 256, 512] {
-            let best = (1..=n).filter(|g| n % g == 0).min_by_key(|&g| Groups::new(n, g).min_messages()).unwrap();
+            let best = (1..=n)
+                .filter(|g| n % g == 0)
+                .min_by_key(|&g| Groups::new(n, g).min_messages())
+                .unwrap();
             for g in (1..=n).filter(|g| n % g == 0) {
                 let (n64, g64) = (n as u64, g as u64);
-                assert_eq!(Groups::new(n, g).min_messages(), n64 * (g64 - 1) + n64 * n64 / g64 - n64, "n={n} g={g}");
+                assert_eq!(
+                    Groups::new(n, g).min_messages(),
+                    n64 * (g64 - 1) + n64 * n64 / g64 - n64,
+                    "n={n} g={g}"
+                );
             }
             let sqrt = (n as f64).sqrt();
-            assert!((best as f64 / sqrt - 1.0).abs() <= 0.5, "n={n}: best g={best}, sqrt={sqrt}");
+            assert!(
+                (best as f64 / sqrt - 1.0).abs() <= 0.5,
+                "n={n}: best g={best}, sqrt={sqrt}"
+            );
         }
     }
 }

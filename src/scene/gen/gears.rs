@@ -1,9 +1,11 @@
 //! SPD-style `gears`: a grid x grid array of meshing spur gears lying flat (axis +y), each a
-//! toothed disk of thickness 0.2 with trapezoidal teeth. A gear with t teeth has an outline of
+//! toothed disk with trapezoidal teeth. A gear with t teeth has an outline of
 //! 4t points: top and bottom faces are fans of 4t triangles each, the rim 4t quads, so
-//! 16t triangles per gear. (Haines' SPD gears also stands on a large floor polygon; the
-//! scene adds it as a separate `plane` or `big-triangle` object, because that one large
-//! primitive is what matters for paper 001's load balancing.)
+//! 16t triangles per gear (thickness 0.2 x pitch radius). Paper 001's Gears image stands
+//! on a large floor; the scene adds it as a separate `plane` or `big-triangle` object,
+//! because that one large primitive is what matters for its load balancing. Re-implemented
+//! from the description "meshing gears", not from SPD's source: tooth shape and layout are
+//! this file's own.
 //!
 //! Owns this shape only. Must never place or light it.
 

@@ -1,7 +1,7 @@
 //! Stand-in for paper 002's PLB head (59,592 triangles) and CT head (229,208): a closed
 //! head-like surface on a UV sphere's topology (2 * segments * (rings - 1) triangles): an
 //! egg-shaped skull with brow, nose, chin, cheeks and ears as smooth bumps, plus a seeded
-//! skin roughness. Faces +z, up +y, about 2 units tall.
+//! skin roughness. Faces +z, up +y, about 2.3 units tall with the neck.
 //!
 //! Owns this shape only. Must never place or light it.
 
@@ -18,14 +18,15 @@ fn shape(d: Vec3, seed: u64) -> Vec3 {
     // Skull: an ellipsoid narrower across than deep, with a flattened jaw below.
     let base = Vec3::new(0.78, 1.0, 0.9);
     let mut r = 1.0;
-    r += 0.10 * bump(d, Vec3::new(0.0, -0.15, 1.0), 0.06); // nose
-    r += 0.05 * bump(d, Vec3::new(0.0, 0.25, 1.0), 0.12); // brow
-    r += 0.06 * bump(d, Vec3::new(0.0, -0.7, 0.8), 0.08); // chin
-    r += 0.07 * bump(d, Vec3::new(1.0, 0.0, 0.0), 0.02); // ears
-    r += 0.07 * bump(d, Vec3::new(-1.0, 0.0, 0.0), 0.02);
-    r -= 0.05 * bump(d, Vec3::new(0.45, 0.2, 0.85), 0.01); // eye sockets
-    r -= 0.05 * bump(d, Vec3::new(-0.45, 0.2, 0.85), 0.01);
-    r -= 0.12 * bump(d, Vec3::new(0.0, -1.0, 0.0), 0.3); // neck cut
+    r += 0.22 * bump(d, Vec3::new(0.0, -0.1, 1.0), 0.012); // nose
+    r += 0.06 * bump(d, Vec3::new(0.0, 0.3, 1.0), 0.05); // brow
+    r += 0.08 * bump(d, Vec3::new(0.0, -0.65, 0.75), 0.02); // chin
+    r += 0.12 * bump(d, Vec3::new(1.0, 0.05, -0.1), 0.008); // ears
+    r += 0.12 * bump(d, Vec3::new(-1.0, 0.05, -0.1), 0.008);
+    r -= 0.06 * bump(d, Vec3::new(0.4, 0.15, 0.9), 0.006); // eye sockets
+    r -= 0.06 * bump(d, Vec3::new(-0.4, 0.15, 0.9), 0.006);
+    r += 0.06 * bump(d, Vec3::new(0.0, 0.4, -1.0), 0.2); // back of the skull
+    r += 0.3 * bump(d, Vec3::new(0.0, -1.0, 0.1), 0.09); // neck
                                                          // Skin roughness: a fixed function of direction so every seed gives a closed surface.
     let cell = (
         (d.x * 40.0).floor() as i64 as u64,

@@ -1,8 +1,10 @@
 //! SPD `tetra` (Haines, Standard Procedural Databases): the Sierpinski tetrahedron. A regular
 //! tetrahedron is replaced by four half-size copies at its corners, `size_factor` times,
-//! giving 4^size_factor tetrahedra and 4^(size_factor + 1) triangles (4 faces each; SPD
-//! writes the faces as separate triangles). Paper 001's Tetra file had 34,017 triangles
-//! *after* back-face culling; the stand-in scene refines a smaller one to that count.
+//! giving 4^size_factor tetrahedra and 4^(size_factor + 1) triangles (4 faces each, each
+//! face its own triangle). Paper 001's Tetra file had 34,017 triangles *after* back-face
+//! culling (its inputs were culled screen-space files); the stand-in scene pre-culls size
+//! factor 7 (65,536 triangles, about 26,400 facing its camera) and refines that to exactly
+//! 34,017.
 //!
 //! Owns this shape only. Must never place or light it.
 

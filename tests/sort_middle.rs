@@ -1,0 +1,211 @@
+//! Sort-middle runs end to end: the parallel image equals the sequential one, message counts
+//! are what the algorithm's structure dictates, outputs are deterministic, and the event
+//! count follows messages, not pixels.
+
+use std::collections::BTreeMap;
+use std::path::{Path, PathBuf};
+use std::sync::Arc;
+
+use sortsim::algo::{reference, run, RunResult};
+use sortsim::scene::Scene;
+use sortsim::spec::run::RunSpec;
+
+fn spec(machine: &str, scene: &str, algo: &str, procs: u32, set: &[(&str, &str)]) -> RunSpec {
+    let root = Path::new(env!("CARGO_MANIFEST_DIR"));
+    RunSpec {
+        machine: root.join("machines").join(machine),
+        scene: root.join("scenes").join(scene),
+        algo: algo.into(),
+        procs,
+        frames: None,
+        seed: 1,
+        set: set
+            .iter()
+            .map(|(k, v)| (k.to_string(), v.to_string()))
+            .collect::<BTreeMap<_, _>>(),
+    }
+}
+
+fn simulate(spec: &RunSpec) -> RunResult {
+    run(&spec.resolve(None).expect("valid run")).expect("the run completes")
+}
+
+#[test]
+fn parallel_images_equal_the_sequential_image() {
+    let scene = Arc::new(
+        Scene::load(&Path::new(env!("CARGO_MANIFEST_DIR")).join("scenes/spd-gears.json")).unwrap(),
+    );
+    let (expected, _) = reference::render(&scene.frame(0).unwrap());
+    type Case<'a> = (&'a str, u32, &'a [(&'a str, &'a str)]);
+    let cases: &[Case] = &[
+        ("sort-middle/static", 1, &[]),
+        ("sort-middle/static", 3, &[]),
+        ("sort-middle/static", 7, &[]),
+        ("sort-middle/ellsworth", 2, &[]),
+        ("sort-middle/ellsworth", 5, &[("granularity", "3")]),
+        ("sort-middle/ellsworth", 16, &[("two-step", "on")]),
+        (
+            "sort-middle/ellsworth",
+            9,
+            &[("counts", "current"), ("buffer", "1KiB")],
+        ),
+    ];
+    for (algo, procs, set) in cases {
+        let mut s = spec("delta.json", "spd-gears.json", algo, *procs, set);
+        s.set
+            .insert("machine.network.fidelity".into(), "flow".into());
+        let cfg = s.resolve(Some(scene.clone())).unwrap();
+        let result = run(&cfg).unwrap();
+        assert_eq!(
+            result.image.hash(),
+            expected.hash(),
+            "{algo} on {procs} processors with {set:?}"
+        );
+    }
+}
+
+/// Polygon messages of one frame: everything but the tree messages (one Start and one Done
+/// per tree edge, plus one Counts per edge for Ellsworth's summing tree).
+fn polygon_messages(result: &RunResult, procs: u64, trees: u64) -> u64 {
+    result.frames[0].messages - trees * (procs - 1)
+}
+
+#[test]
+fn with_buffers_large_enough_every_stream_is_one_message() {
+    // Paper 002, Two-step redistribution: N(g-1) + N^2/g - N messages per frame, exactly,
+    // when each stream fits one message; one-step needs N(N-1).
+    for (n, g) in [(16u64, 4u64), (36, 6), (64, 8)] {
+        let one = simulate(&spec(
+            "delta.json",
+            "spd-teapot.json",
+            "sort-middle/ellsworth",
+            n as u32,
+            &[
+                ("buffer", "1MiB"),
+                ("machine.memory.capacity_per_node", "256MiB"),
+            ],
+        ));
+        assert_eq!(polygon_messages(&one, n, 3), n * (n - 1), "one-step, N={n}");
+        let two = simulate(&spec(
+            "delta.json",
+            "spd-teapot.json",
+            "sort-middle/ellsworth",
+            n as u32,
+            &[
+                ("buffer", "1MiB"),
+                ("machine.memory.capacity_per_node", "256MiB"),
+                ("two-step", "on"),
+            ],
+        ));
+        assert_eq!(
+            polygon_messages(&two, n, 3),
+            n * (g - 1) + n * n / g - n,
+            "two-step, N={n}, g={g}"
+        );
+    }
+}
+
+#[test]
+fn two_runs_write_byte_identical_summaries() {
+    let out =
+        |name: &str| std::env::temp_dir().join(format!("sortsim-sm-{name}-{}", std::process::id()));
+    let (a, b): (PathBuf, PathBuf) = (out("a"), out("b"));
+    for dir in [&a, &b] {
+        let status = std::process::Command::new(env!("CARGO_BIN_EXE_sortsim"))
+            .current_dir(env!("CARGO_MANIFEST_DIR"))
+            .args([
+                "run",
+                "--machine",
+                "machines/delta.json",
+                "--scene",
+                "scenes/plb-head-standin.json",
+            ])
+            .args([
+                "--algo",
+                "sort-middle/ellsworth",
+                "--procs",
+                "12",
+                "--frames",
+                "0..3",
+                "--set",
+                "two-step=on",
+            ])
+            .args(["-o", dir.to_str().unwrap()])
+            .output()
+            .unwrap();
+        assert!(
+            status.status.success(),
+            "{}",
+            String::from_utf8_lossy(&status.stderr)
+        );
+    }
+    let summary = std::fs::read(a.join("summary.json")).unwrap();
+    assert_eq!(summary, std::fs::read(b.join("summary.json")).unwrap());
+    for f in ["summary.md", "cost.json", "timeline.json", "frame-0002.png"] {
+        assert!(a.join(f).exists(), "{f} written");
+    }
+    let timeline: serde_json::Value =
+        serde_json::from_slice(&std::fs::read(a.join("timeline.json")).unwrap()).unwrap();
+    assert!(
+        timeline["traceEvents"].as_array().unwrap().len() > 12,
+        "one track per node plus work"
+    );
+    // The final frame's image is what `sortsim render` draws.
+    let scene =
+        Scene::load(&Path::new(env!("CARGO_MANIFEST_DIR")).join("scenes/plb-head-standin.json"))
+            .unwrap();
+    let (image, _) = reference::render(&scene.frame(2).unwrap());
+    let mut png = Vec::new();
+    sortsim::raster::encode_png(&image, &mut png).unwrap();
+    assert_eq!(png, std::fs::read(a.join("frame-0002.png")).unwrap());
+}
+
+#[test]
+fn events_follow_messages_not_pixels() {
+    // The same geometry at 4x the pixels: rasterization work quadruples, events must not.
+    let root = Path::new(env!("CARGO_MANIFEST_DIR"));
+    let mut scene: serde_json::Value =
+        serde_json::from_slice(&std::fs::read(root.join("scenes/spd-teapot.json")).unwrap())
+            .unwrap();
+    scene["resolution"] = serde_json::json!([1024, 1024]);
+    let big = std::env::temp_dir().join(format!("sortsim-teapot-1024-{}.json", std::process::id()));
+    std::fs::write(&big, serde_json::to_vec(&scene).unwrap()).unwrap();
+    let small = simulate(&spec(
+        "delta.json",
+        "spd-teapot.json",
+        "sort-middle/static",
+        8,
+        &[],
+    ));
+    let mut large_spec = spec(
+        "delta.json",
+        "spd-teapot.json",
+        "sort-middle/static",
+        8,
+        &[],
+    );
+    large_spec.scene = big;
+    let large = simulate(&large_spec);
+    let pixels = |r: &RunResult| {
+        r.stats
+            .nodes
+            .iter()
+            .map(|n| n.busy())
+            .sum::<sortsim::units::SimTime>()
+    };
+    assert!(
+        pixels(&large) > pixels(&small),
+        "more pixels cost more simulated time"
+    );
+    let (e_small, e_large) = (small.stats.events as f64, large.stats.events as f64);
+    let (m_small, m_large) = (
+        small.frames[0].messages as f64,
+        large.frames[0].messages as f64,
+    );
+    // 64x64 regions: 4x the regions at 1024^2, so messages grow too; events must grow no
+    // faster than messages (within 20%: batches of triangles are per buffer, not per pixel).
+    assert!(
+        e_large / e_small <= 1.2 * (m_large / m_small),
+        "events {e_small} -> {e_large}, messages {m_small} -> {m_large}"
+    );
+}
