@@ -26,4 +26,5 @@ pub mod raster;
 pub mod report;
 pub mod scene;
 pub mod spec;
+pub mod sweep;
 pub mod units;
