@@ -138,6 +138,9 @@ pub struct RunArgs {
     pub set: Vec<String>,
     #[arg(long, default_value_t = 1)]
     pub seed: u64,
+    /// Skip timeline.json (recording it costs host memory on large runs).
+    #[arg(long)]
+    pub no_timeline: bool,
     /// Report folder (summary.json, summary.md, cost.json, timeline.json, frame PNG).
     #[arg(short, long, value_name = "DIR", default_value = "reports/run")]
     pub out: PathBuf,

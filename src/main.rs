@@ -183,7 +183,7 @@ fn run(args: &RunArgs) -> Result<(), Failure> {
             .collect::<Result<_, _>>()?,
     };
     let mut cfg = spec.resolve(None)?;
-    cfg.timeline = true;
+    cfg.timeline = !args.no_timeline;
     let clock = Stopwatch::start();
     let result = sortsim::algo::run(&cfg)?;
     let cost = clock.cost(result.stats.events);
