@@ -62,6 +62,11 @@ pub enum Command {
         #[arg(long)]
         json: bool,
     },
+    /// Run every point of a sweep spec in parallel; write sweep.csv, sweep.json and plots.
+    #[command(
+        after_help = "Example:\n  sortsim sweep sweeps/p002-fig9-plb.json -o reports/fig9-plb --jobs 2\n\nA sweep spec is a run spec in which machine, scene, algo, procs and seed may be lists,\nplus \"vary\": {\"option\": [values]}; every combination is run. Rerunning with the same\nDIR skips the points whose summary.json exists."
+    )]
+    Sweep(SweepArgs),
     /// Simulate a list of messages on a machine's network and print each completion time.
     #[command(
         after_help = "Example:\n  sortsim netsim machines/multicluster-torus.json tests/patterns/hot-spot-4x4.json --fidelity flow\n  sortsim netsim machines/delta.json tests/patterns/complement-16x32.json --compare"
@@ -203,9 +208,24 @@ pub struct RunArgs {
     pub set: Vec<String>,
     #[arg(long, default_value_t = 1)]
     pub seed: u64,
+    /// Skip timeline.json (recording it costs host memory on large runs).
+    #[arg(long)]
+    pub no_timeline: bool,
     /// Report folder (summary.json, summary.md, cost.json, timeline.json, frame PNG).
     #[arg(short, long, value_name = "DIR", default_value = "reports/run")]
     pub out: PathBuf,
+}
+
+#[derive(Args, Debug)]
+pub struct SweepArgs {
+    /// Sweep spec (JSON); its paths are relative to its own folder.
+    pub spec: PathBuf,
+    /// Report folder; reports/sweep-<spec name> when absent.
+    #[arg(short, long, value_name = "DIR")]
+    pub out: Option<PathBuf>,
+    /// Simulations at a time; the number of cores when absent.
+    #[arg(long, value_name = "J", value_parser = clap::value_parser!(u32).range(1..))]
+    pub jobs: Option<u32>,
 }
 
 #[derive(Args, Debug)]

@@ -26,5 +26,6 @@ pub mod raster;
 pub mod report;
 pub mod scene;
 pub mod spec;
+pub mod sweep;
 pub mod trace;
 pub mod units;

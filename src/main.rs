@@ -9,7 +9,7 @@ use std::path::{Path, PathBuf};
 use std::process::ExitCode;
 
 use clap::Parser;
-use cli::{BenchCommand, Cli, Command, FidelityArg, NetsimArgs, PholdArgs, RunArgs};
+use cli::{BenchCommand, Cli, Command, FidelityArg, NetsimArgs, PholdArgs, RunArgs, SweepArgs};
 use sortsim::algo::{reference, RunError};
 use sortsim::bench::{phold_report, PholdConfig};
 use sortsim::engine::SimError;
@@ -95,6 +95,7 @@ fn main() -> ExitCode {
         })) => bench_overhead(&machine, &scene, procs, frame, &fidelity),
         Some(Command::Utilization(args)) => utilization(&args),
         Some(Command::Trace(cmd)) => trace_command(&cmd),
+        Some(Command::Sweep(args)) => sweep(&args),
     };
     match outcome {
         Ok(()) => ExitCode::SUCCESS,
@@ -183,7 +184,7 @@ fn run(args: &RunArgs) -> Result<(), Failure> {
             .collect::<Result<_, _>>()?,
     };
     let mut cfg = spec.resolve(None)?;
-    cfg.timeline = true;
+    cfg.timeline = !args.no_timeline;
     let clock = Stopwatch::start();
     let result = sortsim::algo::run(&cfg)?;
     let cost = clock.cost(result.stats.events);
@@ -307,6 +308,65 @@ fn write_file(dir: &Path, name: &str, text: &str) -> Result<(), Failure> {
         .map_err(|e| Failure::BadInput(format!("{}: cannot write: {e}", path.display())))
 }
 
+/// `sortsim sweep`: runs the points, prints the table's file names and any failed point.
+/// Bad input is refused before any point runs; a point that fails is a row with an error.
+fn sweep(args: &SweepArgs) -> Result<(), Failure> {
+    use sortsim::sweep::{run_sweep, spec::load_sweep, SweepError, SweepOptions};
+    let spec = load_sweep(&args.spec)?;
+    let stem = args
+        .spec
+        .file_stem()
+        .map_or("sweep".into(), |s| s.to_string_lossy().into_owned());
+    let out = args
+        .out
+        .clone()
+        .unwrap_or_else(|| PathBuf::from(format!("reports/sweep-{stem}")));
+    let jobs = args.jobs.map_or_else(
+        || std::thread::available_parallelism().map_or(1, |n| n.get()),
+        |j| j as usize,
+    );
+    let outcome = run_sweep(
+        &spec,
+        &out,
+        SweepOptions {
+            jobs,
+            progress: true,
+        },
+    )
+    .map_err(|e| match e {
+        SweepError::Spec(_) | SweepError::BadSummary { .. } | SweepError::Write { .. } => {
+            Failure::BadInput(e.to_string())
+        }
+        SweepError::Plot(_) | SweepError::Pool { .. } => Failure::Internal(e.to_string()),
+    })?;
+    print!("{}", sortsim::sweep::table::format_rows(&outcome.rows));
+    println!(
+        "{} points ({} simulated now, {} already done) in {:.1} s on {jobs} threads",
+        outcome.ran + outcome.skipped,
+        outcome.ran,
+        outcome.skipped,
+        outcome.cost.wall_s
+    );
+    for f in &outcome.failures {
+        println!("point {} failed: {}", f.point, f.message);
+    }
+    println!(
+        "report written to {} (sweep.csv, sweep.json, plots/)",
+        out.display()
+    );
+    match outcome
+        .failures
+        .iter()
+        .find(|f| f.kind == sortsim::sweep::FailureKind::Internal)
+    {
+        Some(f) => Err(Failure::Internal(format!(
+            "point {}: {}",
+            f.point, f.message
+        ))),
+        None => Ok(()),
+    }
+}
+
 fn bench_overhead(
     machine: &Path,
     scene: &Path,
@@ -360,9 +420,10 @@ fn bench_phold(args: &PholdArgs) -> Result<(), Failure> {
     Ok(())
 }
 
-/// The main job on the built-in default: validate the bundled machines, run PHOLD on the
-/// engine against its baseline, and show what network fidelity costs on the Delta; the report
-/// goes to reports/default/.
+/// The main job on the built-in default: validate the bundled machines, run the default sweep
+/// (sweeps/default.json: both sort-middle algorithms on the Delta, 1 to 64 processors) with
+/// its table and plots, run PHOLD on the engine against its baseline, and show what network
+/// fidelity costs on the Delta; the report goes to reports/default/.
 fn default_job() -> Result<(), Failure> {
     let root = Path::new(env!("CARGO_MANIFEST_DIR"));
     let machines = root.join("machines");
@@ -374,6 +435,7 @@ fn default_job() -> Result<(), Failure> {
     files.sort();
     check_files(&files)?;
     let out = root.join("reports/default");
+    default_sweep(root, &out)?;
     println!("\nPHOLD, 16,384 events in flight, engine against a bare binary-heap loop:");
     bench_phold(&PholdArgs {
         lps: 1024,
@@ -397,6 +459,27 @@ fn default_job() -> Result<(), Failure> {
     write_file(&out, "fidelity.txt", &table)?;
     println!("\nreport written to {}", out.display());
     Ok(())
+}
+
+/// The default sweep, always simulated afresh (its points folder is cleared first, so a
+/// changed simulator or machine never shows an old result), and its table printed.
+fn default_sweep(root: &Path, out: &Path) -> Result<(), Failure> {
+    let spec = root.join("sweeps/default.json");
+    println!("\nThe default sweep ({}):", spec.display());
+    match std::fs::remove_dir_all(out.join("points")) {
+        Err(e) if e.kind() != std::io::ErrorKind::NotFound => {
+            return Err(Failure::BadInput(format!(
+                "{}: cannot clear: {e}",
+                out.join("points").display()
+            )))
+        }
+        _ => {}
+    }
+    sweep(&SweepArgs {
+        spec,
+        out: Some(out.to_path_buf()),
+        jobs: None,
+    })
 }
 
 /// Ellsworth's utilization simulator (paper 002, Figure 4) and performance model (Figure 5).

@@ -375,3 +375,23 @@ fn bad_flags_are_refused_with_exit_code_2() {
         assert!(!stderr.contains("panicked"), "{stderr}");
     }
 }
+
+#[test]
+fn every_bad_sweep_is_refused_and_writes_nothing() {
+    let out_dir = std::env::temp_dir().join(format!("sortsim-bad-sweep-{}", std::process::id()));
+    for (file, fragment) in corpus("sweep") {
+        let rel = file.strip_prefix(env!("CARGO_MANIFEST_DIR")).unwrap();
+        let out = sortsim(&[
+            "sweep",
+            rel.to_str().unwrap(),
+            "-o",
+            out_dir.to_str().unwrap(),
+        ]);
+        check_refusal(&out, &file, &fragment);
+        assert!(
+            !out_dir.exists(),
+            "{}: a refused sweep wrote output",
+            file.display()
+        );
+    }
+}

@@ -127,21 +127,15 @@ pub fn setup_subset(
     options: &RasterOptions,
     out: &mut Vec<ScreenTriangle>,
 ) -> Counters {
-    let mut c = Counters::default();
-    let mut cache = new_cache(subset.len(), vertices.len());
-    for &prim in subset {
-        setup_one(
-            vertices,
-            triangles,
-            prim,
-            viewport,
-            options,
-            &mut cache,
-            &mut c,
-            |t| out.push(t),
-        );
-    }
-    c
+    setup_indices(
+        vertices,
+        triangles,
+        subset.iter().copied(),
+        subset.len(),
+        viewport,
+        options,
+        out,
+    )
 }
 
 /// [`setup_subset`] over the whole mesh.
@@ -152,9 +146,30 @@ pub fn setup_mesh(
     options: &RasterOptions,
     out: &mut Vec<ScreenTriangle>,
 ) -> Counters {
+    let all = 0..triangles.len() as u32;
+    setup_indices(
+        vertices,
+        triangles,
+        all,
+        triangles.len(),
+        viewport,
+        options,
+        out,
+    )
+}
+
+fn setup_indices(
+    vertices: &[Vertex],
+    triangles: &[[u32; 3]],
+    indices: impl Iterator<Item = u32>,
+    count: usize,
+    viewport: Viewport,
+    options: &RasterOptions,
+    out: &mut Vec<ScreenTriangle>,
+) -> Counters {
     let mut c = Counters::default();
-    let mut cache = new_cache(triangles.len(), vertices.len());
-    for prim in 0..triangles.len() as u32 {
+    let mut cache = new_cache(count, vertices.len());
+    for prim in indices {
         setup_one(
             vertices,
             triangles,

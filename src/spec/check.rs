@@ -59,6 +59,14 @@ pub fn check(path: &Path) -> Result<String, CheckError> {
                 cfg.frames
             ))
         }
+        SpecKind::Sweep => {
+            let sweep = crate::sweep::spec::load_sweep(path)?;
+            let listed = sweep.listed().count();
+            Ok(format!(
+                "sweep: {listed} points, {} runs with the implicit 1-processor baselines",
+                sweep.points.len()
+            ))
+        }
         SpecKind::Pattern => {
             let _: crate::net::pattern::Pattern = load_json(path)?;
             Ok("network pattern (run it with `sortsim netsim MACHINE PATTERN`)".into())

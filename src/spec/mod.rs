@@ -131,6 +131,7 @@ pub enum SpecKind {
     Machine,
     Scene,
     Run,
+    Sweep,
     Pattern,
 }
 
@@ -143,6 +144,13 @@ impl SpecKind {
             Ok(SpecKind::Machine)
         } else if has("geometry") || has("resolution") {
             Ok(SpecKind::Scene)
+        } else if has("vary")
+            || has("algos")
+            || has("machines")
+            || has("scenes")
+            || value.get("procs").is_some_and(|p| p.is_array())
+        {
+            Ok(SpecKind::Sweep)
         } else if has("algo") {
             Ok(SpecKind::Run)
         } else if has("messages") {
@@ -151,7 +159,7 @@ impl SpecKind {
             Err(SpecError::invalid(
                 path,
                 "",
-                "cannot tell what kind of spec this is: a machine has `network`, a scene has `geometry`, a run has `algo`, a network pattern has `messages`",
+                "cannot tell what kind of spec this is: a machine has `network`, a scene has `geometry`, a run has `algo`, a sweep has lists (`procs: [...]`, `vary`), a network pattern has `messages`",
             ))
         }
     }

@@ -1,0 +1,395 @@
+//! Parameter sweeps: many independent runs of `algo::run` on a rayon thread pool, one report
+//! folder per point, then one table (sweep.csv, sweep.json) and the plots over them.
+//!
+//! ```text
+//! sweep.json ─> spec::Sweep (points in product order) ─> pending points (no summary.json yet)
+//!     ─> thread pool: resolve, run, write points/<name>/summary.json + cost.json
+//!     ─> every point's summary.json ─> table::Row (speedup against the 1-processor point)
+//!     ─> sweep.csv, sweep.json, plots/*.svg|png, cost.json
+//! ```
+//!
+//! Determinism: a point's result depends only on its run spec; results are collected by
+//! point index and every row is read back from the summary.json text, so the table is
+//! byte-identical whatever the thread count, and whether a point ran now or in an earlier,
+//! interrupted sweep. Wall time goes only to the cost files.
+//!
+//! Owns scheduling, resuming and the report folder of a sweep. Must never change how a single
+//! run simulates (that is `algo`), and never write a file except through `write_atomic`.
+
+pub mod plots;
+pub mod spec;
+pub mod table;
+
+use std::collections::BTreeMap;
+use std::io::IsTerminal;
+use std::path::{Path, PathBuf};
+use std::sync::Arc;
+
+use indicatif::{ProgressBar, ProgressDrawTarget, ProgressStyle};
+use rayon::prelude::*;
+use serde::Serialize;
+
+use crate::algo::{RunConfig, RunError};
+use crate::engine::SimError;
+use crate::report::cost::{Cost, Stopwatch};
+use crate::report::plot::PlotError;
+use crate::report::run::RunSummary;
+use crate::report::{to_json, write_atomic};
+use crate::scene::Scene;
+use crate::spec::SpecError;
+use spec::{Point, Sweep};
+use table::{PointMetrics, Row};
+
+/// How to run a sweep (not what: that is the spec).
+#[derive(Debug, Clone, Copy)]
+pub struct SweepOptions {
+    /// Simulations at a time (threads of the pool); at least 1.
+    pub jobs: usize,
+    /// Draw a progress bar on stderr (only ever drawn when stderr is a terminal).
+    pub progress: bool,
+}
+
+/// What a finished sweep did.
+#[derive(Debug)]
+pub struct SweepOutcome {
+    /// One row per listed point, in product order.
+    pub rows: Vec<Row>,
+    /// Points simulated now, and points whose summary.json an earlier sweep had written.
+    pub ran: usize,
+    pub skipped: usize,
+    /// Points that failed: (point name, message, whether it is a simulator bug).
+    pub failures: Vec<PointFailure>,
+    pub cost: Cost,
+}
+
+#[derive(Debug, Clone, Serialize)]
+pub struct PointFailure {
+    pub point: String,
+    pub message: String,
+    pub kind: FailureKind,
+}
+
+/// Whose a failed point is to fix.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize)]
+#[serde(rename_all = "kebab-case")]
+pub enum FailureKind {
+    /// The machine cannot hold the run (memory): a result in itself, recorded in the row, as
+    /// paper 002 records the partitions too small for the large models.
+    Machine,
+    /// A bad option value or an unsupported combination: the sweep is refused as bad input.
+    BadInput,
+    /// A deadlock or other engine failure: a bug, recorded in the row and reported.
+    Internal,
+}
+
+#[derive(Debug, thiserror::Error)]
+pub enum SweepError {
+    /// Bad input: the spec, a machine, a scene, or a point that cannot be set up.
+    #[error(transparent)]
+    Spec(#[from] SpecError),
+    #[error("{}: cannot write: {source}", path.display())]
+    Write {
+        path: PathBuf,
+        source: std::io::Error,
+    },
+    #[error("{}: {message}; delete it to run the point again", path.display())]
+    BadSummary { path: PathBuf, message: String },
+    #[error(transparent)]
+    Plot(#[from] PlotError),
+    #[error("cannot start {jobs} worker threads: {message}")]
+    Pool { jobs: usize, message: String },
+}
+
+/// Runs every point of `sweep` whose `out/points/<name>/summary.json` does not exist yet,
+/// then writes the table and plots over all points.
+pub fn run_sweep(
+    sweep: &Sweep,
+    out: &Path,
+    options: SweepOptions,
+) -> Result<SweepOutcome, SweepError> {
+    let clock = Stopwatch::start();
+    let names: Vec<String> = sweep.points.iter().map(|p| point_name(sweep, p)).collect();
+    let pending: Vec<usize> = (0..sweep.points.len())
+        .filter(|&i| !summary_path(out, &names[i]).exists())
+        .collect();
+    // Everything is resolved before anything runs: a bad point is bad input, and must not
+    // leave half a sweep behind.
+    let configs = resolve_pending(sweep, &names, &pending)?;
+    let results = run_pending(sweep, out, &names, &pending, configs, options)?;
+    let mut failures: Vec<PointFailure> = results.into_iter().filter_map(Result::err).collect();
+    // Options are checked as a run starts; a bad one fails its points at once, before they
+    // simulate anything, and refuses the sweep without a table.
+    if let Some(f) = failures.iter().find(|f| f.kind == FailureKind::BadInput) {
+        let message = format!("point {}: {}", f.point, f.message);
+        return Err(SweepError::Spec(SpecError::invalid(
+            &sweep.file,
+            "",
+            message,
+        )));
+    }
+    let metrics = read_metrics(out, &names, &failures)?;
+    let rows = table::rows(sweep, &names, &metrics, &failures);
+    write_reports(sweep, out, &rows)?;
+    failures.sort_by(|a, b| a.point.cmp(&b.point));
+    let cost = clock.cost(0);
+    let outcome = SweepOutcome {
+        rows,
+        ran: pending.len(),
+        skipped: sweep.points.len() - pending.len(),
+        failures,
+        cost,
+    };
+    write(
+        &out.join("cost.json"),
+        to_json(&SweepCost::new(&outcome, options)).as_bytes(),
+    )?;
+    Ok(outcome)
+}
+
+/// The folder name of a point: its readable values and a hash of its whole run spec as
+/// written and of the machine and scene files' text, so a point whose options or machine
+/// change gets a new folder instead of a stale result. (A mesh a scene file refers to is not
+/// hashed: after editing one, use a new report folder.)
+pub fn point_name(sweep: &Sweep, point: &Point) -> String {
+    let mut parts = Vec::new();
+    for (d, v) in sweep.dims.iter().zip(&point.values) {
+        let part = match d.key.as_str() {
+            "machine" | "scene" => plots::stem(v),
+            "algo" => v.clone(),
+            "seed" => format!("s{v}"),
+            "procs" => format!("p{:04}", v.parse::<u32>().unwrap_or(0)),
+            key => format!("{}-{v}", key.trim_start_matches("vary.")),
+        };
+        parts.push(sanitize(&part));
+    }
+    let key = serde_json::json!({
+        "dims": sweep.dims.iter().map(|d| &d.key).collect::<Vec<_>>(),
+        "values": point.values,
+        "frames": point.run.frames,
+        "set": point.run.set,
+        "machine_file": file_hash(&point.run.machine),
+        "scene_file": file_hash(&point.run.scene),
+    });
+    let hash = fnv1a(key.to_string().as_bytes());
+    format!("{}_{:08x}", parts.join("_"), hash >> 32)
+}
+
+/// Letters, digits, `.`, `-` and `=` stay; anything else (`/`, spaces) becomes `-`.
+fn sanitize(s: &str) -> String {
+    s.chars()
+        .map(|c| {
+            if c.is_ascii_alphanumeric() || matches!(c, '.' | '-' | '=') {
+                c
+            } else {
+                '-'
+            }
+        })
+        .collect()
+}
+
+/// The hash of a file's bytes; 0 for a file that cannot be read (resolving the point will
+/// then report it).
+fn file_hash(path: &Path) -> u64 {
+    std::fs::read(path).map_or(0, |b| fnv1a(&b))
+}
+
+fn fnv1a(bytes: &[u8]) -> u64 {
+    bytes.iter().fold(0xcbf2_9ce4_8422_2325, |h, &b| {
+        (h ^ u64::from(b)).wrapping_mul(0x0000_0100_0000_01b3)
+    })
+}
+
+fn summary_path(out: &Path, name: &str) -> PathBuf {
+    out.join("points").join(name).join("summary.json")
+}
+
+/// Loads each scene the pending points use once, and resolves every pending point.
+fn resolve_pending(
+    sweep: &Sweep,
+    names: &[String],
+    pending: &[usize],
+) -> Result<Vec<RunConfig>, SpecError> {
+    let mut scenes: BTreeMap<PathBuf, Arc<Scene>> = BTreeMap::new();
+    let mut configs = Vec::with_capacity(pending.len());
+    for &i in pending {
+        let run = &sweep.points[i].run;
+        let scene = match scenes.get(&run.scene) {
+            Some(s) => s.clone(),
+            None => {
+                let s = Arc::new(
+                    Scene::load(&run.scene)
+                        .map_err(|e| SpecError::invalid(&sweep.file, "scene", e.to_string()))?,
+                );
+                scenes.insert(run.scene.clone(), s.clone());
+                s
+            }
+        };
+        let cfg = run
+            .resolve(Some(scene))
+            .map_err(|e| SpecError::invalid(&sweep.file, "", format!("point {}: {e}", names[i])))?;
+        configs.push(cfg);
+    }
+    Ok(configs)
+}
+
+/// Runs the pending points on a pool of `options.jobs` threads. Larger processor counts
+/// start first, so the longest runs do not end up alone at the tail.
+fn run_pending(
+    sweep: &Sweep,
+    out: &Path,
+    names: &[String],
+    pending: &[usize],
+    configs: Vec<RunConfig>,
+    options: SweepOptions,
+) -> Result<Vec<Result<(), PointFailure>>, SweepError> {
+    let jobs = options.jobs.max(1);
+    let pool = rayon::ThreadPoolBuilder::new()
+        .num_threads(jobs)
+        .thread_name(|i| format!("sweep-{i}"))
+        .build()
+        .map_err(|e| SweepError::Pool {
+            jobs,
+            message: e.to_string(),
+        })?;
+    // A config holds per-run interior state (which options were read), so each one moves to
+    // the thread that runs it rather than being shared.
+    let mut work: Vec<(usize, RunConfig)> = configs.into_iter().enumerate().collect();
+    work.sort_by_key(|(k, _)| std::cmp::Reverse(sweep.points[pending[*k]].run.procs));
+    let bar = progress_bar(pending.len(), options.progress);
+    type Outcome = Result<Result<(), PointFailure>, SweepError>;
+    let results: Vec<(usize, Outcome)> = pool.install(|| {
+        work.into_par_iter()
+            .map(|(k, cfg)| {
+                let name = &names[pending[k]];
+                let r = run_point(&cfg, &out.join("points").join(name), name);
+                bar.inc(1);
+                bar.set_message(name.clone());
+                (k, r)
+            })
+            .collect()
+    });
+    bar.finish_and_clear();
+    let mut by_index: Vec<Option<Outcome>> = (0..pending.len()).map(|_| None).collect();
+    for (k, r) in results {
+        by_index[k] = Some(r);
+    }
+    by_index
+        .into_iter()
+        .map(|r| r.expect("every pending point ran"))
+        .collect()
+}
+
+/// A progress bar on stderr, hidden when stderr is not a terminal (logs, CI, tests).
+fn progress_bar(len: usize, wanted: bool) -> ProgressBar {
+    if !wanted || !std::io::stderr().is_terminal() {
+        return ProgressBar::hidden();
+    }
+    let bar = ProgressBar::with_draw_target(Some(len as u64), ProgressDrawTarget::stderr());
+    let style = ProgressStyle::with_template(
+        "{bar:30} {pos}/{len} points, {elapsed} elapsed, ~{eta} left  {wide_msg}",
+    )
+    .unwrap_or_else(|_| ProgressStyle::default_bar());
+    bar.set_style(style);
+    bar
+}
+
+/// One simulation: run, then write summary.json last (its presence marks the point done).
+/// The outer error (a file that cannot be written) stops the sweep; the inner one (a run
+/// that fails) is recorded in the point's row.
+fn run_point(
+    cfg: &RunConfig,
+    dir: &Path,
+    name: &str,
+) -> Result<Result<(), PointFailure>, SweepError> {
+    let clock = Stopwatch::start();
+    let result = match crate::algo::run(cfg) {
+        Ok(r) => r,
+        Err(e) => {
+            let kind = match &e {
+                RunError::Sim(SimError::Memory { .. }) => FailureKind::Machine,
+                RunError::Sim(_) => FailureKind::Internal,
+                RunError::Option(_) | RunError::Scene(_) | RunError::Unsupported(_) => {
+                    FailureKind::BadInput
+                }
+            };
+            return Ok(Err(PointFailure {
+                point: name.to_string(),
+                message: e.to_string(),
+                kind,
+            }));
+        }
+    };
+    let cost = clock.cost(result.stats.events);
+    let summary = RunSummary::new(cfg, &result);
+    write(&dir.join("cost.json"), to_json(&cost).as_bytes())?;
+    write(&dir.join("summary.json"), to_json(&summary).as_bytes())?;
+    Ok(Ok(()))
+}
+
+/// Every point's metrics, read back from its summary.json (or None for a failed point).
+fn read_metrics(
+    out: &Path,
+    names: &[String],
+    failures: &[PointFailure],
+) -> Result<Vec<Option<PointMetrics>>, SweepError> {
+    names
+        .iter()
+        .map(|name| {
+            if failures.iter().any(|f| &f.point == name) {
+                return Ok(None);
+            }
+            let path = summary_path(out, name);
+            let text = std::fs::read_to_string(&path).map_err(|e| SweepError::BadSummary {
+                path: path.clone(),
+                message: format!("cannot read: {e}"),
+            })?;
+            let metrics: PointMetrics =
+                serde_json::from_str(&text).map_err(|e| SweepError::BadSummary {
+                    path: path.clone(),
+                    message: format!("not a run summary: {e}"),
+                })?;
+            Ok(Some(metrics))
+        })
+        .collect()
+}
+
+fn write_reports(sweep: &Sweep, out: &Path, rows: &[Row]) -> Result<(), SweepError> {
+    write(&out.join("sweep.csv"), table::csv(sweep, rows).as_bytes())?;
+    write(
+        &out.join("sweep.json"),
+        to_json(&table::SweepTable::new(sweep, rows)).as_bytes(),
+    )?;
+    plots::write_plots(sweep, rows, &out.join("plots"))?;
+    Ok(())
+}
+
+fn write(path: &Path, bytes: &[u8]) -> Result<(), SweepError> {
+    write_atomic(path, bytes).map_err(|source| SweepError::Write {
+        path: path.to_path_buf(),
+        source,
+    })
+}
+
+/// cost.json of the whole sweep: host-dependent, so kept out of sweep.json.
+#[derive(Serialize)]
+struct SweepCost<'a> {
+    wall_s: f64,
+    jobs: usize,
+    points_run: usize,
+    points_skipped: usize,
+    peak_host_memory_bytes: Option<u64>,
+    failures: &'a [PointFailure],
+}
+
+impl<'a> SweepCost<'a> {
+    fn new(o: &'a SweepOutcome, options: SweepOptions) -> SweepCost<'a> {
+        SweepCost {
+            wall_s: o.cost.wall_s,
+            jobs: options.jobs.max(1),
+            points_run: o.ran,
+            points_skipped: o.skipped,
+            peak_host_memory_bytes: o.cost.peak_host_memory_bytes,
+            failures: &o.failures,
+        }
+    }
+}
