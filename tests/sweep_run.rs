@@ -189,3 +189,32 @@ fn speedup_is_the_triangle_rate_ratio_to_one_processor() {
         assert!(row.mean_bytes_per_frame.unwrap() > 0.0 && row.error.is_none());
     }
 }
+
+#[test]
+fn a_speedup_scene_is_the_baseline_of_every_point() {
+    // Paper 002, Figure 10: speedups are every model's rate over the single-processor PLB head.
+    let json = r#"{"machine": "machines/delta.json", "scene": "scenes/spd-teapot.json",
+        "algo": "sort-middle/ellsworth", "procs": [4], "speedup_scene": "scenes/plb-head-standin.json", "frames": "0..1",
+        "set": {"machine.cpu.costs": "{\"transform_vertex\": \"1us\", \"setup_triangle\": \"3us\", \"pixel_write\": \"80ns\"}"}}"#;
+    let sweep =
+        parse_sweep(&root().join("test-sweep.json"), json).unwrap_or_else(|e| panic!("{e}"));
+    let dir = out_dir("speedup-scene");
+    let outcome = run(&sweep, &dir, 2);
+    assert_eq!(
+        outcome.ran, 2,
+        "the teapot point and the PLB head's one-processor baseline"
+    );
+    let base_dir = std::fs::read_dir(dir.join("points"))
+        .unwrap()
+        .map(|e| e.unwrap().path())
+        .find(|p| p.to_str().unwrap().contains("plb-head"))
+        .expect("the baseline ran on the PLB head");
+    let base: serde_json::Value =
+        serde_json::from_slice(&read(&base_dir.join("summary.json"))).unwrap();
+    let base_tps = base["mean_triangles_per_s"].as_f64().unwrap();
+    let row = &outcome.rows[0];
+    assert_eq!(
+        row.speedup,
+        Some(row.mean_triangles_per_s.unwrap() / base_tps)
+    );
+}

@@ -43,6 +43,10 @@ pub struct SweepSpec {
     /// Options swept: each key takes every value of its list.
     #[serde(default)]
     pub vary: BTreeMap<String, OneOrMany<Scalar>>,
+    /// Speedups divide by this scene's one-processor rate instead of each point's own scene
+    /// (paper 002's Figure 10 divides every model by the single-processor PLB head).
+    #[serde(default)]
+    pub speedup_scene: Option<PathBuf>,
 }
 
 /// One value or a list of them; a single value is a list of one.
@@ -88,6 +92,8 @@ pub struct Point {
 pub struct Sweep {
     pub file: PathBuf,
     pub note: Option<String>,
+    /// The scene speedups divide by, as written, when not each point's own.
+    pub speedup_scene: Option<String>,
     pub dims: Vec<Dim>,
     pub points: Vec<Point>,
 }
@@ -138,7 +144,8 @@ impl Sweep {
             .into_iter()
             .map(|values| point(file, &spec, &dims, values, true))
             .collect();
-        let baselines = implicit_baselines(&dims, &points);
+        let speedup_scene = spec.speedup_scene.as_ref().map(|p| p.display().to_string());
+        let baselines = implicit_baselines(&dims, &points, speedup_scene.as_deref());
         points.extend(
             baselines
                 .into_iter()
@@ -147,9 +154,15 @@ impl Sweep {
         Ok(Sweep {
             file: file.to_path_buf(),
             note: spec.note.clone(),
+            speedup_scene,
             dims,
             points,
         })
+    }
+
+    /// The values of the one-processor point that `values`' speedup divides by.
+    pub fn baseline_of(&self, values: &[String]) -> Vec<String> {
+        baseline_of(&self.dims, values, self.speedup_scene.as_deref())
     }
 
     /// Index of a dimension by key.
@@ -294,16 +307,29 @@ fn product(dims: &[Dim]) -> Vec<Vec<String>> {
     out
 }
 
+/// The one-processor point a speedup divides by: the same values on one processor, with the
+/// speedup scene instead of the point's own when the sweep names one.
+fn baseline_of(dims: &[Dim], values: &[String], speedup_scene: Option<&str>) -> Vec<String> {
+    let mut base = values.to_vec();
+    base[dims.len() - 1] = "1".to_string();
+    if let (Some(scene), Some(i)) = (speedup_scene, dims.iter().position(|d| d.key == "scene")) {
+        base[i] = scene.to_string();
+    }
+    base
+}
+
 /// One-processor points that speedups need but the sweep does not list: one per combination
 /// of the other values, in product order.
-fn implicit_baselines(dims: &[Dim], points: &[Point]) -> Vec<Vec<String>> {
-    let procs = dims.len() - 1;
+fn implicit_baselines(
+    dims: &[Dim],
+    points: &[Point],
+    speedup_scene: Option<&str>,
+) -> Vec<Vec<String>> {
     let listed: BTreeSet<&[String]> = points.iter().map(|p| p.values.as_slice()).collect();
     let mut added: BTreeSet<Vec<String>> = BTreeSet::new();
     let mut out: Vec<Vec<String>> = Vec::new();
     for p in points {
-        let mut base = p.values.clone();
-        base[procs] = "1".to_string();
+        let base = baseline_of(dims, &p.values, speedup_scene);
         if !listed.contains(base.as_slice()) && added.insert(base.clone()) {
             out.push(base);
         }

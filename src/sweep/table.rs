@@ -74,7 +74,7 @@ impl<'a> SweepTable<'a> {
             note: sweep.note.as_deref(),
             frames: sweep.points.first().and_then(|p| p.run.frames.as_deref()),
             dims: &sweep.dims,
-            speedup: "mean_triangles_per_s over that of the same machine, scene, algorithm, options and seed on 1 processor; efficiency = speedup / procs",
+            speedup: "mean_triangles_per_s over that of the same machine, scene (or the sweep's speedup_scene), algorithm, options and seed on 1 processor; efficiency = speedup / procs",
             rows,
         }
     }
@@ -87,7 +87,6 @@ pub fn rows(
     metrics: &[Option<PointMetrics>],
     failures: &[PointFailure],
 ) -> Vec<Row> {
-    let procs = sweep.dims.len() - 1;
     let index: BTreeMap<&[String], usize> = sweep
         .points
         .iter()
@@ -95,8 +94,7 @@ pub fn rows(
         .map(|(i, p)| (p.values.as_slice(), i))
         .collect();
     let baseline = |values: &[String]| {
-        let mut base = values.to_vec();
-        base[procs] = "1".into();
+        let base = sweep.baseline_of(values);
         let &i = index.get(base.as_slice())?;
         metrics[i]
             .as_ref()
