@@ -110,7 +110,10 @@ fn out_of_range_indices_are_refused_with_file_and_line() {
     );
     let (line, _) = refused("zero.obj", "v 0 0 0\nv 1 0 0\nv 0 1 0\nf 0 1 2\n");
     assert_eq!(line, 4);
-    let (line, _) = refused("relative.obj", "v 0 0 0\nv 1 0 0\nf -1 -2 -3\nv 0 1 0\n");
+    let (line, _) = refused(
+        "relative-out-of-range.obj",
+        "v 0 0 0\nv 1 0 0\nf -1 -2 -3\nv 0 1 0\n",
+    );
     assert_eq!(line, 3);
 }
 
