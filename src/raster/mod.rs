@@ -168,20 +168,39 @@ fn setup_indices(
     out: &mut Vec<ScreenTriangle>,
 ) -> Counters {
     let mut c = Counters::default();
+    front_end(
+        vertices,
+        triangles,
+        indices,
+        count,
+        viewport,
+        options,
+        &mut c,
+        |t| out.push(t),
+    );
+    c
+}
+
+/// The front-end loop every entry point shares: clips, projects and snaps the listed
+/// triangles (vertices prepared once when the batch is large), handing each screen triangle
+/// to `sink` in order.
+#[allow(clippy::too_many_arguments)]
+fn front_end(
+    vertices: &[Vertex],
+    triangles: &[[u32; 3]],
+    indices: impl Iterator<Item = u32>,
+    count: usize,
+    viewport: Viewport,
+    options: &RasterOptions,
+    counters: &mut Counters,
+    mut sink: impl FnMut(ScreenTriangle),
+) {
     let mut cache = new_cache(count, vertices.len());
     for prim in indices {
         setup_one(
-            vertices,
-            triangles,
-            prim,
-            viewport,
-            options,
-            &mut cache,
-            &mut c,
-            |t| out.push(t),
+            vertices, triangles, prim, viewport, options, &mut cache, counters, &mut sink,
         );
     }
-    c
 }
 
 /// Back end only: sets up and scans screen triangles (in order) into `target` (the
@@ -231,19 +250,17 @@ fn draw_indices<T: Target + ?Sized>(
 ) -> Counters {
     let mut front = Counters::default();
     let mut back = Counters::default();
-    let mut cache = new_cache(indices.len(), vertices.len());
-    for prim in indices {
-        setup_one(
-            vertices,
-            triangles,
-            prim,
-            viewport,
-            options,
-            &mut cache,
-            &mut front,
-            |t| draw_screen_triangle(&t, target, &mut back),
-        );
-    }
+    let count = indices.len();
+    front_end(
+        vertices,
+        triangles,
+        indices,
+        count,
+        viewport,
+        options,
+        &mut front,
+        |t| draw_screen_triangle(&t, target, &mut back),
+    );
     front + back
 }
 

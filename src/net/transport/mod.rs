@@ -6,9 +6,8 @@
 //! queues). Must never see topologies (a transport receives a route as link indices and a hop
 //! count) and never use floating point for time.
 
+mod contention_free;
 mod flow;
-mod hops;
-mod ideal;
 mod packet;
 
 use super::timing::Timing;
@@ -42,35 +41,9 @@ pub trait Transport: Send {
 
 pub fn build(fidelity: Fidelity, timing: Timing, links: usize) -> Box<dyn Transport> {
     match fidelity {
-        Fidelity::Ideal => Box::new(ideal::Ideal::new(timing, links)),
-        Fidelity::Hops => Box::new(hops::Hops::new(timing, links)),
+        Fidelity::Ideal => Box::new(contention_free::ContentionFree::ideal(timing, links)),
+        Fidelity::Hops => Box::new(contention_free::ContentionFree::hops(timing, links)),
         Fidelity::Flow => Box::new(flow::Flow::new(timing, links)),
         Fidelity::Packet => Box::new(packet::Packet::new(timing, links)),
-    }
-}
-
-/// Busy time of the contention-free levels: every message charges its serialization time to
-/// every link it crosses.
-struct SerializationBusy {
-    busy: Vec<SimTime>,
-}
-
-impl SerializationBusy {
-    fn new(links: usize) -> Self {
-        SerializationBusy {
-            busy: vec![SimTime::ZERO; links],
-        }
-    }
-    fn charge(&mut self, timing: &Timing, route: &[LinkId], bytes: Bytes) {
-        let t = timing.serialization(bytes);
-        for &l in route {
-            self.busy[l as usize] += t;
-        }
-    }
-    fn usage(&self, link: LinkId) -> Usage {
-        Usage {
-            busy: self.busy[link as usize],
-            peak_queue: 0,
-        }
     }
 }
