@@ -209,3 +209,33 @@ fn events_follow_messages_not_pixels() {
         "events {e_small} -> {e_large}, messages {m_small} -> {m_large}"
     );
 }
+
+#[test]
+fn recording_a_timeline_changes_no_result() {
+    // DESIGN principle 3: an effect switched on for observation must not change what is
+    // simulated (the timeline and link occupancy only watch).
+    let spec = spec(
+        "delta.json",
+        "spd-teapot.json",
+        "sort-middle/ellsworth",
+        6,
+        &[("two-step", "on")],
+    );
+    let mut cfg = spec.resolve(None).unwrap();
+    let plain = run(&cfg).unwrap();
+    cfg.timeline = true;
+    let watched = run(&cfg).unwrap();
+    assert!(
+        plain.stats.timeline.is_none()
+            && watched
+                .stats
+                .timeline
+                .as_ref()
+                .is_some_and(|t| !t.is_empty())
+    );
+    assert_eq!(plain.frames, watched.frames);
+    assert_eq!(plain.stats.events, watched.stats.events);
+    assert_eq!(plain.stats.nodes, watched.stats.nodes);
+    assert_eq!(plain.stats.links, watched.stats.links);
+    assert_eq!(plain.image.hash(), watched.image.hash());
+}
