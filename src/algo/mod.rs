@@ -7,8 +7,11 @@
 //! through `Node::now`, and never invent a time: every duration is charged from counts.
 
 pub mod charge;
+mod frames;
 pub mod options;
+pub mod primitives;
 pub mod reference;
+pub mod sort_last;
 pub mod sort_middle;
 
 use std::ops::Range;
@@ -29,18 +32,58 @@ pub enum AlgorithmId {
     SortMiddleStatic,
     /// Paper 002: Ellsworth's frame-coherent load balancing.
     SortMiddleEllsworth,
+    /// Paper 001: SLML-full, distributed frame buffer over a torus.
+    SortLastDf,
+    /// Paper 001: SLML-full, pipeline composition by scanline chunks.
+    SortLastPc,
+    /// Paper 001: SLMF-full, the scanline z-buffer in a pipeline.
+    SortLastScanlineFlow,
+    /// Paper 003: SLML-full, whole frames streamed down a pipeline.
+    SortLastPixelFlow,
+    /// Paper 003: sparse, each pixel to the node owning its screen location.
+    SortLastDirectSend,
+    /// Paper 003: sparse, distributed snooping on a broadcast bus.
+    SortLastSnooping,
 }
 
 impl AlgorithmId {
-    pub const ALL: [AlgorithmId; 2] = [
+    pub const ALL: [AlgorithmId; 8] = [
         AlgorithmId::SortMiddleStatic,
         AlgorithmId::SortMiddleEllsworth,
+        AlgorithmId::SortLastDf,
+        AlgorithmId::SortLastPc,
+        AlgorithmId::SortLastScanlineFlow,
+        AlgorithmId::SortLastPixelFlow,
+        AlgorithmId::SortLastDirectSend,
+        AlgorithmId::SortLastSnooping,
     ];
 
     pub fn id(self) -> &'static str {
         match self {
             AlgorithmId::SortMiddleStatic => "sort-middle/static",
             AlgorithmId::SortMiddleEllsworth => "sort-middle/ellsworth",
+            AlgorithmId::SortLastDf => "sort-last/df",
+            AlgorithmId::SortLastPc => "sort-last/pc",
+            AlgorithmId::SortLastScanlineFlow => "sort-last/scanline-flow",
+            AlgorithmId::SortLastPixelFlow => "sort-last/pixelflow",
+            AlgorithmId::SortLastDirectSend => "sort-last/direct-send",
+            AlgorithmId::SortLastSnooping => "sort-last/snooping",
+        }
+    }
+
+    /// The family and variant that run this id.
+    fn family(self) -> Family {
+        use sort_last::Variant as L;
+        use sort_middle::Variant as M;
+        match self {
+            AlgorithmId::SortMiddleStatic => Family::SortMiddle(M::Static),
+            AlgorithmId::SortMiddleEllsworth => Family::SortMiddle(M::Ellsworth),
+            AlgorithmId::SortLastDf => Family::SortLast(L::Df),
+            AlgorithmId::SortLastPc => Family::SortLast(L::Pc),
+            AlgorithmId::SortLastScanlineFlow => Family::SortLast(L::ScanlineFlow),
+            AlgorithmId::SortLastPixelFlow => Family::SortLast(L::PixelFlow),
+            AlgorithmId::SortLastDirectSend => Family::SortLast(L::DirectSend),
+            AlgorithmId::SortLastSnooping => Family::SortLast(L::Snooping),
         }
     }
 
@@ -128,20 +171,25 @@ pub enum RunError {
     Unsupported(String),
 }
 
-/// Checks `cfg`'s options as a run would, without running it.
+/// Where an algorithm sorts, and which of its family's variants it is.
+enum Family {
+    SortMiddle(sort_middle::Variant),
+    SortLast(sort_last::Variant),
+}
+
+/// Checks `cfg`'s options (and that the machine offers what the algorithm needs) as a run
+/// would, without running it.
 pub fn check_options(cfg: &RunConfig) -> Result<(), RunError> {
-    match cfg.algo {
-        AlgorithmId::SortMiddleStatic => sort_middle::check(cfg, sort_middle::Variant::Static),
-        AlgorithmId::SortMiddleEllsworth => {
-            sort_middle::check(cfg, sort_middle::Variant::Ellsworth)
-        }
+    match cfg.algo.family() {
+        Family::SortMiddle(v) => sort_middle::check(cfg, v),
+        Family::SortLast(v) => sort_last::check(cfg, v),
     }
 }
 
 /// Runs `cfg` to the end of its last frame.
 pub fn run(cfg: &RunConfig) -> Result<RunResult, RunError> {
-    match cfg.algo {
-        AlgorithmId::SortMiddleStatic => sort_middle::run(cfg, sort_middle::Variant::Static),
-        AlgorithmId::SortMiddleEllsworth => sort_middle::run(cfg, sort_middle::Variant::Ellsworth),
+    match cfg.algo.family() {
+        Family::SortMiddle(v) => sort_middle::run(cfg, v),
+        Family::SortLast(v) => sort_last::run(cfg, v),
     }
 }

@@ -17,10 +17,8 @@
 //! Must never rasterize, never read the clock, never iterate a hash map: a replay is a pure
 //! function of the trace, the assignment rule, n and the seed.
 
-use rand::Rng;
-
 use super::format::Trace;
-use crate::engine::rng_stream;
+use crate::algo::primitives::deal;
 use crate::raster::target::nearer;
 use crate::raster::ACTIVE_PIXEL_BYTES;
 use crate::report::plot::Series;
@@ -46,30 +44,10 @@ impl Algo {
     }
 }
 
-/// How primitives are dealt to processors.
-#[derive(Clone, Copy, Debug, PartialEq, Eq)]
-pub enum Assign {
-    /// Round-robin in database order (paper 003's "round-robin", Molnar's scattering): the
-    /// k-th primitive present in the trace (by id) goes to processor k mod n.
-    Scatter,
-    /// Each primitive present, in id order, draws its processor uniformly from the seeded
-    /// stream `trace/assign/n=<n>`.
-    Random,
-    /// Scatter order over every primitive but the one with the most fragments (ties: lowest
-    /// id), which goes to processor n-1, the last to broadcast when snooping (paper 003's
-    /// advice for background primitives).
-    BackgroundLast,
-}
-
-impl Assign {
-    pub fn name(self) -> &'static str {
-        match self {
-            Assign::Scatter => "scatter",
-            Assign::Random => "random",
-            Assign::BackgroundLast => "background-last",
-        }
-    }
-}
+/// How primitives are dealt to processors: the rules of [`crate::algo::primitives`], over
+/// the primitives present in the trace in id order (the database order), with primitive
+/// sizes in fragments; the random stream is `trace/assign/n=<n>`.
+pub use crate::algo::primitives::Deal as Assign;
 
 /// What to replay.
 #[derive(Clone, Debug, PartialEq, Eq)]
@@ -238,31 +216,19 @@ impl<'a> Replay<'a> {
     /// The processor of every primitive id up to the largest present (`u32::MAX` for
     /// primitives without fragments).
     pub fn assignment(&self, rule: Assign, n: u32, seed: u64) -> Vec<u32> {
-        assert!(n >= 1, "at least one processor");
         let ids = self.present.last().map_or(0, |&m| m as usize + 1);
         let mut out = vec![u32::MAX; ids];
-        match rule {
-            Assign::Scatter => {
-                for (k, &p) in self.present.iter().enumerate() {
-                    out[p as usize] = (k % n as usize) as u32;
-                }
-            }
-            Assign::Random => {
-                let mut rng = rng_stream(seed, &format!("trace/assign/n={n}"));
-                for &p in &self.present {
-                    out[p as usize] = rng.gen_range(0..n);
-                }
-            }
-            Assign::BackgroundLast => {
-                let Some(big) = self.largest() else {
-                    return out;
-                };
-                let others = self.present.iter().filter(|&&p| p != big);
-                for (k, &p) in others.enumerate() {
-                    out[p as usize] = (k % n as usize) as u32;
-                }
-                out[big as usize] = n - 1;
-            }
+        let stream = format!("trace/assign/n={n}");
+        let dealt = deal(
+            rule,
+            self.present.len(),
+            |k| self.sizes[k],
+            n,
+            seed,
+            &stream,
+        );
+        for (&p, proc) in self.present.iter().zip(dealt) {
+            out[p as usize] = proc;
         }
         out
     }

@@ -21,7 +21,6 @@ pub mod two_step;
 pub mod utilization;
 
 use std::cell::RefCell;
-use std::collections::BTreeMap;
 use std::rc::Rc;
 
 use assign::Assignment;
@@ -29,6 +28,7 @@ use regions::RegionGrid;
 use two_step::Groups;
 
 use super::charge;
+use super::frames::FrameBook;
 use super::{FrameRecord, RunConfig, RunError, RunResult};
 use crate::engine::{Filter, Node, Payload, Sim, SimError};
 use crate::machine::{Counts, Op};
@@ -185,8 +185,7 @@ pub(crate) struct Ctx {
     viewport: Viewport,
     background: [u8; 3],
     raster: RasterOptions,
-    geometry: RefCell<BTreeMap<u32, Rc<FrameGeometry>>>,
-    records: RefCell<BTreeMap<u32, FrameRecord>>,
+    book: FrameBook,
     /// Processor 0's assignment for the next frame, once computed.
     next_assignment: RefCell<Option<Rc<Assignment>>>,
     /// Each processor's regions after the last frame, for the output image.
@@ -202,39 +201,16 @@ impl Ctx {
         frame + 1 == self.cfg.frames.end
     }
 
-    /// The scene's geometry for `frame`, computed on first use and dropped two frames later.
     fn geometry(&self, node: &Node<Msg>, frame: u32) -> Result<Rc<FrameGeometry>, SimError> {
-        let mut cache = self.geometry.borrow_mut();
-        if let Some(g) = cache.get(&frame) {
-            return Ok(g.clone());
-        }
-        let g = Rc::new(
-            self.cfg
-                .scene
-                .frame(frame)
-                .map_err(|e| node.error(e.to_string()))?,
-        );
-        cache.retain(|&f, _| f + 1 >= frame);
-        cache.insert(frame, g.clone());
-        Ok(g)
+        self.book.geometry(node, frame)
     }
 
     fn record<R>(&self, frame: u32, f: impl FnOnce(&mut FrameRecord) -> R) -> R {
-        let mut records = self.records.borrow_mut();
-        let n = self.n as usize;
-        let r = records.entry(frame).or_insert_with(|| FrameRecord {
-            frame,
-            raster_finish: vec![SimTime::ZERO; n],
-            ..FrameRecord::default()
-        });
-        f(r)
+        self.book.record(frame, f)
     }
 
     pub(crate) fn count_message(&self, frame: u32, bytes: Bytes) {
-        self.record(frame, |r| {
-            r.bytes += bytes;
-            r.messages += 1;
-        });
+        self.book.count_message(frame, bytes)
     }
 
     async fn send(&self, node: &Node<Msg>, dst: u32, msg: Msg) {
@@ -601,8 +577,7 @@ pub fn run(cfg: &RunConfig, variant: Variant) -> Result<RunResult, RunError> {
         viewport,
         background: first.background,
         raster: super::reference::raster_options(&first),
-        geometry: RefCell::new(BTreeMap::from([(cfg.frames.start, Rc::new(first))])),
-        records: RefCell::default(),
+        book: FrameBook::new(cfg.scene.clone(), n, cfg.frames.start, Rc::new(first)),
         next_assignment: RefCell::default(),
         images: RefCell::new(vec![None; n as usize]),
     });
@@ -630,7 +605,7 @@ pub fn run(cfg: &RunConfig, variant: Variant) -> Result<RunResult, RunError> {
     for regions in ctx.images.borrow().iter().flatten() {
         regions.copy_into(&mut image);
     }
-    let frames = ctx.records.borrow().values().cloned().collect();
+    let frames = ctx.book.records();
     Ok(RunResult {
         stats,
         frames,

@@ -1,0 +1,81 @@
+//! What every algorithm family's processors share on the host during one run: the scene's
+//! geometry per frame (computed once per frame, not once per processor) and the per-frame
+//! records being written (start, end, traffic, rasterization finishing times).
+//!
+//! Must never hold simulated state: nothing here is charged to the machine, and nothing here
+//! may change what a node program decides, only what the run reports.
+
+use std::cell::RefCell;
+use std::collections::BTreeMap;
+use std::rc::Rc;
+use std::sync::Arc;
+
+use super::FrameRecord;
+use crate::engine::{Node, Payload, SimError};
+use crate::scene::{FrameGeometry, Scene};
+use crate::units::{Bytes, SimTime};
+
+/// The host-side book of one run.
+pub(crate) struct FrameBook {
+    scene: Arc<Scene>,
+    n: u32,
+    geometry: RefCell<BTreeMap<u32, Rc<FrameGeometry>>>,
+    records: RefCell<BTreeMap<u32, FrameRecord>>,
+}
+
+impl FrameBook {
+    /// A book whose cache already holds `first`, the geometry of frame `frame`.
+    pub fn new(scene: Arc<Scene>, n: u32, frame: u32, first: Rc<FrameGeometry>) -> FrameBook {
+        FrameBook {
+            scene,
+            n,
+            geometry: RefCell::new(BTreeMap::from([(frame, first)])),
+            records: RefCell::default(),
+        }
+    }
+
+    /// The scene's geometry for `frame`, computed on first use and dropped two frames later.
+    pub fn geometry<M: Payload>(
+        &self,
+        node: &Node<M>,
+        frame: u32,
+    ) -> Result<Rc<FrameGeometry>, SimError> {
+        let mut cache = self.geometry.borrow_mut();
+        if let Some(g) = cache.get(&frame) {
+            return Ok(g.clone());
+        }
+        let g = Rc::new(
+            self.scene
+                .frame(frame)
+                .map_err(|e| node.error(e.to_string()))?,
+        );
+        cache.retain(|&f, _| f + 1 >= frame);
+        cache.insert(frame, g.clone());
+        Ok(g)
+    }
+
+    /// Edits `frame`'s record, creating it on first use.
+    pub fn record<R>(&self, frame: u32, f: impl FnOnce(&mut FrameRecord) -> R) -> R {
+        let mut records = self.records.borrow_mut();
+        let n = self.n as usize;
+        let r = records.entry(frame).or_insert_with(|| FrameRecord {
+            frame,
+            raster_finish: vec![SimTime::ZERO; n],
+            ..FrameRecord::default()
+        });
+        f(r)
+    }
+
+    /// Counts one message of `bytes` against `frame`.
+    pub fn count_message(&self, frame: u32, bytes: Bytes) {
+        self.record(frame, |r| {
+            r.bytes += bytes;
+            r.messages += 1;
+        });
+    }
+
+    /// The records, in frame order.
+    pub fn records(&self) -> Vec<FrameRecord> {
+        self.records.borrow().values().cloned().collect()
+    }
+}

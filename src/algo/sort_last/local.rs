@@ -1,0 +1,62 @@
+//! The one thing every sort-last node does before (or while) merging: render whole
+//! primitives of its share into a local target, charged batch by batch as the machine would
+//! be, and the full frame it would hold.
+//!
+//! Must never merge or send: merging is each variant's business.
+
+use super::Ctx;
+use crate::algo::charge;
+use crate::engine::{Node, Payload, SimError};
+use crate::machine::{Counts, Op};
+use crate::raster::{draw_subset, Counters, Target};
+
+/// Primitives per compute charge: events grow with batches, not with pixels, and a request
+/// for work waits at most one batch before the renderer looks at it.
+pub const BATCH: usize = 64;
+
+/// Renders `prims` (database indices of `frame`) into `target` one batch at a time, charging
+/// each batch's front and back end. Returns the counts of the whole call.
+pub(crate) async fn render<M: Payload, T: Target>(
+    node: &Node<M>,
+    ctx: &Ctx,
+    frame: u32,
+    prims: &[u32],
+    target: &mut T,
+) -> Result<Counters, SimError> {
+    let geometry = ctx.geometry(node, frame)?;
+    let mut total = Counters::default();
+    for batch in prims.chunks(BATCH) {
+        let c = draw_subset(
+            &geometry.vertices,
+            &geometry.triangles,
+            batch,
+            ctx.viewport,
+            &ctx.raster,
+            target,
+        );
+        let mut work = charge::front_end(&c);
+        work += &charge::back_end(&c);
+        node.compute(&work).await;
+        total += c;
+    }
+    ctx.record(frame, |r| {
+        r.triangles_in_view += total.triangles_in - total.culled_outside - total.culled_invalid
+    });
+    Ok(total)
+}
+
+/// Allocates a full colour and z frame in the node's memory pool and charges clearing it.
+pub(crate) async fn clear_full_frame<M: Payload>(
+    node: &Node<M>,
+    ctx: &Ctx,
+) -> Result<(), SimError> {
+    node.alloc("frame buffer", ctx.full_frame_bytes())?;
+    let pixels = ctx.viewport.pixels() as u64;
+    node.compute(&Counts::of(Op::ClearPixel, pixels)).await;
+    Ok(())
+}
+
+/// Returns the full frame to the memory pool.
+pub(crate) fn free_full_frame<M: Payload>(node: &Node<M>, ctx: &Ctx) -> Result<(), SimError> {
+    node.free("frame buffer", ctx.full_frame_bytes())
+}

@@ -1,0 +1,364 @@
+//! Sort-last rendering: every processor renders whole primitives of its own share of the
+//! database into a local frame, and the frames are merged by depth over the network.
+//!
+//! Six variants, one module each, reading like their papers:
+//! * full-frame, merging after rendering (paper 001's SLML-full): `df` (distributed frame
+//!   buffer over a torus), `pc` (pipeline composition by scanline chunks);
+//! * full-frame, merging during rendering (SLMF-full): `scanline_flow`;
+//! * paper 003's merges: `pixelflow` (whole frames down a pipeline), `direct_send` (each
+//!   pixel to the node owning its screen location), `snooping` (broadcast on a bus, listeners
+//!   delete what the broadcast hides).
+//!
+//! The mechanisms they share live beside them: `local` (a node renders its share into an
+//! active-pixel buffer, charged as the machine would be), primitive assignment in
+//! [`crate::algo::primitives`], request-based load balancing in `request`.
+//!
+//! Full frames are charged, not held: a node's simulated memory holds a 512x512 colour and
+//! z frame, and merges are charged for every pixel they move, but the host keeps only each
+//! node's active pixels, so a 64-node run does not need 64 full frame buffers.
+//!
+//! Must never name a topology: a variant states what it needs (node i linked to node i+1, a
+//! broadcast medium) and `requirements` asks the network.
+
+mod local;
+
+use std::cell::RefCell;
+use std::rc::Rc;
+
+use super::frames::FrameBook;
+use super::primitives::{deal, Deal};
+use super::{RunConfig, RunError, RunResult};
+use crate::engine::{Node, Payload, Sim, SimError};
+use crate::net::Network;
+use crate::raster::{Framebuffer, RasterOptions, Viewport};
+use crate::scene::FrameGeometry;
+use crate::units::Bytes;
+
+/// The six sort-last algorithms.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Variant {
+    Df,
+    Pc,
+    ScanlineFlow,
+    PixelFlow,
+    DirectSend,
+    Snooping,
+}
+
+impl Variant {
+    /// Whether the merge streams frames from node i to node i+1.
+    fn needs_pipeline(self) -> bool {
+        matches!(
+            self,
+            Variant::Pc | Variant::ScanlineFlow | Variant::PixelFlow
+        )
+    }
+
+    /// Whether request-based load balancing applies: it runs at the end of the rendering
+    /// phase, so only where rendering and merging are consecutive (paper 001, section 4.1).
+    fn balances_on_request(self) -> bool {
+        matches!(self, Variant::Df | Variant::Pc)
+    }
+}
+
+/// How primitives reach processors.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Assignment {
+    /// A fixed deal before rendering.
+    Static(Deal),
+    /// Scatter, then idle nodes ask around the ring for work packets (paper 001): a busy
+    /// neighbour answers with `1/split` of its remaining queue, if that is at least
+    /// `min_packet` primitives.
+    Request { split: u32, min_packet: u32 },
+}
+
+/// The validated options of one run.
+#[derive(Clone, Debug)]
+pub struct Settings {
+    pub variant: Variant,
+    pub assignment: Assignment,
+    /// Direct send: z-buffer locally first and send only active pixels (paper 003).
+    pub local_zbuffer: bool,
+    /// Pipeline composition: scanlines per chunk.
+    pub chunk_rows: u32,
+}
+
+/// Bytes of one full-frame pixel as a node holds and ships it: rgb and a 32-bit z.
+pub const FULL_FRAME_PIXEL_BYTES: u64 = 3 + 4;
+
+/// What all processors of one run share on the host.
+pub(crate) struct Ctx {
+    pub settings: Settings,
+    pub n: u32,
+    pub cfg: RunConfig,
+    pub viewport: Viewport,
+    pub background: [u8; 3],
+    pub raster: RasterOptions,
+    book: FrameBook,
+    /// The final image, set by whichever node holds it when the last frame is merged.
+    image: RefCell<Option<Framebuffer>>,
+}
+
+impl Ctx {
+    pub fn frames(&self) -> std::ops::Range<u32> {
+        self.cfg.frames.clone()
+    }
+
+    pub fn is_last(&self, frame: u32) -> bool {
+        frame + 1 == self.cfg.frames.end
+    }
+
+    pub fn geometry<M: Payload>(
+        &self,
+        node: &Node<M>,
+        frame: u32,
+    ) -> Result<Rc<FrameGeometry>, SimError> {
+        self.book.geometry(node, frame)
+    }
+
+    pub fn record<R>(&self, frame: u32, f: impl FnOnce(&mut super::FrameRecord) -> R) -> R {
+        self.book.record(frame, f)
+    }
+
+    /// Sends `msg` of `bytes`, counting it against `frame`.
+    pub async fn send<M: Payload>(
+        &self,
+        node: &Node<M>,
+        frame: u32,
+        dst: u32,
+        bytes: Bytes,
+        msg: M,
+    ) {
+        self.book.count_message(frame, bytes);
+        node.send(dst, bytes, msg).await;
+    }
+
+    /// Broadcasts `msg` of `bytes` on the bus, counting it once against `frame`.
+    pub async fn broadcast<M: Payload>(
+        &self,
+        node: &Node<M>,
+        frame: u32,
+        bytes: Bytes,
+        msg: M,
+    ) -> Result<(), SimError> {
+        self.book.count_message(frame, bytes);
+        node.broadcast(bytes, msg).await
+    }
+
+    /// The bytes of a full frame, as a node's memory holds it.
+    pub fn full_frame_bytes(&self) -> Bytes {
+        Bytes::new(self.viewport.pixels() as u64 * FULL_FRAME_PIXEL_BYTES)
+    }
+
+    /// The static share of processor `me` in `frame`: database indices, ascending. With
+    /// request balancing this is the initial scatter.
+    pub fn share<M: Payload>(&self, node: &Node<M>, frame: u32) -> Result<Vec<u32>, SimError> {
+        let geometry = self.geometry(node, frame)?;
+        let rule = match self.settings.assignment {
+            Assignment::Static(rule) => rule,
+            Assignment::Request { .. } => Deal::Scatter,
+        };
+        let count = geometry.triangles.len();
+        let area = |k: usize| screen_area(&geometry, k);
+        let stream = format!("sort-last/assign/frame={frame}");
+        let dealt = deal(rule, count, area, self.n, self.cfg.seed, &stream);
+        Ok(super::primitives::share_of(&dealt, node.id()))
+    }
+
+    /// Hands over the final image (the merged frame of the run's last frame).
+    pub fn set_image(&self, image: Framebuffer) {
+        *self.image.borrow_mut() = Some(image);
+    }
+}
+
+/// Twice the clip-space-projected area of triangle `k` in NDC units: the size
+/// `background-last` compares (the largest primitive is the background). Triangles behind
+/// the eye count as zero.
+fn screen_area(g: &FrameGeometry, k: usize) -> u64 {
+    let [a, b, c] = g.triangles[k].map(|i| g.vertices[i as usize].clip);
+    if a.w <= 0.0 || b.w <= 0.0 || c.w <= 0.0 {
+        return 0;
+    }
+    let p = |v: glam::Vec4| glam::Vec2::new(v.x / v.w, v.y / v.w);
+    let (a, b, c) = (p(a), p(b), p(c));
+    let cross = (b - a).perp_dot(c - a).abs() as f64;
+    // Fixed resolution so the comparison is an integer one.
+    (cross * (1u64 << 20) as f64).min(u64::MAX as f64) as u64
+}
+
+/// Checks that the machine offers what `variant` needs.
+fn requirements(cfg: &RunConfig, variant: Variant) -> Result<(), RunError> {
+    let m = &cfg.machine;
+    let net = Network::new(&m.network).map_err(|e| RunError::Unsupported(e.to_string()))?;
+    if variant.needs_pipeline() {
+        if let Some(i) = (0..m.nodes.saturating_sub(1)).find(|&i| net.hops(i, i + 1) != 1) {
+            return Err(RunError::Unsupported(format!(
+                "{} streams frames from node i to node i+1, but machine '{}' ({}) has no \
+                 direct link from node {i} to node {}; use a machine whose topology is a \
+                 pipeline or a ring",
+                cfg.algo.id(),
+                m.name,
+                m.network.topology.name(),
+                i + 1
+            )));
+        }
+    }
+    if variant == Variant::Snooping && !net.supports_broadcast() {
+        return Err(RunError::Unsupported(format!(
+            "sort-last/snooping needs a broadcast medium, but machine '{}' is a {}; use a \
+             machine whose topology is a bus",
+            m.name,
+            m.network.topology.name()
+        )));
+    }
+    Ok(())
+}
+
+/// Reads the options of `variant` and checks them.
+fn settings(cfg: &RunConfig, variant: Variant) -> Result<Settings, RunError> {
+    let o = &cfg.options;
+    let names = ["scatter", "random", "background-last", "request"];
+    let rule = o.choice("assign", "scatter", &names)?;
+    let assignment = match Deal::from_name(rule) {
+        Some(deal) => Assignment::Static(deal),
+        None => {
+            if !variant.balances_on_request() {
+                return Err(bad(
+                    o,
+                    "assign",
+                    "scatter, random or background-last: request balancing runs at the end \
+                     of rendering, so only sort-last/df and sort-last/pc use it (paper 001)",
+                ));
+            }
+            let split: u32 = o.get("split", 2, "a splitting factor of at least 2")?;
+            if split < 2 {
+                return Err(bad(o, "split", "a splitting factor of at least 2"));
+            }
+            let min_packet: u32 =
+                o.get("min-packet", 16, "a whole number of primitives, at least 1")?;
+            if min_packet == 0 {
+                return Err(bad(
+                    o,
+                    "min-packet",
+                    "a whole number of primitives, at least 1",
+                ));
+            }
+            Assignment::Request { split, min_packet }
+        }
+    };
+    let local_zbuffer = match variant {
+        Variant::DirectSend => o.choice("local-zbuffer", "off", &["on", "off"])? == "on",
+        _ => false,
+    };
+    let chunk_rows = match variant {
+        Variant::Pc => {
+            let rows: u32 = o.get("chunk-rows", 1, "a whole number of scanlines, at least 1")?;
+            if rows == 0 {
+                return Err(bad(
+                    o,
+                    "chunk-rows",
+                    "a whole number of scanlines, at least 1",
+                ));
+            }
+            rows
+        }
+        _ => 1,
+    };
+    o.finish(cfg.algo.id())?;
+    Ok(Settings {
+        variant,
+        assignment,
+        local_zbuffer,
+        chunk_rows,
+    })
+}
+
+fn bad(o: &super::Options, key: &str, what: &str) -> RunError {
+    let value = o
+        .pairs()
+        .find(|(k, _)| *k == key)
+        .map(|(_, v)| v.clone())
+        .unwrap_or_default();
+    RunError::Option(super::OptionError::Invalid {
+        key: key.into(),
+        value,
+        message: format!("expected {what}"),
+    })
+}
+
+/// Checks a variant's options and machine against `cfg` without running it.
+pub fn check(cfg: &RunConfig, variant: Variant) -> Result<(), RunError> {
+    requirements(cfg, variant)?;
+    settings(cfg, variant).map(|_| ())
+}
+
+/// Runs a sort-last variant.
+pub fn run(cfg: &RunConfig, variant: Variant) -> Result<RunResult, RunError> {
+    requirements(cfg, variant)?;
+    let settings = settings(cfg, variant)?;
+    let first = cfg.scene.frame(cfg.frames.start)?;
+    let viewport = super::reference::viewport(&first);
+    let n = cfg.machine.nodes;
+    let ctx = Rc::new(Ctx {
+        settings,
+        n,
+        cfg: cfg.clone(),
+        viewport,
+        background: first.background,
+        raster: super::reference::raster_options(&first),
+        book: FrameBook::new(cfg.scene.clone(), n, cfg.frames.start, Rc::new(first)),
+        image: RefCell::default(),
+    });
+    let stats = match variant {
+        Variant::Df => not_built(cfg)?,
+        Variant::Pc => not_built(cfg)?,
+        Variant::ScanlineFlow => not_built(cfg)?,
+        Variant::PixelFlow => not_built(cfg)?,
+        Variant::DirectSend => not_built(cfg)?,
+        Variant::Snooping => not_built(cfg)?,
+    };
+    finish(ctx, stats)
+}
+
+fn not_built(cfg: &RunConfig) -> Result<crate::engine::RunStats, RunError> {
+    Err(RunError::Unsupported(format!(
+        "{} is not available in this build",
+        cfg.algo.id()
+    )))
+}
+
+/// Runs one program per processor on a fresh simulation of the run's machine.
+#[allow(dead_code)]
+fn simulate<M, F, Fut>(ctx: &Rc<Ctx>, program: F) -> Result<crate::engine::RunStats, RunError>
+where
+    M: Payload,
+    F: Fn(Node<M>, Rc<Ctx>) -> Fut,
+    Fut: std::future::Future<Output = Result<(), SimError>> + 'static,
+{
+    let mut sim: Sim<M> = Sim::new(&ctx.cfg.machine, ctx.cfg.seed)
+        .map_err(|e| RunError::Unsupported(e.to_string()))?;
+    if ctx.cfg.timeline {
+        sim.record_timeline();
+    }
+    for p in 0..ctx.n {
+        sim.spawn(
+            p,
+            format!("processor {p}"),
+            program(sim.node(p), ctx.clone()),
+        );
+    }
+    Ok(sim.run()?)
+}
+
+fn finish(ctx: Rc<Ctx>, stats: crate::engine::RunStats) -> Result<RunResult, RunError> {
+    let image = ctx
+        .image
+        .borrow_mut()
+        .take()
+        .unwrap_or_else(|| Framebuffer::with_clear(ctx.viewport, ctx.background));
+    Ok(RunResult {
+        stats,
+        frames: ctx.book.records(),
+        image,
+    })
+}
