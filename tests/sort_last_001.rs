@@ -54,7 +54,11 @@ fn images_equal_the_sequential_image() {
             let mut options: Vec<Vec<(&str, &str)>> = vec![vec![]];
             if algo != "sort-last/scanline-flow" {
                 options.push(vec![("assign", "request")]);
-                options.push(vec![("assign", "request"), ("split", "3"), ("min-packet", "4")]);
+                options.push(vec![
+                    ("assign", "request"),
+                    ("split", "3"),
+                    ("min-packet", "4"),
+                ]);
             }
             if algo == "sort-last/pc" {
                 options.push(vec![("chunk-rows", "7")]);
@@ -85,7 +89,10 @@ fn runs_are_deterministic() {
         assert_eq!(a.stats.events, b.stats.events, "{algo}");
         assert_eq!(a.frames.len(), b.frames.len());
         for (x, y) in a.frames.iter().zip(&b.frames) {
-            assert_eq!((x.start, x.end, x.bytes, x.messages), (y.start, y.end, y.bytes, y.messages));
+            assert_eq!(
+                (x.start, x.end, x.bytes, x.messages),
+                (y.start, y.end, y.bytes, y.messages)
+            );
             assert_eq!(x.raster_finish, y.raster_finish, "{algo}");
         }
     }
@@ -99,11 +106,18 @@ fn pipeline_events_follow_scanlines_times_nodes() {
     let large = load("spd-mountain.json"); // ~313k pixels tested
     for algo in ["sort-last/pc", "sort-last/scanline-flow"] {
         for procs in [4u32, 8] {
-            let a = simulate(&spec(algo, procs, "p001-misc3.json", &[]), &small).stats.events;
-            let b = simulate(&spec(algo, procs, "spd-mountain.json", &[]), &large).stats.events;
+            let a = simulate(&spec(algo, procs, "p001-misc3.json", &[]), &small)
+                .stats
+                .events;
+            let b = simulate(&spec(algo, procs, "spd-mountain.json", &[]), &large)
+                .stats
+                .events;
             let rows_nodes = 512 * procs as u64;
             // A handful of events per scanline per node (compute, receive, credit, send).
-            assert!(a < 20 * rows_nodes && b < 20 * rows_nodes, "{algo} {procs}: {a} {b}");
+            assert!(
+                a < 20 * rows_nodes && b < 20 * rows_nodes,
+                "{algo} {procs}: {a} {b}"
+            );
             let ratio = b as f64 / a as f64;
             assert!((0.8..1.5).contains(&ratio), "{algo} {procs}: {a} vs {b}");
         }

@@ -43,10 +43,7 @@ pub(super) async fn processor(node: Node<Msg>, ctx: Rc<Ctx>) -> Result<(), SimEr
         local::clear_full_frame(&node, &ctx).await?;
         node.phase("render");
         let rendered = request::render_share(&node, &ctx, frame).await?;
-        let rows = Rc::new(Rows::new(
-            rendered.active_sorted(),
-            ctx.viewport.height(),
-        ));
+        let rows = Rc::new(Rows::new(rendered.active_sorted(), ctx.viewport.height()));
         drop(rendered);
 
         node.phase("merge");
@@ -80,7 +77,10 @@ pub(super) async fn processor(node: Node<Msg>, ctx: Rc<Ctx>) -> Result<(), SimEr
             image.put(&merged);
             for _ in 1..n {
                 let env = node.recv(Filter::tag(tag(PARTITION, frame))).await;
-                let Msg::Partition { band: b, pixels, .. } = env.payload else {
+                let Msg::Partition {
+                    band: b, pixels, ..
+                } = env.payload
+                else {
                     unreachable!("filtered by tag")
                 };
                 image.put(&pixels);
@@ -106,12 +106,7 @@ pub(super) async fn processor(node: Node<Msg>, ctx: Rc<Ctx>) -> Result<(), SimEr
 }
 
 /// Answers the N-1 band requests for this node's rendered frame.
-async fn serve(
-    node: Node<Msg>,
-    ctx: Rc<Ctx>,
-    frame: u32,
-    rows: Rc<Rows>,
-) -> Result<(), SimError> {
+async fn serve(node: Node<Msg>, ctx: Rc<Ctx>, frame: u32, rows: Rc<Rows>) -> Result<(), SimError> {
     for _ in 1..ctx.n {
         let env = node.recv(Filter::tag(tag(BAND_REQUEST, frame))).await;
         let Msg::BandRequest { band: b, .. } = env.payload else {
@@ -119,10 +114,7 @@ async fn serve(
         };
         let (y0, y1) = band(&ctx, b);
         let pixels = Rc::new(rows.rows(y0, y1).to_vec());
-        let msg = Msg::BandReply {
-            frame,
-            pixels,
-        };
+        let msg = Msg::BandReply { frame, pixels };
         ctx.send(&node, frame, env.src, rows_bytes(&ctx, y1 - y0), msg)
             .await;
     }

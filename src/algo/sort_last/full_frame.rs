@@ -128,7 +128,11 @@ pub fn merge(a: &[ActivePixel], b: &[ActivePixel]) -> Vec<ActivePixel> {
                 j += 1;
             }
             std::cmp::Ordering::Equal => {
-                out.push(if nearer(q.z, q.prim, p.z, p.prim) { q } else { p });
+                out.push(if nearer(q.z, q.prim, p.z, p.prim) {
+                    q
+                } else {
+                    p
+                });
                 i += 1;
                 j += 1;
             }
@@ -209,7 +213,11 @@ pub async fn end_frame(node: &Node<Msg>, ctx: &Ctx, frame: u32) -> Result<(), Si
             )
             .await;
         }
-        node.post(me, crate::units::SimTime::ZERO, Msg::Start { frame: frame + 1 });
+        node.post(
+            me,
+            crate::units::SimTime::ZERO,
+            Msg::Start { frame: frame + 1 },
+        );
     }
     Ok(())
 }

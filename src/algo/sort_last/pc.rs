@@ -139,10 +139,7 @@ async fn send_thread(
         }
         let pixels = outbox.borrow_mut().pop_front().unwrap_or_default();
         let rows = ((c + 1) * rows_per).min(h) - c * rows_per;
-        let msg = Msg::Chunk {
-            frame,
-            pixels,
-        };
+        let msg = Msg::Chunk { frame, pixels };
         ctx.send(&node, frame, me + 1, rows_bytes(&ctx, rows), msg)
             .await;
     }

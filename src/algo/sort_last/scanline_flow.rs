@@ -24,14 +24,14 @@
 
 use std::rc::Rc;
 
-use super::full_frame::{
-    self, merge, rows_bytes, tag, Image, Msg, CHUNK, CONTROL_BYTES, CREDIT,
-};
+use super::full_frame::{self, merge, rows_bytes, tag, Image, Msg, CHUNK, CONTROL_BYTES, CREDIT};
 use super::Ctx;
 use crate::algo::charge;
 use crate::engine::{Filter, Node, SimError};
 use crate::machine::{Counts, Op};
-use crate::raster::{render_scanlines_counted, setup_subset, ActivePixel, Counters, ScreenTriangle};
+use crate::raster::{
+    render_scanlines_counted, setup_subset, ActivePixel, Counters, ScreenTriangle,
+};
 use crate::units::Bytes;
 
 /// Scanlines that may be in flight into a node (with the one being merged: a triple buffer).
@@ -58,7 +58,10 @@ fn render_lines(ctx: &Ctx, tris: &[ScreenTriangle]) -> (Vec<Line>, Counters) {
         let length = c.active_inserts - prev.active_removals;
         let mut work = Counts::new();
         work.add(Op::ClearPixel, width as u64)
-            .add(Op::SetupTriangle, c.triangles_scanned - prev.triangles_scanned)
+            .add(
+                Op::SetupTriangle,
+                c.triangles_scanned - prev.triangles_scanned,
+            )
             .add(Op::ActiveListOp, length + inserts * length / 2)
             .add(Op::Span, c.spans - prev.spans)
             .add(Op::PixelTest, c.pixels_tested - prev.pixels_tested)
