@@ -58,7 +58,7 @@ pub use counters::Counters;
 pub use fixed::{Depth, Sub};
 pub use image::{encode_png, image_hash, write_png, PngError};
 pub use scan::{Fragment, RowWalker, Sampling, Span};
-pub use scanline::{render_scanlines, render_scanlines_into};
+pub use scanline::{render_scanlines, render_scanlines_counted, render_scanlines_into};
 pub use screen::{ScreenRect, Viewport};
 pub use setup::{
     CullMode, RasterOptions, RasterTriangle, ScreenTriangle, ScreenVertex, VertexCache,

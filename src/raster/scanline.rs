@@ -55,6 +55,17 @@ pub fn render_scanlines(
     clear: [u8; 3],
     mut emit: impl FnMut(&ScanlineBuffer),
 ) -> Counters {
+    render_scanlines_counted(tris, viewport, clear, |line, _| emit(line))
+}
+
+/// As [`render_scanlines`], also handing `emit` the counts so far (running totals, bucket
+/// sort included), so a caller can charge each scanline's own work.
+pub fn render_scanlines_counted(
+    tris: &[ScreenTriangle],
+    viewport: Viewport,
+    clear: [u8; 3],
+    mut emit: impl FnMut(&ScanlineBuffer, &Counters),
+) -> Counters {
     let mut c = Counters::default();
     let (w, h) = (i64::from(viewport.width()), i64::from(viewport.height()));
 
@@ -97,7 +108,7 @@ pub fn render_scanlines(
         });
         c.active_removals += (before - active.len()) as u64;
         c.scanlines += 1;
-        emit(&line);
+        emit(&line, &c);
     }
     c
 }

@@ -477,6 +477,11 @@ impl ScanlineBuffer {
     pub fn depths(&self) -> &[u32] {
         self.buf.depths()
     }
+    /// The primitive each pixel's fragment came from (`u32::MAX` where none reached it):
+    /// what a sort-last merge of scanlines needs for the depth test's tie-break.
+    pub fn prims(&self) -> &[u32] {
+        &self.buf.prim
+    }
 }
 
 impl Target for ScanlineBuffer {

@@ -20,7 +20,12 @@
 //! Must never name a topology: a variant states what it needs (node i linked to node i+1, a
 //! broadcast medium) and `requirements` asks the network.
 
+mod df;
+mod full_frame;
 mod local;
+mod pc;
+mod request;
+mod scanline_flow;
 
 use std::cell::RefCell;
 use std::rc::Rc;
@@ -310,9 +315,9 @@ pub fn run(cfg: &RunConfig, variant: Variant) -> Result<RunResult, RunError> {
         image: RefCell::default(),
     });
     let stats = match variant {
-        Variant::Df => not_built(cfg)?,
-        Variant::Pc => not_built(cfg)?,
-        Variant::ScanlineFlow => not_built(cfg)?,
+        Variant::Df => simulate(&ctx, df::processor)?,
+        Variant::Pc => simulate(&ctx, pc::processor)?,
+        Variant::ScanlineFlow => simulate(&ctx, scanline_flow::processor)?,
         Variant::PixelFlow => not_built(cfg)?,
         Variant::DirectSend => not_built(cfg)?,
         Variant::Snooping => not_built(cfg)?,

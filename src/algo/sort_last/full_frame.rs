@@ -1,0 +1,229 @@
+//! What paper 001's three full-frame algorithms (DF, PC, ScanlineFlow) share: their message
+//! kinds, the frame barrier, and the host-side form of a node's frame.
+//!
+//! A node's frame is charged as a full frame (every pixel is moved and depth-compared), but
+//! the host keeps only its active pixels in raster order ([`Rows`]), and merges them with
+//! [`crate::raster::target::nearer`], so the merged image is the sequential z-buffer's.
+//!
+//! Must never charge time or decide anything for a variant: it only carries and merges
+//! pixels and synchronizes frames.
+
+use std::rc::Rc;
+
+use super::Ctx;
+use crate::engine::{Filter, Node, Payload, SimError};
+use crate::raster::target::nearer;
+use crate::raster::{ActivePixel, Framebuffer};
+use crate::units::Bytes;
+
+/// Bytes of a control message (a request, a credit, a frame start).
+pub const CONTROL_BYTES: u64 = 16;
+
+/// The messages of the full-frame algorithms. Tags carry the frame (see [`tag`]).
+#[derive(Clone)]
+pub enum Msg {
+    /// The holder of the previous frame's image lets everyone start `frame`.
+    Start { frame: u32 },
+    /// Request balancing: `origin` asks around the ring for work.
+    WorkRequest { frame: u32, origin: u32 },
+    /// Request balancing: a packet of primitives for the node that asked (empty: the
+    /// asking node's own request came back unanswered, local termination).
+    WorkPacket { frame: u32, prims: Vec<u32> },
+    /// DF: the owner of band `band` asks for that part of a node's frame.
+    BandRequest { frame: u32, band: u32 },
+    /// DF: one node's part of band `band` (a full band is charged).
+    BandReply {
+        frame: u32,
+        pixels: Rc<Vec<ActivePixel>>,
+    },
+    /// DF: a merged partition on its way to the controller.
+    Partition {
+        frame: u32,
+        band: u32,
+        pixels: Vec<ActivePixel>,
+    },
+    /// PC and ScanlineFlow: rows merged so far (a whole chunk or scanline is charged).
+    Chunk {
+        frame: u32,
+        pixels: Vec<ActivePixel>,
+    },
+    /// PC and ScanlineFlow: an input buffer was freed (a credit for the sender).
+    Credit { frame: u32 },
+    /// A hand-off between two programs of one node (a semaphore), never on the network.
+    Local { frame: u32 },
+}
+
+/// Message kinds, the low bits of a tag.
+pub const START: u32 = 0;
+pub const WORK_REQUEST: u32 = 1;
+pub const WORK_PACKET: u32 = 2;
+pub const BAND_REQUEST: u32 = 4;
+pub const BAND_REPLY: u32 = 5;
+pub const PARTITION: u32 = 6;
+pub const CHUNK: u32 = 7;
+pub const CREDIT: u32 = 8;
+pub const LOCAL: u32 = 9;
+
+/// The tag of a message of `kind` in `frame`: frames never mix in a mailbox.
+pub fn tag(kind: u32, frame: u32) -> u32 {
+    (frame << 4) | kind
+}
+
+impl Payload for Msg {
+    fn tag(&self) -> u32 {
+        match self {
+            Msg::Start { frame } => tag(START, *frame),
+            Msg::WorkRequest { frame, .. } => tag(WORK_REQUEST, *frame),
+            Msg::WorkPacket { frame, .. } => tag(WORK_PACKET, *frame),
+            Msg::BandRequest { frame, .. } => tag(BAND_REQUEST, *frame),
+            Msg::BandReply { frame, .. } => tag(BAND_REPLY, *frame),
+            Msg::Partition { frame, .. } => tag(PARTITION, *frame),
+            Msg::Chunk { frame, .. } => tag(CHUNK, *frame),
+            Msg::Credit { frame } => tag(CREDIT, *frame),
+            Msg::Local { frame, .. } => tag(LOCAL, *frame),
+        }
+    }
+}
+
+/// A node's frame on the host: active pixels in raster order, and where each row starts.
+pub struct Rows {
+    pixels: Vec<ActivePixel>,
+    starts: Vec<usize>,
+}
+
+impl Rows {
+    /// From active pixels sorted by (y, x), for a viewport of `height` rows.
+    pub fn new(pixels: Vec<ActivePixel>, height: u32) -> Rows {
+        let mut starts = Vec::with_capacity(height as usize + 1);
+        let mut i = 0;
+        for y in 0..=height {
+            while i < pixels.len() && pixels[i].y < y {
+                i += 1;
+            }
+            starts.push(i);
+        }
+        Rows { pixels, starts }
+    }
+
+    /// The active pixels of rows `y0..y1`.
+    pub fn rows(&self, y0: u32, y1: u32) -> &[ActivePixel] {
+        &self.pixels[self.starts[y0 as usize]..self.starts[y1 as usize]]
+    }
+}
+
+/// Merges two raster-ordered pixel lists by depth: where both hold a pixel, the nearer one
+/// (`nearer`'s (depth, primitive) order) stays.
+pub fn merge(a: &[ActivePixel], b: &[ActivePixel]) -> Vec<ActivePixel> {
+    let mut out = Vec::with_capacity(a.len().max(b.len()));
+    let (mut i, mut j) = (0, 0);
+    while i < a.len() && j < b.len() {
+        let (p, q) = (a[i], b[j]);
+        match (p.y, p.x).cmp(&(q.y, q.x)) {
+            std::cmp::Ordering::Less => {
+                out.push(p);
+                i += 1;
+            }
+            std::cmp::Ordering::Greater => {
+                out.push(q);
+                j += 1;
+            }
+            std::cmp::Ordering::Equal => {
+                out.push(if nearer(q.z, q.prim, p.z, p.prim) {
+                    q
+                } else {
+                    p
+                });
+                i += 1;
+                j += 1;
+            }
+        }
+    }
+    out.extend_from_slice(&a[i..]);
+    out.extend_from_slice(&b[j..]);
+    out
+}
+
+/// The final image being assembled from merged pixels (one frame buffer: the holder's).
+pub struct Image {
+    width: u32,
+    colors: Vec<[u8; 3]>,
+    depths: Vec<u32>,
+}
+
+impl Image {
+    pub fn new(ctx: &Ctx) -> Image {
+        let n = ctx.viewport.pixels();
+        Image {
+            width: ctx.viewport.width(),
+            colors: vec![ctx.background; n],
+            depths: vec![u32::MAX; n],
+        }
+    }
+
+    pub fn put(&mut self, pixels: &[ActivePixel]) {
+        for p in pixels {
+            let i = (p.y * self.width + p.x) as usize;
+            self.colors[i] = p.rgb;
+            self.depths[i] = p.z;
+        }
+    }
+
+    pub fn finish(self, ctx: &Ctx) -> Framebuffer {
+        let mut fb = Framebuffer::with_clear(ctx.viewport, ctx.background);
+        let w = self.width as usize;
+        for y in 0..ctx.viewport.height() {
+            let o = y as usize * w;
+            fb.set_row(y, &self.colors[o..o + w], &self.depths[o..o + w]);
+        }
+        fb
+    }
+}
+
+/// Bytes of `rows` full scanlines as a node holds and ships them.
+pub fn rows_bytes(ctx: &Ctx, rows: u32) -> Bytes {
+    Bytes::new(rows as u64 * ctx.viewport.width() as u64 * super::FULL_FRAME_PIXEL_BYTES)
+}
+
+/// Starts `frame` on this node: the first frame starts at once; a later one when the holder
+/// of the previous frame's image says so. Node 0 records the frame's start.
+pub async fn start_frame(node: &Node<Msg>, ctx: &Ctx, frame: u32) {
+    if frame != ctx.cfg.frames.start {
+        node.recv(Filter::tag(tag(START, frame))).await;
+    }
+    if node.id() == 0 {
+        let now = node.now();
+        ctx.record(frame, |r| r.start = now);
+    }
+}
+
+/// Ends `frame` at the node holding its image: records the end and lets every other node
+/// start the next frame. (The holder itself starts the next frame when this returns.)
+pub async fn end_frame(node: &Node<Msg>, ctx: &Ctx, frame: u32) -> Result<(), SimError> {
+    let now = node.now();
+    ctx.record(frame, |r| r.end = now);
+    if !ctx.is_last(frame) {
+        let me = node.id();
+        for p in (0..ctx.n).filter(|&p| p != me) {
+            ctx.send(
+                node,
+                frame + 1,
+                p,
+                Bytes::new(CONTROL_BYTES),
+                Msg::Start { frame: frame + 1 },
+            )
+            .await;
+        }
+        node.post(
+            me,
+            crate::units::SimTime::ZERO,
+            Msg::Start { frame: frame + 1 },
+        );
+    }
+    Ok(())
+}
+
+/// Records when this node finished rasterizing `frame` (paper 001's load imbalance).
+pub fn raster_finished<M: Payload>(node: &Node<M>, ctx: &Ctx, frame: u32) {
+    let (me, now) = (node.id() as usize, node.now());
+    ctx.record(frame, |r| r.raster_finish[me] = now);
+}

@@ -1,0 +1,147 @@
+//! Pipeline Composition (paper 001, section 4.1, SLML-full; after PixelFlow) as one node's
+//! program.
+//!
+//! ```text
+//! clear my full frame; render my share (request balancing optional)
+//! node 0:   send my frame down the pipeline, chunk by chunk (`chunk-rows` scanlines)
+//! node i:   read thread: receive chunk c from node i-1 into the input double buffer
+//!           z-buffer thread: merge chunk c with my rows, free the input buffer (a credit)
+//!           send thread: pass the merged chunk to node i+1
+//! node N-1: read and merge only; its frame is the image
+//! ```
+//!
+//! The double buffer is a credit scheme: a sender sends chunk c only once chunk c-2 has been
+//! merged downstream, so at most two chunks wait in a node's mailbox. A chunk's pixels are
+//! charged in one compute, so events grow with chunks times nodes, not with pixels.
+//!
+//! Must never hold full frames on the host: chunks carry active pixels only.
+
+use std::cell::RefCell;
+use std::collections::VecDeque;
+use std::rc::Rc;
+
+use super::full_frame::{
+    self, merge, rows_bytes, tag, Image, Msg, Rows, CHUNK, CONTROL_BYTES, CREDIT, LOCAL,
+};
+use super::{local, request, Ctx};
+use crate::engine::{Filter, Node, SimError};
+use crate::machine::{Counts, Op};
+use crate::raster::ActivePixel;
+use crate::units::{Bytes, SimTime};
+
+/// Input buffers per node (paper 001: a double buffer).
+pub const INPUT_BUFFERS: u32 = 2;
+
+pub(super) async fn processor(node: Node<Msg>, ctx: Rc<Ctx>) -> Result<(), SimError> {
+    let me = node.id();
+    let n = ctx.n;
+    let h = ctx.viewport.height();
+    let rows_per = ctx.settings.chunk_rows.min(h);
+    let chunks = h.div_ceil(rows_per);
+    let extent = |c: u32| (c * rows_per, ((c + 1) * rows_per).min(h));
+    for frame in ctx.frames() {
+        full_frame::start_frame(&node, &ctx, frame).await;
+        node.phase("clear");
+        local::clear_full_frame(&node, &ctx).await?;
+        node.phase("render");
+        let rendered = request::render_share(&node, &ctx, frame).await?;
+        let rows = Rows::new(rendered.active_sorted(), h);
+        drop(rendered);
+
+        node.phase("merge");
+        let mut image = (me == n - 1).then(|| Image::new(&ctx));
+        if n == 1 {
+            if let Some(image) = &mut image {
+                image.put(rows.rows(0, h));
+            }
+        } else if me == 0 {
+            for c in 0..chunks {
+                if c >= INPUT_BUFFERS {
+                    node.recv(Filter::tag(tag(CREDIT, frame)).and_source(1))
+                        .await;
+                }
+                let (y0, y1) = extent(c);
+                let msg = Msg::Chunk {
+                    frame,
+                    pixels: rows.rows(y0, y1).to_vec(),
+                };
+                ctx.send(&node, frame, 1, rows_bytes(&ctx, y1 - y0), msg)
+                    .await;
+            }
+        } else {
+            let buffers = Bytes::new(INPUT_BUFFERS as u64 * rows_bytes(&ctx, rows_per).get());
+            node.alloc("input double buffer", buffers)?;
+            let outbox = Rc::new(RefCell::new(VecDeque::new()));
+            if me < n - 1 {
+                node.spawn(
+                    format!("send thread {me}"),
+                    send_thread(node.clone(), ctx.clone(), frame, chunks, outbox.clone()),
+                );
+            }
+            for c in 0..chunks {
+                let env = node
+                    .recv(Filter::tag(tag(CHUNK, frame)).and_source(me - 1))
+                    .await;
+                let Msg::Chunk { pixels, .. } = env.payload else {
+                    unreachable!("filtered by tag")
+                };
+                let (y0, y1) = extent(c);
+                let merged = merge(&pixels, rows.rows(y0, y1));
+                let width = ctx.viewport.width() as u64;
+                node.compute(&Counts::of(Op::CompositePixel, (y1 - y0) as u64 * width))
+                    .await;
+                ctx.send(
+                    &node,
+                    frame,
+                    me - 1,
+                    Bytes::new(CONTROL_BYTES),
+                    Msg::Credit { frame },
+                )
+                .await;
+                match &mut image {
+                    Some(image) => image.put(&merged),
+                    None => {
+                        outbox.borrow_mut().push_back(merged);
+                        node.post(me, SimTime::ZERO, Msg::Local { frame });
+                    }
+                }
+            }
+            node.free("input double buffer", buffers)?;
+        }
+        local::free_full_frame(&node, &ctx)?;
+        if let Some(image) = image {
+            if ctx.is_last(frame) {
+                ctx.set_image(image.finish(&ctx));
+            }
+            full_frame::end_frame(&node, &ctx, frame).await?;
+        }
+    }
+    Ok(())
+}
+
+/// Passes merged chunks to node i+1 as its input buffers free up.
+async fn send_thread(
+    node: Node<Msg>,
+    ctx: Rc<Ctx>,
+    frame: u32,
+    chunks: u32,
+    outbox: Rc<RefCell<VecDeque<Vec<ActivePixel>>>>,
+) -> Result<(), SimError> {
+    let me = node.id();
+    let h = ctx.viewport.height();
+    let rows_per = ctx.settings.chunk_rows.min(h);
+    for c in 0..chunks {
+        node.recv(Filter::tag(tag(LOCAL, frame)).and_source(me))
+            .await;
+        if c >= INPUT_BUFFERS {
+            node.recv(Filter::tag(tag(CREDIT, frame)).and_source(me + 1))
+                .await;
+        }
+        let pixels = outbox.borrow_mut().pop_front().unwrap_or_default();
+        let rows = ((c + 1) * rows_per).min(h) - c * rows_per;
+        let msg = Msg::Chunk { frame, pixels };
+        ctx.send(&node, frame, me + 1, rows_bytes(&ctx, rows), msg)
+            .await;
+    }
+    Ok(())
+}

@@ -1,0 +1,142 @@
+//! The rendering phase of paper 001's SLML-full algorithms (DF and PC), with or without its
+//! request-based dynamic load balancing (section 4.1).
+//!
+//! ```text
+//! scatter primitives; render my queue
+//! when my queue is empty: send a work request to node (i+1) mod N
+//!   a busy node splits its queue by `split` and answers with a packet (if it holds at least
+//!   `min-packet` primitives), else forwards the request; idle nodes forward
+//!   a packet arrives: render it and ask again
+//!   my own request comes back: local termination
+//! ```
+//!
+//! The balancer is a helper program on each node answering requests between batches (the
+//! cpu serves it first come, first served). A work packet carries its primitives at
+//! `DATABASE_BYTES_PER_TRIANGLE` each (sort-middle's database triangle: three vertices with
+//! position and normal, and a colour), plus a small header.
+//!
+//! Must never merge: it returns the node's rendered frame and records when rasterization
+//! finished.
+
+use std::cell::RefCell;
+use std::collections::VecDeque;
+use std::rc::Rc;
+
+use super::full_frame::{self, tag, Msg, CONTROL_BYTES, WORK_PACKET, WORK_REQUEST};
+use super::{local, Assignment, Ctx};
+use crate::algo::sort_middle::DATABASE_BYTES_PER_TRIANGLE;
+use crate::engine::{Filter, Node, SimError};
+use crate::raster::SparseBuffer;
+use crate::units::{Bytes, SimTime};
+
+/// Renders this node's share of `frame` into a sparse buffer (charged as a full frame by the
+/// caller), balancing on request when the run says so.
+pub(crate) async fn render_share(
+    node: &Node<Msg>,
+    ctx: &Rc<Ctx>,
+    frame: u32,
+) -> Result<SparseBuffer, SimError> {
+    let mut target = SparseBuffer::new(ctx.viewport);
+    let share = ctx.share(node, frame)?;
+    match ctx.settings.assignment {
+        Assignment::Request { split, min_packet } if ctx.n > 1 => {
+            let queue = Rc::new(RefCell::new(VecDeque::from(share)));
+            node.spawn_daemon(
+                format!("load balancer {}", node.id()),
+                balancer(
+                    node.clone(),
+                    ctx.clone(),
+                    frame,
+                    queue.clone(),
+                    split,
+                    min_packet,
+                ),
+            );
+            let mut finished = node.now();
+            loop {
+                loop {
+                    let batch: Vec<u32> = {
+                        let mut q = queue.borrow_mut();
+                        let k = q.len().min(local::BATCH);
+                        q.drain(..k).collect()
+                    };
+                    if batch.is_empty() {
+                        break;
+                    }
+                    local::render(node, ctx, frame, &batch, &mut target).await?;
+                    finished = node.now();
+                }
+                let next = (node.id() + 1) % ctx.n;
+                let request = Msg::WorkRequest {
+                    frame,
+                    origin: node.id(),
+                };
+                ctx.send(node, frame, next, Bytes::new(CONTROL_BYTES), request)
+                    .await;
+                let env = node.recv(Filter::tag(tag(WORK_PACKET, frame))).await;
+                let Msg::WorkPacket { prims, .. } = env.payload else {
+                    unreachable!("filtered by tag")
+                };
+                if prims.is_empty() {
+                    break; // my request came back unanswered: local termination
+                }
+                queue.borrow_mut().extend(prims);
+            }
+            let me = node.id() as usize;
+            ctx.record(frame, |r| r.raster_finish[me] = finished);
+        }
+        _ => {
+            local::render(node, ctx, frame, &share, &mut target).await?;
+            full_frame::raster_finished(node, ctx, frame);
+        }
+    }
+    Ok(target)
+}
+
+/// Answers work requests for `frame` between the renderer's batches.
+async fn balancer(
+    node: Node<Msg>,
+    ctx: Rc<Ctx>,
+    frame: u32,
+    queue: Rc<RefCell<VecDeque<u32>>>,
+    split: u32,
+    min_packet: u32,
+) -> Result<(), SimError> {
+    let me = node.id();
+    let next = (me + 1) % ctx.n;
+    loop {
+        let env = node.recv(Filter::tag(tag(WORK_REQUEST, frame))).await;
+        let Msg::WorkRequest { origin, .. } = env.payload else {
+            unreachable!("filtered by tag")
+        };
+        if origin == me {
+            let done = Msg::WorkPacket {
+                frame,
+                prims: Vec::new(),
+            };
+            node.post(me, SimTime::ZERO, done);
+            continue;
+        }
+        let packet = {
+            let mut q = queue.borrow_mut();
+            let give = q.len() / split as usize;
+            (give >= min_packet as usize && give > 0).then(|| {
+                let keep = q.len() - give;
+                q.split_off(keep)
+            })
+        };
+        match packet {
+            Some(prims) => {
+                let bytes = CONTROL_BYTES + prims.len() as u64 * DATABASE_BYTES_PER_TRIANGLE;
+                let prims: Vec<u32> = prims.into();
+                let msg = Msg::WorkPacket { frame, prims };
+                ctx.send(&node, frame, origin, Bytes::new(bytes), msg).await;
+            }
+            None => {
+                let msg = Msg::WorkRequest { frame, origin };
+                ctx.send(&node, frame, next, Bytes::new(CONTROL_BYTES), msg)
+                    .await;
+            }
+        }
+    }
+}

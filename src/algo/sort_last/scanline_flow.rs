@@ -1,0 +1,173 @@
+//! ScanlineFlow rasterization (paper 001, section 4.2, SLMF-full) as one node's program.
+//!
+//! ```text
+//! first pass: transform my share, bucket sort it by first scanline
+//! second pass, for each scanline y (top to bottom):
+//!   render y from my active polygon list into a scanline buffer
+//!   receive scanline y from node i-1 (all its pixels, active or not), z-merge it with mine
+//!   pass the merged scanline to node i+1; node N-1 holds the image
+//! ```
+//!
+//! Node i works on scanline y while node i-1 is on y+1: a triple buffer (one scanline being
+//! received, one merged, one sent) becomes a credit scheme of two scanlines in flight into
+//! each node; a node sends scanline y itself right after merging it (the send costs the cpu
+//! only its overhead, the link carries it while the next scanline is rendered). Rendering uses the scanline z-buffer renderer, so the image is the sequential
+//! z-buffer's bit for bit.
+//!
+//! Costs per scanline: clearing it, setting up the triangles it activates, visiting every
+//! active triangle, and inserting each newly active triangle into the active list by walking
+//! it (a sorted linked list: `active_list_op` per element passed, half the list on average).
+//! That insertion cost is what makes the sequential scanline renderer superlinear in the
+//! triangles per scanline, as paper 001 says of its own implementation.
+//!
+//! Must never hold full frames on the host: scanlines carry active pixels only.
+
+use std::rc::Rc;
+
+use super::full_frame::{self, merge, rows_bytes, tag, Image, Msg, CHUNK, CONTROL_BYTES, CREDIT};
+use super::Ctx;
+use crate::algo::charge;
+use crate::engine::{Filter, Node, SimError};
+use crate::machine::{Counts, Op};
+use crate::raster::{
+    render_scanlines_counted, setup_subset, ActivePixel, Counters, ScreenTriangle,
+};
+use crate::units::Bytes;
+
+/// Scanlines that may be in flight into a node (with the one being merged: a triple buffer).
+pub const IN_FLIGHT: u32 = 2;
+
+/// Bytes of one bucket-sorted triangle as the first pass stores it.
+pub const BUCKET_BYTES_PER_TRIANGLE: u64 = ScreenTriangle::PAYLOAD_BYTES as u64 + 4;
+
+/// One rendered scanline of this node: what rendering it costs and its active pixels.
+struct Line {
+    work: Counts,
+    pixels: Vec<ActivePixel>,
+}
+
+/// Renders `tris` scanline by scanline on the host and prices each scanline.
+fn render_lines(ctx: &Ctx, tris: &[ScreenTriangle]) -> (Vec<Line>, Counters) {
+    let width = ctx.viewport.width();
+    let mut lines = Vec::with_capacity(ctx.viewport.height() as usize);
+    let mut prev = Counters::default();
+    let total = render_scanlines_counted(tris, ctx.viewport, ctx.background, |line, c| {
+        let inserts = c.active_inserts - prev.active_inserts;
+        // The list while this scanline is drawn: everything inserted, minus what earlier
+        // scanlines removed.
+        let length = c.active_inserts - prev.active_removals;
+        let mut work = Counts::new();
+        work.add(Op::ClearPixel, width as u64)
+            .add(
+                Op::SetupTriangle,
+                c.triangles_scanned - prev.triangles_scanned,
+            )
+            .add(Op::ActiveListOp, length + inserts * length / 2)
+            .add(Op::Span, c.spans - prev.spans)
+            .add(Op::PixelTest, c.pixels_tested - prev.pixels_tested)
+            .add(Op::PixelWrite, c.pixels_written - prev.pixels_written);
+        let y = line.y();
+        let pixels = (0..width)
+            .filter(|&x| line.depths()[x as usize] != u32::MAX)
+            .map(|x| {
+                let i = x as usize;
+                ActivePixel {
+                    x,
+                    y,
+                    z: line.depths()[i],
+                    rgb: line.colors()[i],
+                    prim: line.prims()[i],
+                }
+            })
+            .collect();
+        lines.push(Line { work, pixels });
+        prev = *c;
+    });
+    (lines, total)
+}
+
+pub(super) async fn processor(node: Node<Msg>, ctx: Rc<Ctx>) -> Result<(), SimError> {
+    let me = node.id();
+    let n = ctx.n;
+    let h = ctx.viewport.height();
+    let width = ctx.viewport.width() as u64;
+    for frame in ctx.frames() {
+        full_frame::start_frame(&node, &ctx, frame).await;
+        node.phase("bucket sort");
+        let geometry = ctx.geometry(&node, frame)?;
+        let share = ctx.share(&node, frame)?;
+        let mut tris = Vec::new();
+        let front = setup_subset(
+            &geometry.vertices,
+            &geometry.triangles,
+            &share,
+            ctx.viewport,
+            &ctx.raster,
+            &mut tris,
+        );
+        ctx.record(frame, |r| {
+            r.triangles_in_view += front.triangles_in - front.culled_outside - front.culled_invalid
+        });
+        let (lines, total) = render_lines(&ctx, &tris);
+        let buckets = Bytes::new(total.bucket_inserts * BUCKET_BYTES_PER_TRIANGLE);
+        node.alloc("bucket-sorted triangles", buckets)?;
+        let mut work = charge::front_end(&front);
+        work.add(Op::BucketInsert, total.bucket_inserts);
+        node.compute(&work).await;
+        drop(tris);
+
+        node.phase("scanlines");
+        let line_bytes = rows_bytes(&ctx, 1);
+        let buffers = Bytes::new(3 * line_bytes.get());
+        node.alloc("scanline triple buffer", buffers)?;
+        let mut image = (me == n - 1).then(|| Image::new(&ctx));
+        for (y, line) in lines.into_iter().enumerate() {
+            let y = y as u32;
+            node.compute(&line.work).await;
+            if y + 1 == h {
+                full_frame::raster_finished(&node, &ctx, frame);
+            }
+            let merged = if me == 0 {
+                line.pixels
+            } else {
+                let env = node
+                    .recv(Filter::tag(tag(CHUNK, frame)).and_source(me - 1))
+                    .await;
+                let Msg::Chunk { pixels, .. } = env.payload else {
+                    unreachable!("filtered by tag")
+                };
+                let merged = merge(&pixels, &line.pixels);
+                node.compute(&Counts::of(Op::CompositePixel, width)).await;
+                let credit = Msg::Credit { frame };
+                ctx.send(&node, frame, me - 1, Bytes::new(CONTROL_BYTES), credit)
+                    .await;
+                merged
+            };
+            match &mut image {
+                Some(image) => image.put(&merged),
+                None => {
+                    // The send costs the cpu its overhead; the link carries the scanline
+                    // while the next one is rendered.
+                    if y >= IN_FLIGHT {
+                        node.recv(Filter::tag(tag(CREDIT, frame)).and_source(me + 1))
+                            .await;
+                    }
+                    let msg = Msg::Chunk {
+                        frame,
+                        pixels: merged,
+                    };
+                    ctx.send(&node, frame, me + 1, line_bytes, msg).await;
+                }
+            }
+        }
+        node.free("scanline triple buffer", buffers)?;
+        node.free("bucket-sorted triangles", buckets)?;
+        if let Some(image) = image {
+            if ctx.is_last(frame) {
+                ctx.set_image(image.finish(&ctx));
+            }
+            full_frame::end_frame(&node, &ctx, frame).await?;
+        }
+    }
+    Ok(())
+}
