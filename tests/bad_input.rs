@@ -186,6 +186,8 @@ fn bad_flags_are_refused_with_exit_code_2() {
                 "sort-middle/static",
                 "--procs",
                 "8",
+                "--set",
+                "machine.network.reconfigurable=false",
             ],
             "a torus cannot be partitioned, so ask for exactly 16",
         ),

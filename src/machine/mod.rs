@@ -24,6 +24,10 @@ pub struct MachineConfig {
     /// Memory capacity of each node's pool.
     pub memory_per_node: Bytes,
     pub network: NetworkConfig,
+    /// Whether the network can be rewired for a run: a torus of fewer nodes is then the
+    /// squarest two-dimensional torus of exactly that many (Helios mapping a torus onto the
+    /// MultiCluster's reconfigurable links, paper 001).
+    pub reconfigurable: bool,
 }
 
 impl MachineConfig {
@@ -31,7 +35,7 @@ impl MachineConfig {
     /// one-dimensional topologies (ring, pipeline, bus, crossbar) take any count; a mesh
     /// becomes the squarest sub-mesh of `nodes` that fits in it (the Delta ran on rectangular
     /// partitions); a hypercube a sub-cube; a torus, whose wrap-around links a partition would
-    /// not have, must be used whole.
+    /// not have, must be used whole unless the network is reconfigurable.
     pub fn with_nodes(&self, nodes: u32) -> Result<MachineConfig, String> {
         if nodes == 0 {
             return Err("the number of processors must be at least 1".into());
@@ -51,9 +55,10 @@ impl MachineConfig {
                 return Err(format!("a hypercube partition has a power-of-two node count; {nodes} is not"))
             }
             TopologyKind::Torus if nodes == self.nodes => self.network.dims.clone(),
+            TopologyKind::Torus if self.reconfigurable => squarest_torus(nodes),
             TopologyKind::Torus => {
                 return Err(format!(
-                    "machine '{}' is a {:?} torus of {} nodes; a torus cannot be partitioned, so ask for exactly {}",
+                    "machine '{}' is a {:?} torus of {} nodes; its network is not reconfigurable and a torus cannot be partitioned, so ask for exactly {}",
                     self.name, self.network.dims, self.nodes, self.nodes
                 ))
             }
@@ -63,6 +68,17 @@ impl MachineConfig {
         };
         Ok(m)
     }
+}
+
+/// The two-dimensional torus of exactly `nodes` nodes whose sides are closest, the longer
+/// first (8 nodes: 4x2).
+fn squarest_torus(nodes: u32) -> Vec<u32> {
+    let short = (1..=nodes)
+        .take_while(|d| d * d <= nodes)
+        .filter(|d| nodes % d == 0)
+        .last()
+        .unwrap_or(1);
+    vec![nodes / short, short]
 }
 
 /// The squarest box of exactly `nodes` nodes that fits in a mesh of `dims` (2D or 3D).
@@ -101,5 +117,14 @@ mod tests {
         assert_eq!(sub_mesh(&[16, 32], 17), Some(vec![1, 17]));
         assert_eq!(sub_mesh(&[16, 32], 37), None);
         assert_eq!(sub_mesh(&[4, 4, 4], 8), Some(vec![2, 2, 2]));
+    }
+
+    #[test]
+    fn a_rewired_torus_is_the_squarest_of_exactly_that_size() {
+        assert_eq!(squarest_torus(16), [4, 4]);
+        assert_eq!(squarest_torus(8), [4, 2]);
+        assert_eq!(squarest_torus(2), [2, 1]);
+        assert_eq!(squarest_torus(1), [1, 1]);
+        assert_eq!(squarest_torus(7), [7, 1]);
     }
 }

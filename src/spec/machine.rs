@@ -57,6 +57,10 @@ pub struct NetworkSpec {
     pub switching: SwitchingSpec,
     pub packet_size: Bytes,
     pub fidelity: FidelitySpec,
+    /// A reconfigurable network (the MultiCluster's) wires a torus of any size a run asks
+    /// for; a fixed torus must be used whole.
+    #[serde(default)]
+    pub reconfigurable: bool,
 }
 
 #[derive(Deserialize, Debug, Clone, Copy)]
@@ -155,6 +159,7 @@ pub fn validate(path: &Path, spec: MachineSpec) -> Result<MachineConfig, SpecErr
             overlap: spec.cpu.overlap,
         },
         memory_per_node: spec.memory.capacity_per_node,
+        reconfigurable: spec.network.reconfigurable,
         network,
     })
 }
