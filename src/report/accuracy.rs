@@ -311,11 +311,11 @@ fn charts(dir: &Path, s: &AccuracySummary, cost: &AccuracyCost) -> Result<(), Re
         log_x: false,
         y_from_zero: true,
     };
-    let title = |what: &str| format!("{what}: {} on {} ({} procs)", s.algo, s.machine, s.procs);
+    let title = |what: &str| format!("{what} ({}, {} procs)", s.machine, s.procs);
     let y = "image error (MAE, levels)";
     line_chart(
         &dir.join("error-vs-frame-time"),
-        &title("Image error vs simulated frame time"),
+        &title("Image error vs frame time"),
         "mean simulated frame time (ms)",
         y,
         &mode_points(s, |_, m| m.mean_frame_s * 1e3),
@@ -331,7 +331,7 @@ fn charts(dir: &Path, s: &AccuracySummary, cost: &AccuracyCost) -> Result<(), Re
     )?;
     line_chart(
         &dir.join("error-vs-wall"),
-        &title("Image error vs simulator wall time"),
+        &title("Image error vs wall time"),
         "simulator wall time (s)",
         y,
         &mode_points(s, |i, _| cost.modes[i].cost.wall_s),
@@ -345,11 +345,14 @@ fn charts(dir: &Path, s: &AccuracySummary, cost: &AccuracyCost) -> Result<(), Re
         .collect();
     line_chart(
         &dir.join("fidelity-vs-wall"),
-        &title("Predicted frame time vs simulator wall time"),
+        &title("Fidelity: frame time vs wall time"),
         "simulator wall time (s)",
         "mean simulated frame time (ms)",
         &fidelities,
-        scatter,
+        ChartOptions {
+            log_x: false,
+            y_from_zero: false,
+        },
     )?;
     Ok(())
 }
