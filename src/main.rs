@@ -10,7 +10,8 @@ use std::process::ExitCode;
 
 use clap::Parser;
 use cli::{
-    AccuracyArgs, BenchCommand, Cli, Command, FidelityArg, NetsimArgs, PholdArgs, RunArgs, SweepArgs,
+    AccuracyArgs, BenchCommand, Cli, Command, FidelityArg, NetsimArgs, PholdArgs, RunArgs,
+    SweepArgs,
 };
 use sortsim::algo::{reference, RunError};
 use sortsim::bench::{phold_report, PholdConfig};

@@ -100,7 +100,10 @@ fn flat_triangle_reference_interior_exact_edges_between() {
             }
         }
     }
-    assert!(interior > 800 && edge > 50, "{interior} interior, {edge} edge");
+    assert!(
+        interior > 800 && edge > 50,
+        "{interior} interior, {edge} edge"
+    );
     // Only pixels an edge passes through can differ from the one-sample render.
     let e = image_error(plain.colors(), &levels).unwrap();
     let bound = near_edge as f64 / f64::from(SIZE * SIZE) * 255.0;
@@ -188,7 +191,9 @@ fn ideal_equals_hops_under_wormhole_switching() {
     assert_eq!(s.fidelities[0].fidelity, Fidelity::Ideal);
     assert_eq!(s.fidelities[1].fidelity, Fidelity::Hops);
     assert_eq!(t[0], t[1]);
-    assert!(t.iter().all(|m| m.mean_frame > sortsim::units::SimTime::ZERO));
+    assert!(t
+        .iter()
+        .all(|m| m.mean_frame > sortsim::units::SimTime::ZERO));
     let none = &s.modes[0];
     assert!(none.error.mae_levels > 0.0);
     assert!(none.measure.memory_max >= none.measure.memory_mean);

@@ -332,7 +332,12 @@ fn run_fidelity(
 pub fn measure(result: &RunResult) -> RunMeasure {
     let frames = result.frames.len().max(1) as u64;
     let total: u128 = result.frames.iter().map(|f| f.time().ps() as u128).sum();
-    let marks: Vec<u64> = result.stats.memory.iter().map(|p| p.high_water.get()).collect();
+    let marks: Vec<u64> = result
+        .stats
+        .memory
+        .iter()
+        .map(|p| p.high_water.get())
+        .collect();
     let nodes = marks.len().max(1) as u64;
     RunMeasure {
         mean_frame: SimTime::from_ps((total / frames as u128) as u64),
@@ -368,9 +373,18 @@ mod tests {
             AaMode::Supersample(16).option_value().as_deref(),
             Some("supersample:16")
         );
-        for bad in ["fxaa", "supersample:0", "supersample:x", "supersample:", "super"] {
+        for bad in [
+            "fxaa",
+            "supersample:0",
+            "supersample:x",
+            "supersample:",
+            "super",
+        ] {
             let e = bad.parse::<AaMode>().unwrap_err();
-            assert!(e.contains(bad) && e.contains("valid: none, adaptive"), "{e}");
+            assert!(
+                e.contains(bad) && e.contains("valid: none, adaptive"),
+                "{e}"
+            );
         }
     }
 }

@@ -139,12 +139,7 @@ fn tiles(width: u32, height: u32, scale: u32) -> Vec<Tile> {
 }
 
 /// Draws the piece `tile` of the virtual image into a framebuffer of its own size.
-fn draw_tile(
-    frame: &FrameGeometry,
-    scratch: &mut [Vertex],
-    tile: Tile,
-    scale: u32,
-) -> Framebuffer {
+fn draw_tile(frame: &FrameGeometry, scratch: &mut [Vertex], tile: Tile, scale: u32) -> Framebuffer {
     let vp = Viewport::new(tile.x1 - tile.x0, tile.y1 - tile.y0).expect("tiles are small");
     let map = tile_clip_map(frame.width * scale, frame.height * scale, tile);
     for (dst, src) in scratch.iter_mut().zip(&frame.vertices) {

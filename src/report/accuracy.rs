@@ -276,8 +276,16 @@ pub fn write_report(dir: &Path, study: &Study) -> Result<String, ReportError> {
     write(dir, "accuracy.json", to_json(&summary).as_bytes())?;
     write(dir, "cost.json", to_json(&cost).as_bytes())?;
     write(dir, "accuracy.md", md.as_bytes())?;
-    write(dir, "fidelity.txt", fidelity_text(&summary, &cost).as_bytes())?;
-    write(dir, "reference.png", &png(&study.reference.to_framebuffer())?)?;
+    write(
+        dir,
+        "fidelity.txt",
+        fidelity_text(&summary, &cost).as_bytes(),
+    )?;
+    write(
+        dir,
+        "reference.png",
+        &png(&study.reference.to_framebuffer())?,
+    )?;
     for m in &study.modes {
         let name = format!("frame-{}.png", m.mode.name().replace(':', "-"));
         write(dir, &name, &png(&m.image)?)?;
