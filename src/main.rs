@@ -230,8 +230,12 @@ fn accuracy(args: &AccuracyArgs) -> Result<(), Failure> {
     let mut fidelities: Vec<Fidelity> = args.fidelities.iter().map(|&f| fidelity(f)).collect();
     fidelities.sort_unstable();
     fidelities.dedup();
-    let mut modes = args.modes.clone();
-    modes.dedup();
+    let mut modes = Vec::new();
+    for m in &args.modes {
+        if !modes.contains(m) {
+            modes.push(*m);
+        }
+    }
     let cfg = StudyConfig {
         run: RunSpec {
             machine: args.machine.clone(),

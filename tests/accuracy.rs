@@ -164,6 +164,14 @@ fn reference_is_independent_of_banding_and_columns() {
 }
 
 fn study(machine: &str, fidelities: Vec<Fidelity>) -> sortsim::accuracy::Study {
+    study_with(machine, fidelities, Default::default())
+}
+
+fn study_with(
+    machine: &str,
+    fidelities: Vec<Fidelity>,
+    set: std::collections::BTreeMap<String, String>,
+) -> sortsim::accuracy::Study {
     let cfg = StudyConfig {
         run: RunSpec {
             machine: root().join(machine),
@@ -172,7 +180,7 @@ fn study(machine: &str, fidelities: Vec<Fidelity>) -> sortsim::accuracy::Study {
             procs: 4,
             frames: None,
             seed: 1,
-            set: Default::default(),
+            set,
         },
         modes: vec![AaMode::None],
         fidelities,
@@ -198,6 +206,20 @@ fn ideal_equals_hops_under_wormhole_switching() {
     assert!(none.error.mae_levels > 0.0);
     assert!(none.measure.memory_max >= none.measure.memory_mean);
     assert!(none.measure.memory_max.get() > 0);
+}
+
+#[test]
+fn mode_none_and_the_fidelity_runs_drop_a_user_aa_option() {
+    // `none` means no option at all, whatever --set says; the runs then succeed whether or
+    // not the algorithm knows `aa`.
+    let set = [("aa".to_string(), "supersample:16".to_string())].into();
+    let s = study_with("machines/delta.json", vec![Fidelity::Hops], set);
+    assert!(s.base.options.pairs().any(|(k, _)| k == "aa"));
+    assert_eq!(s.modes.len(), 1);
+    assert_eq!(s.fidelities.len(), 1);
+    let plain = study("machines/delta.json", vec![Fidelity::Hops]);
+    assert_eq!(s.modes[0].measure, plain.modes[0].measure);
+    assert_eq!(s.modes[0].image, plain.modes[0].image);
 }
 
 fn sortsim(args: &[&str]) -> Output {

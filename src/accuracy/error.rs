@@ -4,10 +4,8 @@
 //! Owns the metric and nothing else. Must never render, round the reference (it compares
 //! against the exact box-filtered mean), or depend on anything but the two images.
 
-use serde::Serialize;
-
 /// How far an 8-bit image is from a reference.
-#[derive(Clone, Copy, Debug, Default, PartialEq, Serialize)]
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
 pub struct ImageError {
     /// Mean over pixels and the three channels of |image - reference|, in levels.
     pub mae_levels: f64,

@@ -224,16 +224,8 @@ pub fn run_study(cfg: &StudyConfig, progress: &mut dyn FnMut(&str)) -> Result<St
     })
 }
 
-/// The run spec with extra `set` entries (they replace the user's own for the same key).
-fn spec_with(run: &RunSpec, extra: &[(&str, String)]) -> RunSpec {
-    let mut spec = run.clone();
-    for (k, v) in extra {
-        spec.set.insert((*k).to_string(), v.clone());
-    }
-    spec
-}
-
-/// Resolves and checks one config per mode, before anything runs.
+/// Resolves and checks one config per mode, before anything runs. A mode's `aa` replaces
+/// any `aa` the user set; `none` removes it.
 fn resolve_modes(
     cfg: &StudyConfig,
     scene: &Arc<Scene>,
@@ -241,12 +233,12 @@ fn resolve_modes(
     cfg.modes
         .iter()
         .map(|&mode| {
-            let extra: Vec<(&str, String)> = mode
-                .option_value()
-                .map(|v| (AA_OPTION, v))
-                .into_iter()
-                .collect();
-            let run_cfg = spec_with(&cfg.run, &extra).resolve(Some(scene.clone()))?;
+            let mut spec = cfg.run.clone();
+            match mode.option_value() {
+                Some(v) => spec.set.insert(AA_OPTION.to_string(), v),
+                None => spec.set.remove(AA_OPTION),
+            };
+            let run_cfg = spec.resolve(Some(scene.clone()))?;
             check_options(&run_cfg).map_err(|source| StudyError::Mode {
                 mode: mode.name(),
                 source,
@@ -256,7 +248,8 @@ fn resolve_modes(
         .collect()
 }
 
-/// Resolves and checks one config per fidelity (anti-aliasing `none`), before anything runs.
+/// Resolves and checks one config per fidelity (anti-aliasing `none`: any `aa` the user set
+/// is removed), before anything runs.
 fn resolve_fidelities(
     cfg: &StudyConfig,
     scene: &Arc<Scene>,
@@ -264,8 +257,9 @@ fn resolve_fidelities(
     cfg.fidelities
         .iter()
         .map(|&fidelity| {
-            let extra = [(FIDELITY_KEY, fidelity.name().to_string())];
-            let mut spec = spec_with(&cfg.run, &extra);
+            let mut spec = cfg.run.clone();
+            spec.set
+                .insert(FIDELITY_KEY.to_string(), fidelity.name().to_string());
             spec.set.remove(AA_OPTION);
             let run_cfg = spec.resolve(Some(scene.clone()))?;
             check_options(&run_cfg).map_err(|source| StudyError::Fidelity {
@@ -348,12 +342,14 @@ pub fn measure(result: &RunResult) -> RunMeasure {
     }
 }
 
-/// The base run's options as a sorted map (for reports).
+/// The base run's options as a sorted map (for reports), without `aa`: each mode says its
+/// own.
 pub fn base_options(study: &Study) -> BTreeMap<String, String> {
     study
         .base
         .options
         .pairs()
+        .filter(|(k, _)| k.as_str() != AA_OPTION)
         .map(|(k, v)| (k.clone(), v.clone()))
         .collect()
 }
