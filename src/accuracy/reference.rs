@@ -10,7 +10,8 @@
 //! ("scale the geometry", [`tile_clip_map`]), so every snapped coordinate stays inside the
 //! rasterizer's guard band and fixed-point range whatever the scale and resolution. Host
 //! memory is one piece's colour and depth buffer (at most `BAND_SAMPLE_ROWS` rows of
-//! `MAX_VIEWPORT` samples, 11 bytes each) plus a copy of the frame's vertices.
+//! `MAX_VIEWPORT` samples, 11 bytes each) plus a copy of the frame's vertices and, per band,
+//! the list of triangles whose rows reach it (so each band sets up only those).
 //!
 //! The geometry snaps to 1/256 of a *sample* spacing, finer than the 1/256 pixel of a normal
 //! render; the reference is the more exact of the two.
@@ -22,7 +23,7 @@ use glam::Vec4;
 
 use crate::algo::reference::raster_options;
 use crate::raster::screen::MAX_VIEWPORT;
-use crate::raster::{draw_mesh, Framebuffer, Vertex, Viewport};
+use crate::raster::{draw_subset, Framebuffer, Vertex, Viewport};
 use crate::scene::FrameGeometry;
 
 /// Sample rows per band, rounded down to whole output rows (at least one): at scale 16, 16
@@ -111,18 +112,60 @@ pub fn render_reference(frame: &FrameGeometry, scale: u32) -> Result<Reference, 
         sums: vec![[0; 3]; width as usize * height as usize],
     };
     let mut vertices = frame.vertices.clone();
+    let band = band_rows(scale);
+    let subsets = band_subsets(frame, band);
     for tile in tiles(width, height, scale) {
-        let fb = draw_tile(frame, &mut vertices, tile, scale);
+        let subset = &subsets[(tile.y0 / (band * scale)) as usize];
+        let fb = draw_tile(frame, &mut vertices, subset, tile, scale);
         accumulate(&mut out, &fb, tile);
     }
     Ok(out)
+}
+
+/// Output rows per band: about `BAND_SAMPLE_ROWS` sample rows, at least one output row.
+fn band_rows(scale: u32) -> u32 {
+    (BAND_SAMPLE_ROWS / scale).max(1)
+}
+
+/// For each band of `band` output rows, the triangles (in scene order) whose projected
+/// vertices' rows reach it, with a pixel of margin. A triangle with a vertex at or behind
+/// the eye (w <= 0), not finite or missing goes to every band: its projected extent is not
+/// its vertices' (the rasterizer culls what is invalid). Only a cost saving: a triangle left out would have drawn nothing in the band.
+fn band_subsets(frame: &FrameGeometry, band: u32) -> Vec<Vec<u32>> {
+    let bands = frame.height.div_ceil(band) as usize;
+    let mut out = vec![Vec::new(); bands];
+    let row = |v: &Vertex| {
+        let (y, w) = (f64::from(v.clip.y), f64::from(v.clip.w));
+        (w > 0.0 && (y / w).is_finite()).then(|| (1.0 - y / w) * 0.5 * f64::from(frame.height))
+    };
+    for (i, tri) in frame.triangles.iter().enumerate() {
+        let rows: Option<Vec<f64>> = tri
+            .iter()
+            .map(|&k| frame.vertices.get(k as usize).and_then(row))
+            .collect();
+        let range = match rows {
+            Some(r) => {
+                let lo = r.iter().copied().fold(f64::INFINITY, f64::min) - 1.0;
+                let hi = r.iter().copied().fold(f64::NEG_INFINITY, f64::max) + 1.0;
+                let last = bands as f64 - 1.0;
+                let first_band = (lo / f64::from(band)).floor().max(0.0);
+                let last_band = (hi / f64::from(band)).floor().min(last);
+                first_band as usize..=last_band as usize
+            }
+            None => 0..=bands - 1,
+        };
+        for subset in out.get_mut(range).into_iter().flatten() {
+            subset.push(i as u32);
+        }
+    }
+    out
 }
 
 /// Pieces of the virtual image, band by band, top to bottom and left to right. Every piece
 /// is whole pixels of the output and at most `MAX_VIEWPORT` samples on a side.
 fn tiles(width: u32, height: u32, scale: u32) -> Vec<Tile> {
     let (big_w, big_h) = (width * scale, height * scale);
-    let band = (BAND_SAMPLE_ROWS / scale).max(1) * scale;
+    let band = band_rows(scale) * scale;
     let column = (MAX_VIEWPORT / scale) * scale;
     let mut out = Vec::new();
     for y0 in (0..big_h).step_by(band as usize) {
@@ -139,16 +182,23 @@ fn tiles(width: u32, height: u32, scale: u32) -> Vec<Tile> {
 }
 
 /// Draws the piece `tile` of the virtual image into a framebuffer of its own size.
-fn draw_tile(frame: &FrameGeometry, scratch: &mut [Vertex], tile: Tile, scale: u32) -> Framebuffer {
+fn draw_tile(
+    frame: &FrameGeometry,
+    scratch: &mut [Vertex],
+    subset: &[u32],
+    tile: Tile,
+    scale: u32,
+) -> Framebuffer {
     let vp = Viewport::new(tile.x1 - tile.x0, tile.y1 - tile.y0).expect("tiles are small");
     let map = tile_clip_map(frame.width * scale, frame.height * scale, tile);
     for (dst, src) in scratch.iter_mut().zip(&frame.vertices) {
         dst.clip = map.apply(src.clip);
     }
     let mut fb = Framebuffer::with_clear(vp, frame.background);
-    draw_mesh(
+    draw_subset(
         scratch,
         &frame.triangles,
+        subset,
         vp,
         &raster_options(frame),
         &mut fb,
@@ -246,6 +296,35 @@ mod tests {
         let p = m.apply(Vec4::new(0.0, -0.5, 0.3, 1.0) * 2.0);
         assert!((p.x / p.w - 1.0).abs() < 1e-6 && (p.y / p.w + 1.0).abs() < 1e-6);
         assert_eq!(p.z, 0.6);
+    }
+
+    #[test]
+    fn band_subsets_keep_every_triangle_that_can_reach_a_band() {
+        let v = |y: f32, w: f32| Vertex {
+            clip: Vec4::new(0.0, y, 0.5, w),
+            color: glam::Vec3::ONE,
+        };
+        // Rows: NDC y = 1 - 2 * row / 64. Vertex 0..3 span rows 2..6; vertex 3 is behind the
+        // eye; vertex 4 sits on row 33, in band 2; triangle 3 has a missing vertex.
+        let frame = FrameGeometry {
+            width: 64,
+            height: 64,
+            vertices: vec![
+                v(1.0 - 4.0 / 64.0, 1.0),
+                v(1.0 - 12.0 / 64.0, 1.0),
+                v(1.0 - 8.0 / 64.0, 1.0),
+                v(0.0, -1.0),
+                v(1.0 - 66.0 / 64.0, 1.0),
+            ],
+            triangles: vec![[0, 1, 2], [0, 1, 3], [0, 4, 2], [0, 1, 99]],
+            cull_backfaces: false,
+            background: [0; 3],
+        };
+        let subsets = band_subsets(&frame, 16);
+        assert_eq!(
+            subsets,
+            vec![vec![0, 1, 2, 3], vec![1, 2, 3], vec![1, 2, 3], vec![1, 3]]
+        );
     }
 
     #[test]
