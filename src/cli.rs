@@ -224,12 +224,15 @@ pub struct RunArgs {
 
 #[derive(Args, Debug)]
 pub struct AccuracyArgs {
+    /// Scene spec; its last frame in --frames is the one compared with the reference.
     pub scene: PathBuf,
+    /// Machine spec (its network fidelity is the one the modes run at).
     #[arg(long)]
     pub machine: PathBuf,
     /// Algorithm id: sort-middle/static, sort-middle/ellsworth.
     #[arg(long)]
     pub algo: String,
+    /// Processors the run uses.
     #[arg(long)]
     pub procs: u32,
     /// "A..B" (B excluded) or "A"; all frames when absent. Images are compared on the last.
