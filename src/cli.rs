@@ -34,6 +34,12 @@ pub enum Command {
         after_help = "Example:\n  sortsim run --machine machines/delta.json --scene scenes/plb-head-standin.json \\\n      --algo sort-middle/ellsworth --procs 64 --frames 0..4 --set granularity=8 -o reports/plb-64"
     )]
     Run(RunArgs),
+    /// What accuracy costs in time: image error against a supersampled reference, simulated
+    /// frame time, memory and simulator wall time per anti-aliasing mode and network fidelity.
+    #[command(
+        after_help = "Example:\n  sortsim accuracy scenes/p000-tetra-500.json --machine machines/power-challenge.json \\\n      --algo sort-middle/static --procs 8 --frames 0..2 --modes none,adaptive,supersample:16 \\\n      --fidelities ideal,hops,flow,packet -o reports/accuracy/tetra\n\nModes other than none pass the option aa=<mode> to the algorithm; a fidelity sets\nmachine.network.fidelity. Wall times go to cost.json and accuracy.md only, so\naccuracy.json is byte-identical for identical inputs."
+    )]
+    Accuracy(AccuracyArgs),
     /// Draw one frame of a scene with the sequential reference renderer; print its statistics.
     #[command(
         after_help = "Example:\n  sortsim render scenes/spd-teapot.json --frame 0 -o teapot.png"
@@ -217,6 +223,56 @@ pub struct RunArgs {
 }
 
 #[derive(Args, Debug)]
+pub struct AccuracyArgs {
+    /// Scene spec; its last frame in --frames is the one compared with the reference.
+    pub scene: PathBuf,
+    /// Machine spec (its network fidelity is the one the modes run at).
+    #[arg(long)]
+    pub machine: PathBuf,
+    /// Algorithm id: sort-middle/static, sort-middle/ellsworth.
+    #[arg(long)]
+    pub algo: String,
+    /// Processors the run uses.
+    #[arg(long)]
+    pub procs: u32,
+    /// "A..B" (B excluded) or "A"; all frames when absent. Images are compared on the last.
+    #[arg(long)]
+    pub frames: Option<String>,
+    /// Anti-aliasing modes, comma-separated: none, adaptive, supersample:N.
+    #[arg(
+        long,
+        value_delimiter = ',',
+        default_value = "none,adaptive,supersample:16",
+        value_parser = aa_mode
+    )]
+    pub modes: Vec<sortsim::accuracy::AaMode>,
+    /// Network fidelities to run the `none` mode at, comma-separated.
+    #[arg(
+        long,
+        value_enum,
+        value_delimiter = ',',
+        default_value = "ideal,hops,flow,packet"
+    )]
+    pub fidelities: Vec<FidelityArg>,
+    /// key=value: an algorithm option (granularity=8) or a machine field (machine.cpu.send_overhead=100us).
+    #[arg(long = "set", value_name = "KEY=VALUE")]
+    pub set: Vec<String>,
+    #[arg(long, default_value_t = 1)]
+    pub seed: u64,
+    /// Samples per pixel side of the reference image (16: 16x16 samples per pixel).
+    #[arg(long, default_value_t = sortsim::accuracy::DEFAULT_REFERENCE_SCALE,
+          value_parser = clap::value_parser!(u32).range(1..=sortsim::accuracy::reference::MAX_SCALE as i64))]
+    pub reference_scale: u32,
+    /// Report folder; reports/accuracy/<scene name> when absent.
+    #[arg(short, long, value_name = "DIR")]
+    pub out: Option<PathBuf>,
+}
+
+fn aa_mode(s: &str) -> Result<sortsim::accuracy::AaMode, String> {
+    s.parse()
+}
+
+#[derive(Args, Debug)]
 pub struct SweepArgs {
     /// Sweep spec (JSON); its paths are relative to its own folder.
     pub spec: PathBuf,
@@ -245,7 +301,7 @@ pub struct NetsimArgs {
     pub out: Option<PathBuf>,
 }
 
-#[derive(ValueEnum, Clone, Copy, Debug)]
+#[derive(ValueEnum, Clone, Copy, Debug, PartialEq, Eq)]
 pub enum FidelityArg {
     Ideal,
     Hops,

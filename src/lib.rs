@@ -17,6 +17,7 @@
 //! assert_eq!(link.transfer_time(Bytes::new(17_000_000)).to_string(), "1s");
 //! ```
 
+pub mod accuracy;
 pub mod algo;
 pub mod bench;
 pub mod engine;

@@ -9,7 +9,10 @@ use std::path::{Path, PathBuf};
 use std::process::ExitCode;
 
 use clap::Parser;
-use cli::{BenchCommand, Cli, Command, FidelityArg, NetsimArgs, PholdArgs, RunArgs, SweepArgs};
+use cli::{
+    AccuracyArgs, BenchCommand, Cli, Command, FidelityArg, NetsimArgs, PholdArgs, RunArgs,
+    SweepArgs,
+};
 use sortsim::algo::{reference, RunError};
 use sortsim::bench::{phold_report, PholdConfig};
 use sortsim::engine::SimError;
@@ -55,13 +58,17 @@ impl From<RunSpecError> for Failure {
 
 impl From<RunError> for Failure {
     fn from(e: RunError) -> Failure {
-        match e {
-            // A machine too small for the run (memory) is the user's to fix; a deadlock is ours.
-            RunError::Sim(SimError::Memory { .. }) => Failure::BadInput(e.to_string()),
-            RunError::Sim(_) => Failure::Internal(e.to_string()),
-            _ => Failure::BadInput(e.to_string()),
+        if is_internal(&e) {
+            Failure::Internal(e.to_string())
+        } else {
+            Failure::BadInput(e.to_string())
         }
     }
+}
+
+/// A machine too small for the run (memory) is the user's to fix; a deadlock is ours.
+fn is_internal(e: &RunError) -> bool {
+    matches!(e, RunError::Sim(s) if !matches!(s, SimError::Memory { .. }))
 }
 
 impl From<sortsim::engine::SimError> for Failure {
@@ -78,6 +85,7 @@ fn main() -> ExitCode {
         Some(Command::Check { files }) => check_files(&files),
         Some(Command::Netsim(args)) => netsim(&args),
         Some(Command::Run(args)) => run(&args),
+        Some(Command::Accuracy(args)) => accuracy(&args),
         Some(Command::Render { scene, frame, out }) => render(&scene, frame, &out),
         Some(Command::SceneStats {
             scene,
@@ -146,12 +154,7 @@ fn netsim(args: &NetsimArgs) -> Result<(), Failure> {
         return Ok(());
     }
     if let Some(f) = args.fidelity {
-        network.fidelity = match f {
-            FidelityArg::Ideal => Fidelity::Ideal,
-            FidelityArg::Hops => Fidelity::Hops,
-            FidelityArg::Flow => Fidelity::Flow,
-            FidelityArg::Packet => Fidelity::Packet,
-        };
+        network.fidelity = fidelity(f);
     }
     let clock = Stopwatch::start();
     let report = run_pattern(&network, &pattern).map_err(in_pattern)?;
@@ -173,15 +176,7 @@ fn run(args: &RunArgs) -> Result<(), Failure> {
         procs: args.procs,
         frames: args.frames.clone(),
         seed: args.seed,
-        set: args
-            .set
-            .iter()
-            .map(|kv| {
-                kv.split_once('=')
-                    .map(|(k, v)| (k.trim().to_string(), v.trim().to_string()))
-                    .ok_or_else(|| Failure::BadInput(format!("--set {kv}: expected KEY=VALUE")))
-            })
-            .collect::<Result<_, _>>()?,
+        set: parse_set(&args.set)?,
     };
     let mut cfg = spec.resolve(None)?;
     cfg.timeline = !args.no_timeline;
@@ -205,6 +200,70 @@ fn run(args: &RunArgs) -> Result<(), Failure> {
         cost.wall_s,
         cost.events
     );
+    Ok(())
+}
+
+/// `--set KEY=VALUE` flags as a run spec's `set` map.
+fn parse_set(pairs: &[String]) -> Result<std::collections::BTreeMap<String, String>, Failure> {
+    pairs
+        .iter()
+        .map(|kv| {
+            kv.split_once('=')
+                .map(|(k, v)| (k.trim().to_string(), v.trim().to_string()))
+                .ok_or_else(|| Failure::BadInput(format!("--set {kv}: expected KEY=VALUE")))
+        })
+        .collect()
+}
+
+/// `sortsim accuracy`: every anti-aliasing mode and network fidelity of one run, against a
+/// supersampled reference; the report goes to `-o` (reports/accuracy/<scene name>).
+fn accuracy(args: &AccuracyArgs) -> Result<(), Failure> {
+    use sortsim::accuracy::{run_study, StudyConfig, StudyError};
+    let stem = args
+        .scene
+        .file_stem()
+        .map_or("scene".into(), |s| s.to_string_lossy().into_owned());
+    let out = args
+        .out
+        .clone()
+        .unwrap_or_else(|| PathBuf::from(format!("reports/accuracy/{stem}")));
+    let mut fidelities: Vec<Fidelity> = args.fidelities.iter().map(|&f| fidelity(f)).collect();
+    fidelities.sort_unstable();
+    fidelities.dedup();
+    let mut modes = Vec::new();
+    for m in &args.modes {
+        if !modes.contains(m) {
+            modes.push(*m);
+        }
+    }
+    let cfg = StudyConfig {
+        run: RunSpec {
+            machine: args.machine.clone(),
+            scene: args.scene.clone(),
+            algo: args.algo.clone(),
+            procs: args.procs,
+            frames: args.frames.clone(),
+            seed: args.seed,
+            set: parse_set(&args.set)?,
+        },
+        modes,
+        fidelities,
+        reference_scale: args.reference_scale,
+    };
+    let study = run_study(&cfg, &mut |line| println!("{line}")).map_err(|e| {
+        let internal = matches!(e, StudyError::Size(_)) || e.run_error().is_some_and(is_internal);
+        if internal {
+            Failure::Internal(e.to_string())
+        } else {
+            Failure::BadInput(e.to_string())
+        }
+    })?;
+    let markdown = sortsim::report::accuracy::write_report(&out, &study).map_err(|e| match e {
+        sortsim::report::accuracy::ReportError::Io { .. } => Failure::BadInput(e.to_string()),
+        _ => Failure::Internal(e.to_string()),
+    })?;
+    print!("\n{markdown}");
+    println!("\nreport written to {}", out.display());
     Ok(())
 }
 
@@ -390,6 +449,15 @@ fn bench_overhead(
         print!("{}", to_json(&report));
     }
     Ok(())
+}
+
+fn fidelity(f: FidelityArg) -> Fidelity {
+    match f {
+        FidelityArg::Ideal => Fidelity::Ideal,
+        FidelityArg::Hops => Fidelity::Hops,
+        FidelityArg::Flow => Fidelity::Flow,
+        FidelityArg::Packet => Fidelity::Packet,
+    }
 }
 
 fn fidelity_name(f: FidelityArg) -> &'static str {

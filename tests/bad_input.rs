@@ -365,6 +365,51 @@ fn bad_flags_are_refused_with_exit_code_2() {
             ],
             "--set buffer=10B: expected a buffer of at least",
         ),
+        (
+            &[
+                "accuracy",
+                "scenes/screen-demo.json",
+                "--machine",
+                "machines/delta.json",
+                "--algo",
+                "sort-middle/static",
+                "--procs",
+                "4",
+                "--modes",
+                "none,fxaa",
+            ],
+            "unknown anti-aliasing mode 'fxaa'; valid: none, adaptive, supersample:N",
+        ),
+        (
+            &[
+                "accuracy",
+                "scenes/screen-demo.json",
+                "--machine",
+                "machines/delta.json",
+                "--algo",
+                "sort-middle/static",
+                "--procs",
+                "4",
+                "--fidelities",
+                "ideal,warp",
+            ],
+            "invalid value 'warp' for '--fidelities",
+        ),
+        (
+            &[
+                "accuracy",
+                "scenes/screen-demo.json",
+                "--machine",
+                "machines/delta.json",
+                "--algo",
+                "sort-middle/static",
+                "--procs",
+                "4",
+                "--reference-scale",
+                "65",
+            ],
+            "--reference-scale",
+        ),
     ];
     for (args, fragment) in cases {
         let out = sortsim(args);

@@ -6,6 +6,7 @@
 //! Owns formatting and writing. Must never run a simulation, and never leave a half-written
 //! file: everything goes through `write_atomic`.
 
+pub mod accuracy;
 pub mod cost;
 pub mod plot;
 pub mod run;
