@@ -442,3 +442,96 @@ fn every_bad_sweep_is_refused_and_writes_nothing() {
         );
     }
 }
+
+/// Sort-last runs the machine cannot carry or whose options make no sense (paper 001's
+/// algorithms): exit 2, the message, and no report folder.
+#[test]
+fn sort_last_runs_refuse_what_the_machine_or_options_cannot_do() {
+    let out_dir =
+        std::env::temp_dir().join(format!("sortsim-bad-sort-last-{}", std::process::id()));
+    let cases: &[(&str, &str, &str, &[&str], &str)] = &[
+        (
+            "machines/multicluster-torus.json",
+            "sort-last/pc",
+            "16",
+            &[],
+            "no direct link from node 3 to node 4; use a machine whose topology is a pipeline or a ring",
+        ),
+        (
+            "machines/multicluster-torus.json",
+            "sort-last/scanline-flow",
+            "16",
+            &[],
+            "pipeline or a ring",
+        ),
+        (
+            "machines/multicluster-torus.json",
+            "sort-last/df",
+            "8",
+            &["machine.network.reconfigurable=false"],
+            "a torus cannot be partitioned, so ask for exactly 16",
+        ),
+        (
+            "machines/multicluster-pipeline.json",
+            "sort-last/scanline-flow",
+            "4",
+            &["assign=request"],
+            "only sort-last/df and sort-last/pc use it",
+        ),
+        (
+            "machines/multicluster-pipeline.json",
+            "sort-last/pc",
+            "4",
+            &["assign=request", "split=1"],
+            "a splitting factor of at least 2",
+        ),
+        (
+            "machines/multicluster-pipeline.json",
+            "sort-last/pc",
+            "4",
+            &["assign=request", "min-packet=0"],
+            "a whole number of primitives, at least 1",
+        ),
+        (
+            "machines/multicluster-pipeline.json",
+            "sort-last/pc",
+            "4",
+            &["assign=round-robin"],
+            "round-robin",
+        ),
+        (
+            "machines/multicluster-pipeline.json",
+            "sort-last/pc",
+            "4",
+            &["chunk-rows=0"],
+            "a whole number of scanlines, at least 1",
+        ),
+    ];
+    for (machine, algo, procs, sets, fragment) in cases {
+        let mut args = vec![
+            "run",
+            "--machine",
+            machine,
+            "--scene",
+            "scenes/spd-teapot.json",
+            "--algo",
+            algo,
+            "--procs",
+            procs,
+            "-o",
+            out_dir.to_str().unwrap(),
+        ];
+        for s in *sets {
+            args.extend(["--set", s]);
+        }
+        let out = sortsim(&args);
+        let stderr = String::from_utf8_lossy(&out.stderr);
+        assert_eq!(out.status.code(), Some(2), "{args:?}: {stderr}");
+        assert!(
+            stderr.contains(fragment),
+            "{args:?}: expected {fragment:?} in {stderr}"
+        );
+        assert!(!stderr.contains("panicked"), "{stderr}");
+        assert!(!out_dir.exists(), "{args:?}: a refused run wrote output");
+    }
+}
