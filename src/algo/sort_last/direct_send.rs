@@ -25,11 +25,13 @@ use crate::units::Bytes;
 
 #[derive(Clone, Debug)]
 pub(crate) enum Msg {
-    /// Pixels for the receiver's rows; `last` ends the sender's stream for the frame.
+    /// Pixels for the receiver's rows. `total` is set on the sender's last message of the
+    /// frame to the number of messages it sent this receiver (messages of different sizes
+    /// may overtake each other, so the flag alone would not do).
     Pixels {
         frame: u32,
         pixels: Rc<Vec<Px>>,
-        last: bool,
+        total: Option<u32>,
     },
     /// An owner's finished rows, active pixels only on the host (charged as full rows).
     Part { frame: u32, pixels: Rc<Vec<Px>> },
@@ -158,16 +160,24 @@ pub(crate) async fn processor(node: Node<Msg>, ctx: Rc<Ctx>) -> Result<(), SimEr
         stream.flush(&node, &ctx, frame, &mut part, true).await;
 
         node.phase("merge");
-        let mut finished = 1; // this node's own stream was merged as it was produced
-        while finished < n {
+        // This node's own stream was merged as it was produced.
+        let mut received = vec![0u32; n as usize];
+        let mut expected: Vec<Option<u32>> = vec![None; n as usize];
+        expected[me as usize] = Some(0);
+        let done = |r: &[u32], e: &[Option<u32>]| r.iter().zip(e).all(|(r, e)| Some(*r) == *e);
+        while !done(&received, &expected) {
             let env = node.recv(Filter::tag(2 * frame)).await;
-            let Msg::Pixels { pixels, last, .. } = env.payload else {
+            let src = env.src as usize;
+            let Msg::Pixels { pixels, total, .. } = env.payload else {
                 unreachable!("tag 2f carries pixels")
             };
             node.compute(&Counts::of(Op::CompositePixel, pixels.len() as u64))
                 .await;
             part.merge(&pixels);
-            finished += last as u32;
+            received[src] += 1;
+            if total.is_some() {
+                expected[src] = total;
+            }
         }
 
         node.phase("gather");
@@ -207,12 +217,15 @@ pub(crate) async fn processor(node: Node<Msg>, ctx: Rc<Ctx>) -> Result<(), SimEr
 /// A sender's pixels waiting per owner.
 struct Outgoing {
     pending: Vec<Vec<Px>>,
+    /// Messages sent to each node so far this frame.
+    sent: Vec<u32>,
 }
 
 impl Outgoing {
     fn new(n: u32) -> Outgoing {
         Outgoing {
             pending: vec![Vec::new(); n as usize],
+            sent: vec![0; n as usize],
         }
     }
 
@@ -266,10 +279,12 @@ impl Outgoing {
                 let count = chunks.len();
                 for (i, c) in chunks.into_iter().enumerate() {
                     let bytes = Bytes::new(c.len() as u64 * ACTIVE_PIXEL_BYTES);
+                    self.sent[dst as usize] += 1;
+                    let total = self.sent[dst as usize];
                     let msg = Msg::Pixels {
                         frame,
                         pixels: Rc::new(c.to_vec()),
-                        last: last && i + 1 == count,
+                        total: (last && i + 1 == count).then_some(total),
                     };
                     ctx.send(node, frame, dst, bytes, msg).await;
                 }

@@ -35,9 +35,14 @@ pub(crate) struct Rows {
 }
 
 impl Payload for Rows {
+    /// Frame and chunk, so a stage takes chunks in screen order even if one overtook another.
     fn tag(&self) -> u32 {
-        self.frame
+        chunk_tag(self.frame, self.y0)
     }
+}
+
+fn chunk_tag(frame: u32, y0: u32) -> u32 {
+    frame.wrapping_mul(16384).wrapping_add(y0)
 }
 
 /// One pipeline stage.
@@ -76,8 +81,8 @@ pub(crate) async fn processor(node: Node<Rows>, ctx: Rc<Ctx>) -> Result<(), SimE
             let merged = if me == 0 {
                 mine.to_vec()
             } else {
-                let env = node.recv(Filter::tag(frame).and_source(me - 1)).await;
-                debug_assert_eq!(env.payload.y0, y0, "chunks arrive in order");
+                let tag = chunk_tag(frame, y0);
+                let env = node.recv(Filter::tag(tag).and_source(me - 1)).await;
                 node.compute(&Counts::of(Op::CompositePixel, chunk_pixels))
                     .await;
                 sparse::merge_sorted(&env.payload.pixels, mine)

@@ -7,8 +7,8 @@
 //! pixel), which is the sequential z-buffer's pixel.
 //!
 //! The turn passes by a bus-order rule, not a token: node k starts broadcasting when it has
-//! seen node k-1's last message of the frame (a node with nothing left sends one empty
-//! message to end its turn), so the frame's bytes are exactly the broadcast pixels times
+//! seen all of node k-1's messages of the frame (the last one says how many there were; a
+//! node with nothing left sends one empty message to end its turn), so the frame's bytes are exactly the broadcast pixels times
 //! `ACTIVE_PIXEL_BYTES`.
 //!
 //! Host-side shortcut: listeners are charged for every test, but the host applies their
@@ -32,12 +32,13 @@ use crate::machine::{Counts, Op};
 use crate::raster::{SparseBuffer, ACTIVE_PIXEL_BYTES};
 use crate::units::Bytes;
 
-/// Broadcast pixels; `last` ends the sender's turn.
+/// Broadcast pixels. `total` is set on the last message of the sender's turn to the
+/// number of messages of the turn (so a turn ends right even if messages overtook).
 #[derive(Clone, Debug)]
 pub(crate) struct Broadcast {
     frame: u32,
     pixels: Rc<Vec<Px>>,
-    last: bool,
+    total: Option<u32>,
 }
 
 impl Payload for Broadcast {
@@ -128,12 +129,13 @@ pub(crate) async fn processor(
                     let msg = Broadcast {
                         frame,
                         pixels: Rc::new(c.to_vec()),
-                        last: i + 1 == count,
+                        total: (i + 1 == count).then_some(count as u32),
                     };
                     ctx.broadcast(&node, frame, bytes, msg).await?;
                 }
             } else {
                 node.phase("snoop");
+                let (mut received, mut expected) = (0, None);
                 loop {
                     let env = node.recv(Filter::tag(frame).and_source(turn)).await;
                     let len = env.payload.pixels.len() as u64;
@@ -142,7 +144,11 @@ pub(crate) async fn processor(
                         work.add(Op::PixelWrite, len);
                     }
                     node.compute(&work).await;
-                    if env.payload.last {
+                    received += 1;
+                    if let Some(total) = env.payload.total {
+                        expected = Some(total);
+                    }
+                    if expected == Some(received) {
                         break;
                     }
                 }
