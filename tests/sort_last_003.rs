@@ -183,10 +183,12 @@ fn snooping_broadcasts_equal_trace_replay() {
         }
         // Where the run's deal and replay's own rule coincide (scatter over a database whose
         // every primitive has fragments), replay's own configuration gives the same count.
-        if trace.len() > 0 && replay.present().len() == geometry.triangles.len() {
+        if !trace.is_empty() && replay.present().len() == geometry.triangles.len() {
             let own = replay.pass(&replay.assignment(Deal::Scatter, 16, 1));
             let r = simulate(name, &s, "sort-last/snooping", 16, &[]);
             assert_eq!(r.frames[0].bytes.get() / ACTIVE_PIXEL_BYTES, own.broadcast);
+        } else {
+            eprintln!("{name}: some primitives have no fragments; replay's own deal differs");
         }
     }
 }
