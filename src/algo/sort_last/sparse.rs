@@ -180,3 +180,39 @@ impl Target for BucketTarget {
         self.fragments += span.len() as u64;
     }
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn px(loc: u32, z: u32, prim: u32) -> Px {
+        Px {
+            loc,
+            z,
+            prim,
+            rgb: [prim as u8; 3],
+        }
+    }
+
+    #[test]
+    fn merge_keeps_raster_order_and_the_nearer_pixel() {
+        let a = [px(1, 5, 0), px(3, 7, 2), px(4, 1, 9)];
+        let b = [px(0, 9, 1), px(3, 7, 1), px(4, 2, 3)];
+        let m = merge_sorted(&a, &b);
+        let got: Vec<(u32, u32)> = m.iter().map(|p| (p.loc, p.prim)).collect();
+        // Location 3 ties in depth: the lower primitive id wins.
+        assert_eq!(got, [(0, 1), (1, 0), (3, 1), (4, 9)]);
+    }
+
+    #[test]
+    fn image_depth_test_and_unconditional_put() {
+        let mut img = Image::new(2);
+        assert_eq!(img.pixel(0, 0), None);
+        assert!(img.merge(0, &px(0, 4, 3)));
+        assert!(!img.merge(0, &px(0, 4, 5)));
+        assert!(img.merge(0, &px(0, 4, 2)));
+        img.put(1, &px(1, 9, 9));
+        assert_eq!(img.pixel(0, 0).map(|p| p.prim), Some(2));
+        assert_eq!(img.pixel(1, 1).map(|p| p.z), Some(9));
+    }
+}
