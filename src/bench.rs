@@ -1,5 +1,6 @@
 //! Benchmarks reachable from the command line (`sortsim bench ...`): PHOLD on the engine,
-//! measured against a bare binary-heap PHOLD loop in the same run.
+//! measured against a bare binary-heap PHOLD loop in the same run; trace replay (paper 003)
+//! against one pass over the fragments.
 //!
 //! Owns workload definitions and wall-clock measurement. Wall-clock time is read here and in
 //! `report::cost` only, never inside a simulation.
@@ -325,5 +326,87 @@ pub fn overhead(
         ratio: simulate_wall / render_wall.max(1e-9),
         events: result.stats.events,
         messages: result.frames.iter().map(|f| f.messages).sum(),
+    })
+}
+
+/// Trace replay's speed (paper 003's trace-driven simulation; issue 5 asks for "a 6.5 M-pixel
+/// trace for n = 1..64 in a few seconds"): records one frame of `scene` (the Cube stand-in
+/// has 6.46 M fragments), then replays direct send, PixelFlow and snooping for every n of
+/// `procs`, against a baseline measured in the same run: one pass over the fragments (a
+/// sequential z-buffer on the trace's pixel indices).
+#[derive(Clone, Debug, Serialize)]
+pub struct ReplayBench {
+    pub scene: String,
+    pub fragments: u64,
+    pub area_pixels: u64,
+    pub procs: Vec<u32>,
+    pub assign: &'static str,
+    /// Rasterizing the frame into a trace (not part of replay).
+    pub record_wall_s: f64,
+    /// One pass over the fragments.
+    pub baseline_wall_s: f64,
+    /// Grouping the fragments by pixel, once per trace (`Replay::new`).
+    pub prepare_wall_s: f64,
+    /// Replaying the three algorithms for every n.
+    pub replay_wall_s: f64,
+    pub prepare_over_baseline: f64,
+    pub replay_over_baseline: f64,
+    /// Replay time per n, over the baseline.
+    pub replay_per_n_over_baseline: f64,
+    /// Sum of every row's traffic: the same for every run of the same inputs.
+    pub traffic_checksum: u64,
+}
+
+pub fn replay_bench(
+    scene: &std::path::Path,
+    frame: u32,
+    procs: Vec<u32>,
+    assign: crate::algo::primitives::Deal,
+    seed: u64,
+) -> Result<ReplayBench, String> {
+    use crate::trace::replay::{Algo, Replay, ReplayConfig};
+    let scene_data = crate::scene::Scene::load(scene).map_err(|e| e.to_string())?;
+    let t0 = Instant::now();
+    let trace = crate::trace::record_scene(&scene_data, frame).map_err(|e| e.to_string())?;
+    let record_wall = t0.elapsed().as_secs_f64();
+
+    let t1 = Instant::now();
+    let mut zbuffer = vec![u32::MAX; trace.area()];
+    for (&p, &z) in trace.pixels().iter().zip(trace.depths()) {
+        let slot = &mut zbuffer[p as usize];
+        *slot = (*slot).min(z);
+    }
+    std::hint::black_box(&zbuffer);
+    let baseline_wall = t1.elapsed().as_secs_f64().max(1e-9);
+    drop(zbuffer);
+
+    let t2 = Instant::now();
+    let replay = Replay::new(&trace);
+    let prepare_wall = t2.elapsed().as_secs_f64();
+    let config = ReplayConfig {
+        algos: Algo::ALL.to_vec(),
+        procs: procs.clone(),
+        assign,
+        seed,
+        local_zbuffer: false,
+    };
+    let t3 = Instant::now();
+    let report = replay.run(&config);
+    let replay_wall = t3.elapsed().as_secs_f64();
+    let traffic_checksum = report.rows.iter().map(|r| r.pixels).sum();
+    Ok(ReplayBench {
+        scene: scene.display().to_string(),
+        fragments: trace.len() as u64,
+        area_pixels: trace.area() as u64,
+        assign: assign.name(),
+        record_wall_s: record_wall,
+        baseline_wall_s: baseline_wall,
+        prepare_wall_s: prepare_wall,
+        replay_wall_s: replay_wall,
+        prepare_over_baseline: prepare_wall / baseline_wall,
+        replay_over_baseline: replay_wall / baseline_wall,
+        replay_per_n_over_baseline: replay_wall / baseline_wall / procs.len().max(1) as f64,
+        procs,
+        traffic_checksum,
     })
 }

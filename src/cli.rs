@@ -333,6 +333,26 @@ pub enum BenchCommand {
         #[arg(long, value_enum)]
         fidelity: Vec<FidelityArg>,
     },
+    /// Trace replay (paper 003) of one recorded frame for many n, against one pass over the
+    /// fragments in the same run.
+    #[command(
+        after_help = "Example:\n  sortsim bench replay --scene scenes/p003-cube.json --procs all"
+    )]
+    Replay {
+        /// The scene whose frame is recorded (the Cube stand-in: 6.46 M fragments).
+        #[arg(long, default_value = "scenes/p003-cube.json")]
+        scene: PathBuf,
+        #[arg(long, default_value_t = 0)]
+        frame: u32,
+        /// `all` (n = 1..=64) or `pow2` (1, 2, 4, ..., 64).
+        #[arg(long, default_value = "all", value_parser = ["all", "pow2"])]
+        procs: String,
+        /// Primitive assignment: scatter, random or background-last.
+        #[arg(long, default_value = "scatter", value_parser = ["scatter", "random", "background-last"])]
+        assign: String,
+        #[arg(long, default_value_t = 1)]
+        seed: u64,
+    },
 }
 
 #[derive(Args, Debug)]

@@ -101,6 +101,13 @@ fn main() -> ExitCode {
             frame,
             fidelity,
         })) => bench_overhead(&machine, &scene, procs, frame, &fidelity),
+        Some(Command::Bench(BenchCommand::Replay {
+            scene,
+            frame,
+            procs,
+            assign,
+            seed,
+        })) => bench_replay(&scene, frame, &procs, &assign, seed),
         Some(Command::Utilization(args)) => utilization(&args),
         Some(Command::Trace(cmd)) => trace_command(&cmd),
         Some(Command::Sweep(args)) => sweep(&args),
@@ -458,6 +465,25 @@ fn fidelity(f: FidelityArg) -> Fidelity {
         FidelityArg::Flow => Fidelity::Flow,
         FidelityArg::Packet => Fidelity::Packet,
     }
+}
+
+fn bench_replay(
+    scene: &Path,
+    frame: u32,
+    procs: &str,
+    assign: &str,
+    seed: u64,
+) -> Result<(), Failure> {
+    let procs: Vec<u32> = match procs {
+        "pow2" => (0..=6).map(|k| 1 << k).collect(),
+        _ => (1..=64).collect(),
+    };
+    let rule = sortsim::algo::primitives::Deal::from_name(assign)
+        .ok_or_else(|| Failure::BadInput(format!("--assign {assign}: unknown rule")))?;
+    let report =
+        sortsim::bench::replay_bench(scene, frame, procs, rule, seed).map_err(Failure::BadInput)?;
+    print!("{}", to_json(&report));
+    Ok(())
 }
 
 fn fidelity_name(f: FidelityArg) -> &'static str {

@@ -124,11 +124,12 @@ pub struct Report {
 /// A trace prepared for replay: fragments regrouped by pixel once.
 pub struct Replay<'a> {
     trace: &'a Trace,
-    /// Fragments of pixel p are `order[offsets[p]..offsets[p + 1]]`, in generation order.
+    /// Fragments of pixel p are `order[offsets[p]..offsets[p + 1]]`, nearest first
+    /// (`nearer`'s (depth, primitive id) order, then generation order): sorted once, so a
+    /// pass for any assignment is one linear scan.
     offsets: Vec<u32>,
     order: Vec<u32>,
-    /// Depth and primitive of `order[i]`, stored in pixel order for a linear scan.
-    z: Vec<u32>,
+    /// Primitive of `order[i]`, stored in pixel order for a linear scan.
     prim: Vec<u32>,
     /// Primitive ids present in the trace, ascending, and their fragment counts.
     present: Vec<u32>,
@@ -143,15 +144,6 @@ pub struct PassCounts {
     pub local_active: u64,
     /// Pixels broadcast by distributed snooping.
     pub broadcast: u64,
-}
-
-/// One processor's local winner at a pixel.
-#[derive(Clone, Copy, Debug)]
-struct Local {
-    proc: u32,
-    z: u32,
-    prim: u32,
-    index: u32,
 }
 
 impl<'a> Replay<'a> {
@@ -178,8 +170,24 @@ impl<'a> Replay<'a> {
             order[next[p as usize] as usize] = i as u32;
             next[p as usize] += 1;
         }
-        let z = order.iter().map(|&i| trace.depths()[i as usize]).collect();
-        let prim = order.iter().map(|&i| trace.prims()[i as usize]).collect();
+        let (depths, prims) = (trace.depths(), trace.prims());
+        for p in 0..area {
+            let run = &mut order[offsets[p] as usize..offsets[p + 1] as usize];
+            if run.len() > 1 {
+                run.sort_unstable_by(|&i, &j| {
+                    let (zi, pi) = (depths[i as usize], prims[i as usize]);
+                    let (zj, pj) = (depths[j as usize], prims[j as usize]);
+                    if nearer(zi, pi, zj, pj) {
+                        std::cmp::Ordering::Less
+                    } else if nearer(zj, pj, zi, pi) {
+                        std::cmp::Ordering::Greater
+                    } else {
+                        i.cmp(&j)
+                    }
+                });
+            }
+        }
+        let prim = order.iter().map(|&i| prims[i as usize]).collect();
         // Sized by the ids actually present, not the header's count: a damaged but
         // resealed header must not make replay allocate gigabytes.
         let ids = trace.prims().iter().max().map_or(0, |&m| m as usize + 1);
@@ -196,7 +204,6 @@ impl<'a> Replay<'a> {
             trace,
             offsets,
             order,
-            z,
             prim,
             present,
             sizes,
@@ -245,66 +252,62 @@ impl<'a> Replay<'a> {
     }
 
     /// One pass over every pixel: local active pixels and snooping broadcasts.
+    ///
+    /// Walking a pixel's fragments nearest first, a fragment of processor p is broadcast
+    /// exactly when p is below every processor seen before it: then it is p's local
+    /// winner (p had no nearer fragment) and no earlier processor's winner is nearer, so no
+    /// earlier broadcast deleted it; otherwise an earlier processor's nearer pixel deleted
+    /// it, or it is not p's winner. A processor counts as active at the first fragment seen
+    /// from it.
     pub fn pass(&self, assignment: &[u32]) -> PassCounts {
         let mut counts = PassCounts::default();
-        let mut scratch = Vec::new();
+        let n = assignment
+            .iter()
+            .filter(|&&p| p != u32::MAX)
+            .max()
+            .map_or(0, |&m| m as usize + 1);
+        // seen[proc] = 1 + the last pixel a fragment of proc was seen at.
+        let mut seen = vec![0u32; n];
         for p in 0..self.trace.area() {
-            let (active, broadcast, _) = self.snoop_pixel(p, assignment, &mut scratch);
-            counts.local_active += active;
-            counts.broadcast += broadcast;
+            let (a, b) = (self.offsets[p] as usize, self.offsets[p + 1] as usize);
+            match b - a {
+                0 => continue,
+                1 => {
+                    counts.local_active += 1;
+                    counts.broadcast += 1;
+                    continue;
+                }
+                _ => {}
+            }
+            let stamp = p as u32 + 1;
+            let mut lowest = u32::MAX;
+            for &prim in &self.prim[a..b] {
+                let proc = assignment[prim as usize];
+                if proc < lowest {
+                    lowest = proc;
+                    counts.broadcast += 1;
+                }
+                let s = &mut seen[proc as usize];
+                if *s != stamp {
+                    *s = stamp;
+                    counts.local_active += 1;
+                }
+            }
         }
         counts
     }
 
     /// The merged image of distributed snooping: per pixel, the fragment index of the last
     /// pixel broadcast (what the global frame buffer holds), `None` where nothing was drawn.
-    pub fn snoop_image(&self, assignment: &[u32]) -> Vec<Option<u32>> {
-        let mut scratch = Vec::new();
+    /// The last broadcast is the nearest of the local winners, the pixel's nearest fragment,
+    /// whatever the assignment (the argument documents what is replayed).
+    pub fn snoop_image(&self, _assignment: &[u32]) -> Vec<Option<u32>> {
         (0..self.trace.area())
-            .map(|p| self.snoop_pixel(p, assignment, &mut scratch).2)
+            .map(|p| {
+                let (a, b) = (self.offsets[p] as usize, self.offsets[p + 1] as usize);
+                (b > a).then(|| self.order[a])
+            })
             .collect()
-    }
-
-    /// At pixel `p`: (processors with the pixel active, pixels broadcast, last broadcast).
-    #[inline]
-    fn snoop_pixel(
-        &self,
-        p: usize,
-        assignment: &[u32],
-        scratch: &mut Vec<Local>,
-    ) -> (u64, u64, Option<u32>) {
-        let (a, b) = (self.offsets[p] as usize, self.offsets[p + 1] as usize);
-        match b - a {
-            0 => return (0, 0, None),
-            1 => return (1, 1, Some(self.order[a])),
-            _ => {}
-        }
-        scratch.clear();
-        scratch.extend((a..b).map(|i| Local {
-            proc: assignment[self.prim[i] as usize],
-            z: self.z[i],
-            prim: self.prim[i],
-            index: self.order[i],
-        }));
-        // Per processor, nearest first: the first entry of each processor's run is its
-        // local z-buffer's pixel.
-        scratch.sort_unstable_by_key(|l| (l.proc, l.z, l.prim, l.index));
-        let (mut active, mut broadcast) = (0, 0);
-        let mut front: Option<Local> = None;
-        let mut last_proc = None;
-        for l in scratch.iter() {
-            if last_proc == Some(l.proc) {
-                continue;
-            }
-            last_proc = Some(l.proc);
-            active += 1;
-            // Not deleted by any earlier broadcast: it is nearer than all of them.
-            if front.is_none_or(|f| nearer(l.z, l.prim, f.z, f.prim)) {
-                broadcast += 1;
-                front = Some(*l);
-            }
-        }
-        (active, broadcast, front.map(|f| f.index))
     }
 
     /// Replays every algorithm for every n of `config`.

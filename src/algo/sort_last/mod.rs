@@ -21,11 +21,15 @@
 //! broadcast medium) and `requirements` asks the network.
 
 mod df;
+mod direct_send;
 mod full_frame;
 mod local;
 mod pc;
+mod pixelflow;
 mod request;
 mod scanline_flow;
+mod snooping;
+mod sparse;
 
 use std::cell::RefCell;
 use std::rc::Rc;
@@ -163,10 +167,7 @@ impl Ctx {
             Assignment::Static(rule) => rule,
             Assignment::Request { .. } => Deal::Scatter,
         };
-        let count = geometry.triangles.len();
-        let area = |k: usize| screen_area(&geometry, k);
-        let stream = format!("sort-last/assign/frame={frame}");
-        let dealt = deal(rule, count, area, self.n, self.cfg.seed, &stream);
+        let dealt = static_assignment(&geometry, frame, rule, self.n, self.cfg.seed);
         Ok(super::primitives::share_of(&dealt, node.id()))
     }
 
@@ -174,6 +175,23 @@ impl Ctx {
     pub fn set_image(&self, image: Framebuffer) {
         *self.image.borrow_mut() = Some(image);
     }
+}
+
+/// The processor of every triangle of `geometry` (frame `frame`) under a static deal, as a
+/// run gives them: database order, screen area for `background-last`, the random stream
+/// `sort-last/assign/frame=<frame>`. Tests hand it to trace replay (`Replay::pass`) to
+/// replay exactly the assignment a run used.
+pub fn static_assignment(
+    geometry: &FrameGeometry,
+    frame: u32,
+    rule: Deal,
+    n: u32,
+    seed: u64,
+) -> Vec<u32> {
+    let count = geometry.triangles.len();
+    let area = |k: usize| screen_area(geometry, k);
+    let stream = format!("sort-last/assign/frame={frame}");
+    deal(rule, count, area, n, seed, &stream)
 }
 
 /// Twice the clip-space-projected area of triangle `k` in NDC units: the size
@@ -318,9 +336,14 @@ pub fn run(cfg: &RunConfig, variant: Variant) -> Result<RunResult, RunError> {
         Variant::Df => simulate(&ctx, df::processor)?,
         Variant::Pc => simulate(&ctx, pc::processor)?,
         Variant::ScanlineFlow => simulate(&ctx, scanline_flow::processor)?,
-        Variant::PixelFlow => not_built(cfg)?,
-        Variant::DirectSend => not_built(cfg)?,
-        Variant::Snooping => not_built(cfg)?,
+        Variant::PixelFlow => simulate(&ctx, pixelflow::processor)?,
+        Variant::DirectSend => simulate(&ctx, direct_send::processor)?,
+        Variant::Snooping => {
+            let shared = Rc::new(snooping::Shared::default());
+            simulate(&ctx, move |node, ctx| {
+                snooping::processor(node, ctx, shared.clone())
+            })?
+        }
     };
     finish(ctx, stats)
 }

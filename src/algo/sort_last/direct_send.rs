@@ -1,0 +1,297 @@
+//! `sort-last/direct-send` (paper 003, section 4; the Kubota Denali scheme): node k owns the
+//! interleaved scanlines y = k mod n of the screen, and every pixel goes to the node owning
+//! its location. Without a local z-buffer (the default) every fragment is shipped as it is
+//! generated, d*A pixels in all; with `local-zbuffer=on` a node z-buffers its share first and
+//! ships only its active pixels. Owners z-merge what they receive (`composite_pixel` per
+//! pixel) and finally send their rows to node 0, which holds the frame buffer.
+//!
+//! What the frame record counts: the merge traffic only, in active pixels
+//! (`ACTIVE_PIXEL_BYTES` each), including the pixels a node owns itself (delivered through
+//! its own memory, with no network message), as paper 003 and trace replay count d*A. The
+//! image gather to node 0 (rgb rows, 3 bytes a pixel) crosses the network and shows in the
+//! machine's per-node statistics, but not in the frame's bytes.
+//!
+//! Must never depth-test before shipping unless `local-zbuffer=on`, and never let an owner
+//! decide its rows before every sender's last message has arrived.
+
+use std::rc::Rc;
+
+use super::sparse::{self, BucketTarget, Image, Px, MESSAGE_PIXELS};
+use super::{local, Ctx};
+use crate::engine::{Filter, Node, Payload, SimError};
+use crate::machine::{Counts, Op};
+use crate::raster::{SparseBuffer, ACTIVE_PIXEL_BYTES};
+use crate::units::Bytes;
+
+#[derive(Clone, Debug)]
+pub(crate) enum Msg {
+    /// Pixels for the receiver's rows. `total` is set on the sender's last message of the
+    /// frame to the number of messages it sent this receiver (messages of different sizes
+    /// may overtake each other, so the flag alone would not do).
+    Pixels {
+        frame: u32,
+        pixels: Rc<Vec<Px>>,
+        total: Option<u32>,
+    },
+    /// An owner's finished rows, active pixels only on the host (charged as full rows).
+    Part { frame: u32, pixels: Rc<Vec<Px>> },
+}
+
+impl Payload for Msg {
+    fn tag(&self) -> u32 {
+        match self {
+            Msg::Pixels { frame, .. } => 2 * frame,
+            Msg::Part { frame, .. } => 2 * frame + 1,
+        }
+    }
+}
+
+/// Bytes of a gathered image pixel (rgb).
+const IMAGE_PIXEL_BYTES: u64 = 3;
+
+/// The owner's part of the screen as dense slots: row y = me + k n is slot row k.
+struct Part {
+    width: u32,
+    n: u32,
+    image: Image,
+}
+
+impl Part {
+    fn new(ctx: &Ctx, me: u32) -> Part {
+        let rows = owned_rows(ctx.viewport.height(), ctx.n, me);
+        Part {
+            width: ctx.viewport.width(),
+            n: ctx.n,
+            image: Image::new(rows as usize * ctx.viewport.width() as usize),
+        }
+    }
+
+    fn slot(&self, loc: u32) -> usize {
+        let (y, x) = (loc / self.width, loc % self.width);
+        ((y / self.n) * self.width + x) as usize
+    }
+
+    fn merge(&mut self, pixels: &[Px]) {
+        for p in pixels {
+            let slot = self.slot(p.loc);
+            self.image.merge(slot, p);
+        }
+    }
+
+    /// The active pixels of the part, raster order.
+    fn pixels(&self, me: u32, height: u32) -> Vec<Px> {
+        let mut out = Vec::new();
+        for (k, y) in (me..height).step_by(self.n as usize).enumerate() {
+            for x in 0..self.width {
+                let slot = k * self.width as usize + x as usize;
+                if let Some(p) = self.image.pixel(slot, y * self.width + x) {
+                    out.push(p);
+                }
+            }
+        }
+        out
+    }
+}
+
+fn owned_rows(height: u32, n: u32, me: u32) -> u32 {
+    (height + n - 1 - me) / n
+}
+
+/// One processor: renderer, sender, owner of its scanlines; node 0 also the frame buffer.
+pub(crate) async fn processor(node: Node<Msg>, ctx: Rc<Ctx>) -> Result<(), SimError> {
+    let me = node.id();
+    let n = ctx.n;
+    for frame in ctx.frames() {
+        if me == 0 {
+            let now = node.now();
+            ctx.record(frame, |r| r.start = now);
+        }
+        let mut part = Part::new(&ctx, me);
+        let part_bytes = Bytes::new(
+            owned_rows(ctx.viewport.height(), n, me) as u64
+                * ctx.viewport.width() as u64
+                * super::FULL_FRAME_PIXEL_BYTES,
+        );
+        node.alloc("owned rows", part_bytes)?;
+        node.phase("render");
+        let share = ctx.share(&node, frame)?;
+        let mut stream = Outgoing::new(n);
+        if ctx.settings.local_zbuffer {
+            local::clear_full_frame(&node, &ctx).await?;
+            let mut buffer = SparseBuffer::new(ctx.viewport);
+            local::render(&node, &ctx, frame, &share, &mut buffer).await?;
+            let now = node.now();
+            ctx.record(frame, |r| r.raster_finish[me as usize] = now);
+            let w = ctx.viewport.width();
+            let mut buckets = vec![Vec::new(); n as usize];
+            for p in buffer.active() {
+                buckets[(p.y % n) as usize].push(Px {
+                    loc: p.y * w + p.x,
+                    z: p.z,
+                    prim: p.prim,
+                    rgb: p.rgb,
+                });
+            }
+            node.compute(&Counts::of(Op::BucketInsert, buffer.active().len() as u64))
+                .await;
+            drop(buffer);
+            local::free_full_frame(&node, &ctx)?;
+            node.phase("send");
+            stream.add(buckets);
+            stream.flush(&node, &ctx, frame, &mut part, false).await;
+        } else {
+            // Every fragment as generated: render a batch, ship the full messages.
+            let mut target = BucketTarget::new(ctx.viewport, n);
+            for batch in share.chunks(local::BATCH) {
+                let before = target.fragments;
+                local::render(&node, &ctx, frame, batch, &mut target).await?;
+                node.compute(&Counts::of(Op::BucketInsert, target.fragments - before))
+                    .await;
+                stream.add(std::mem::replace(
+                    &mut target.buckets,
+                    vec![Vec::new(); n as usize],
+                ));
+                stream.flush(&node, &ctx, frame, &mut part, false).await;
+            }
+            let now = node.now();
+            ctx.record(frame, |r| r.raster_finish[me as usize] = now);
+            node.phase("send");
+        }
+        stream.flush(&node, &ctx, frame, &mut part, true).await;
+
+        node.phase("merge");
+        // This node's own stream was merged as it was produced.
+        let mut received = vec![0u32; n as usize];
+        let mut expected: Vec<Option<u32>> = vec![None; n as usize];
+        expected[me as usize] = Some(0);
+        let done = |r: &[u32], e: &[Option<u32>]| r.iter().zip(e).all(|(r, e)| Some(*r) == *e);
+        while !done(&received, &expected) {
+            let env = node.recv(Filter::tag(2 * frame)).await;
+            let src = env.src as usize;
+            let Msg::Pixels { pixels, total, .. } = env.payload else {
+                unreachable!("tag 2f carries pixels")
+            };
+            node.compute(&Counts::of(Op::CompositePixel, pixels.len() as u64))
+                .await;
+            part.merge(&pixels);
+            received[src] += 1;
+            if total.is_some() {
+                expected[src] = total;
+            }
+        }
+
+        node.phase("gather");
+        let height = ctx.viewport.height();
+        let width = ctx.viewport.width() as u64;
+        if me == 0 {
+            let mut all = part.pixels(0, height);
+            for _ in 1..n {
+                let env = node.recv(Filter::tag(2 * frame + 1)).await;
+                let Msg::Part { pixels, .. } = env.payload else {
+                    unreachable!("tag 2f+1 carries parts")
+                };
+                let rows = owned_rows(height, n, env.src) as u64;
+                node.compute(&Counts::of(Op::PixelWrite, rows * width))
+                    .await;
+                all.extend_from_slice(&pixels);
+            }
+            let now = node.now();
+            ctx.record(frame, |r| r.end = now);
+            if ctx.is_last(frame) {
+                ctx.set_image(sparse::framebuffer(ctx.viewport, ctx.background, &all));
+            }
+        } else {
+            let rows = owned_rows(height, n, me) as u64;
+            let msg = Msg::Part {
+                frame,
+                pixels: Rc::new(part.pixels(me, height)),
+            };
+            node.send(0, Bytes::new(rows * width * IMAGE_PIXEL_BYTES), msg)
+                .await;
+        }
+        node.free("owned rows", part_bytes)?;
+    }
+    Ok(())
+}
+
+/// A sender's pixels waiting per owner.
+struct Outgoing {
+    pending: Vec<Vec<Px>>,
+    /// Messages sent to each node so far this frame.
+    sent: Vec<u32>,
+}
+
+impl Outgoing {
+    fn new(n: u32) -> Outgoing {
+        Outgoing {
+            pending: vec![Vec::new(); n as usize],
+            sent: vec![0; n as usize],
+        }
+    }
+
+    fn add(&mut self, buckets: Vec<Vec<Px>>) {
+        for (pending, mut b) in self.pending.iter_mut().zip(buckets) {
+            if pending.is_empty() {
+                *pending = b;
+            } else {
+                pending.append(&mut b);
+            }
+        }
+    }
+
+    /// Ships every full message (and, when `last`, the remainders with the end flag, one
+    /// message per owner even if empty). Owners are visited starting after this node, so
+    /// senders do not all hit node 0 first. The node's own pixels merge locally.
+    async fn flush(
+        &mut self,
+        node: &Node<Msg>,
+        ctx: &Ctx,
+        frame: u32,
+        part: &mut Part,
+        last: bool,
+    ) {
+        let me = node.id();
+        let n = ctx.n;
+        for k in 1..=n {
+            let dst = (me + k) % n;
+            let pending = std::mem::take(&mut self.pending[dst as usize]);
+            let mut chunks: Vec<&[Px]> = pending.chunks(MESSAGE_PIXELS).collect();
+            let keep = if !last && chunks.last().is_some_and(|c| c.len() < MESSAGE_PIXELS) {
+                chunks.pop()
+            } else {
+                None
+            };
+            if dst == me {
+                let count: usize = chunks.iter().map(|c| c.len()).sum();
+                if count > 0 {
+                    node.compute(&Counts::of(Op::CompositePixel, count as u64))
+                        .await;
+                    for c in &chunks {
+                        part.merge(c);
+                    }
+                    let bytes = Bytes::new(count as u64 * ACTIVE_PIXEL_BYTES);
+                    ctx.record(frame, |r| r.bytes += bytes);
+                }
+            } else {
+                if last && chunks.is_empty() {
+                    chunks.push(&[]);
+                }
+                let count = chunks.len();
+                for (i, c) in chunks.into_iter().enumerate() {
+                    let bytes = Bytes::new(c.len() as u64 * ACTIVE_PIXEL_BYTES);
+                    self.sent[dst as usize] += 1;
+                    let total = self.sent[dst as usize];
+                    let msg = Msg::Pixels {
+                        frame,
+                        pixels: Rc::new(c.to_vec()),
+                        total: (last && i + 1 == count).then_some(total),
+                    };
+                    ctx.send(node, frame, dst, bytes, msg).await;
+                }
+            }
+            if let Some(rest) = keep {
+                self.pending[dst as usize] = rest.to_vec();
+            }
+        }
+    }
+}

@@ -1,0 +1,120 @@
+//! `sort-last/pixelflow` (paper 003, section 5; Molnar's PixelFlow): every node renders its
+//! share into a full local frame, then the frames flow down the pipeline: node 0 streams its
+//! whole frame (A pixels, active or not) to node 1, node i z-merges what it receives with
+//! its own frame and passes the result on, and the last node's output port feeds the frame
+//! buffer. Traffic is n*A pixels in total, A on every link, whatever the scene.
+//!
+//! Frames move in chunks of `chunk_rows` scanlines (one by default), so events grow with
+//! scanlines x nodes, not with pixels. Each chunk is charged and sized as the full rows it
+//! stands for (`FULL_FRAME_PIXEL_BYTES` per pixel, `composite_pixel` per pixel merged), but
+//! the host carries only the chunk's active pixels.
+//!
+//! How the count agrees with trace replay's n*A: the n-1 pipeline links carry A pixels
+//! each as network messages; the last node's stream into the frame buffer is the n-th link
+//! (a local output port, not a network message): it is added to the frame's bytes and
+//! messages without a network transfer.
+//!
+//! Must never skip inactive pixels in what it charges or counts, and never reorder the
+//! pipeline (node i only ever receives from i-1 and sends to i+1).
+
+use std::rc::Rc;
+
+use super::sparse::{self, Px};
+use super::{local, Ctx, FULL_FRAME_PIXEL_BYTES};
+use crate::engine::{Filter, Node, Payload, SimError};
+use crate::machine::{Counts, Op};
+use crate::raster::SparseBuffer;
+use crate::units::Bytes;
+
+/// Rows `y0..y1` of a partially merged frame: only its active pixels, raster order.
+#[derive(Clone, Debug)]
+pub(crate) struct Rows {
+    frame: u32,
+    y0: u32,
+    pixels: Rc<Vec<Px>>,
+}
+
+impl Payload for Rows {
+    /// Frame and chunk, so a stage takes chunks in screen order even if one overtook another.
+    fn tag(&self) -> u32 {
+        chunk_tag(self.frame, self.y0)
+    }
+}
+
+fn chunk_tag(frame: u32, y0: u32) -> u32 {
+    frame.wrapping_mul(16384).wrapping_add(y0)
+}
+
+/// One pipeline stage.
+pub(crate) async fn processor(node: Node<Rows>, ctx: Rc<Ctx>) -> Result<(), SimError> {
+    let me = node.id();
+    let n = ctx.n;
+    let (w, h) = (ctx.viewport.width(), ctx.viewport.height());
+    for frame in ctx.frames() {
+        if me == 0 {
+            let now = node.now();
+            ctx.record(frame, |r| r.start = now);
+        }
+        node.phase("render");
+        let share = ctx.share(&node, frame)?;
+        local::clear_full_frame(&node, &ctx).await?;
+        let mut buffer = SparseBuffer::new(ctx.viewport);
+        local::render(&node, &ctx, frame, &share, &mut buffer).await?;
+        let now = node.now();
+        ctx.record(frame, |r| r.raster_finish[me as usize] = now);
+        let own = sparse::sorted_active(&buffer, w);
+        drop(buffer);
+
+        node.phase("merge");
+        let mut output: Vec<Px> = Vec::new();
+        let mut cursor = 0;
+        let mut y0 = 0;
+        while y0 < h {
+            let y1 = (y0 + ctx.settings.chunk_rows).min(h);
+            let chunk_pixels = ((y1 - y0) * w) as u64;
+            let end = y1 * w;
+            let start = cursor;
+            while cursor < own.len() && own[cursor].loc < end {
+                cursor += 1;
+            }
+            let mine = &own[start..cursor];
+            let merged = if me == 0 {
+                mine.to_vec()
+            } else {
+                let tag = chunk_tag(frame, y0);
+                let env = node.recv(Filter::tag(tag).and_source(me - 1)).await;
+                node.compute(&Counts::of(Op::CompositePixel, chunk_pixels))
+                    .await;
+                sparse::merge_sorted(&env.payload.pixels, mine)
+            };
+            let bytes = Bytes::new(chunk_pixels * FULL_FRAME_PIXEL_BYTES);
+            if me + 1 < n {
+                let msg = Rows {
+                    frame,
+                    y0,
+                    pixels: Rc::new(merged),
+                };
+                ctx.send(&node, frame, me + 1, bytes, msg).await;
+            } else {
+                // The n-th link: the last stage's output port into the frame buffer.
+                ctx.record(frame, |r| {
+                    r.bytes += bytes;
+                    r.messages += 1;
+                });
+                if ctx.is_last(frame) {
+                    output.extend_from_slice(&merged);
+                }
+            }
+            y0 = y1;
+        }
+        local::free_full_frame(&node, &ctx)?;
+        if me + 1 == n {
+            let now = node.now();
+            ctx.record(frame, |r| r.end = now);
+            if ctx.is_last(frame) {
+                ctx.set_image(sparse::framebuffer(ctx.viewport, ctx.background, &output));
+            }
+        }
+    }
+    Ok(())
+}
