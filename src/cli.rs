@@ -201,7 +201,8 @@ pub struct RunArgs {
     pub machine: PathBuf,
     #[arg(long)]
     pub scene: PathBuf,
-    /// Algorithm id: sort-middle/static, sort-middle/ellsworth.
+    /// Algorithm id: sort-middle/static, sort-middle/ellsworth, sort-last/df, sort-last/pc,
+    /// sort-last/scanline-flow, sort-last/pixelflow, sort-last/direct-send, sort-last/snooping.
     #[arg(long)]
     pub algo: String,
     #[arg(long)]
@@ -229,7 +230,8 @@ pub struct AccuracyArgs {
     /// Machine spec (its network fidelity is the one the modes run at).
     #[arg(long)]
     pub machine: PathBuf,
-    /// Algorithm id: sort-middle/static, sort-middle/ellsworth.
+    /// Algorithm id: sort-middle/static, sort-middle/ellsworth, sort-last/df, sort-last/pc,
+    /// sort-last/scanline-flow, sort-last/pixelflow, sort-last/direct-send, sort-last/snooping.
     #[arg(long)]
     pub algo: String,
     /// Processors the run uses.

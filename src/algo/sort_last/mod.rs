@@ -348,15 +348,7 @@ pub fn run(cfg: &RunConfig, variant: Variant) -> Result<RunResult, RunError> {
     finish(ctx, stats)
 }
 
-fn not_built(cfg: &RunConfig) -> Result<crate::engine::RunStats, RunError> {
-    Err(RunError::Unsupported(format!(
-        "{} is not available in this build",
-        cfg.algo.id()
-    )))
-}
-
 /// Runs one program per processor on a fresh simulation of the run's machine.
-#[allow(dead_code)]
 fn simulate<M, F, Fut>(ctx: &Rc<Ctx>, program: F) -> Result<crate::engine::RunStats, RunError>
 where
     M: Payload,
