@@ -121,6 +121,11 @@ impl Pool {
         Some(start)
     }
 
+    /// True when no block can be handed out.
+    fn exhausted(&self) -> bool {
+        self.free.is_empty() && self.z.len() as u64 + u64::from(self.block) > self.capacity
+    }
+
     fn release(&mut self, start: u32) {
         self.free.push(start);
         self.live -= u64::from(self.block);
@@ -302,29 +307,42 @@ impl AdaptiveTarget {
         out
     }
 
+    /// One fragment of a conservative span. A plain pixel takes a fragment whole only when
+    /// the table says every sample is covered; the centre rule decides instead once the
+    /// pool is exhausted (then the pixel is sampled once, as the aliased image would be).
+    /// Never the centre rule while blocks remain: a centre that the table's ties give to
+    /// the neighbour would copy this polygon into every sample when the pixel is promoted.
     fn fragment(&mut self, r: usize, x: u32, y: u32, f: Frag, span: &Span<'_>, c: &mut Counters) {
         let tri = span.triangle();
         let (px, py) = (i64::from(x), i64::from(y));
         let i = self.planes[r].index(x, y);
-        let grid = self.config.grid;
+        let full = self.config.grid.full_mask();
         if tri.fully_covers_pixel(px, py) {
-            return self.cover(r, i, f, grid.full_mask(), c);
+            return self.cover(r, i, f, full, c);
         }
         c.aa_coverage_masks += 1;
-        let mask = masks::triangle_mask(tri, px, py, grid);
-        if mask == 0 {
-            // Only near a corner of the pixel: no sample is covered.
-            return;
-        }
-        if mask != grid.full_mask() && self.planes[r].block[i] == NO_BLOCK && !self.promote(r, i, c)
-        {
-            self.count_overflow(r, i);
-            if tri.covers_pixel(px, py) {
-                self.point(r, i, f, c);
+        let mask = masks::triangle_mask(tri, px, py, self.config.grid);
+        let partial = mask != 0 && mask != full;
+        if self.planes[r].block[i] != NO_BLOCK {
+            if mask != 0 {
+                self.cover(r, i, f, mask, c);
             }
             return;
         }
-        self.cover(r, i, f, mask, c);
+        if partial && self.promote(r, i, c) {
+            return self.cover(r, i, f, mask, c);
+        }
+        if partial {
+            self.count_overflow(r, i);
+        }
+        let covered = if partial || self.pool.exhausted() {
+            tri.covers_pixel(px, py)
+        } else {
+            mask == full
+        };
+        if covered {
+            self.point(r, i, f, c);
+        }
     }
 
     /// The fragment's samples in `mask`, into the pixel's block, or into the Pixel itself

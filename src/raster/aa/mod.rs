@@ -116,21 +116,22 @@ pub(crate) fn slopes(tri: &RasterTriangle) -> [i64; 2] {
 }
 
 /// Depth at an offset `(ox, oy)` (in 1/`denom` pixel) from a pixel centre of depth `fine`
-/// (in 1/256 depth units), from the per-pixel gradients: how a Subpixel's z is derived.
-/// Rounded to nearest and clamped to the depths a fragment may have.
+/// (in 1/256 depth units, rounding half included, as [`fine`] and the depth planes give
+/// it), from the per-pixel gradients: how a Subpixel's z is derived. Clamped to the depths
+/// a fragment may have.
 pub(crate) fn sample_depth(fine: i64, slope: [i64; 2], ox: i64, oy: i64, denom: i64) -> u32 {
     let d = i128::from(denom);
     let num = i128::from(fine) * d
         + i128::from(slope[0]) * i128::from(ox)
         + i128::from(slope[1]) * i128::from(oy);
-    (num + 128 * d)
-        .div_euclid(256 * d)
+    num.div_euclid(256 * d)
         .clamp(0, i128::from(Depth::FAR.raw())) as u32
 }
 
-/// A stored depth in the 1/256 units [`sample_depth`] starts from.
+/// A stored depth in the 1/256 units [`sample_depth`] starts from (with the half that makes
+/// its floor round to nearest).
 pub(crate) fn fine(z: u32) -> i64 {
-    i64::from(z) * 256
+    i64::from(z) * 256 + 128
 }
 
 /// Box filter: the rounded mean of the samples' colours.
