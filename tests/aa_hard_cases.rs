@@ -12,8 +12,7 @@ use sortsim::raster::aa::{
     AdaptiveConfig, AdaptiveTarget, Grid, SupersampleTarget, RECLAIM_SPREAD, SUBPIXEL_BYTES,
 };
 use sortsim::raster::{
-    draw_mesh, draw_screen_triangles, Counters, Depth, ScreenTriangle, ScreenVertex, Sub,
-    Viewport,
+    draw_mesh, draw_screen_triangles, Counters, Depth, ScreenTriangle, ScreenVertex, Sub, Viewport,
 };
 use sortsim::scene::Scene;
 use sortsim::spec::run::RunSpec;
@@ -32,8 +31,21 @@ fn v(x: f64, y: f64, z: u32, rgb: [u8; 3]) -> ScreenVertex {
 }
 
 /// The rectangle `[x0, x1] x [y0, y1]` as two triangles (ids `prim`, `prim + 1`), flat depth.
-fn rect(x0: f64, y0: f64, x1: f64, y1: f64, z: u32, rgb: [u8; 3], prim: u32) -> Vec<ScreenTriangle> {
-    let (a, b, c, d) = (v(x0, y0, z, rgb), v(x1, y0, z, rgb), v(x1, y1, z, rgb), v(x0, y1, z, rgb));
+fn rect(
+    x0: f64,
+    y0: f64,
+    x1: f64,
+    y1: f64,
+    z: u32,
+    rgb: [u8; 3],
+    prim: u32,
+) -> Vec<ScreenTriangle> {
+    let (a, b, c, d) = (
+        v(x0, y0, z, rgb),
+        v(x1, y0, z, rgb),
+        v(x1, y1, z, rgb),
+        v(x0, y1, z, rgb),
+    );
     [
         ScreenTriangle::new([a, b, c], prim),
         ScreenTriangle::new([a, c, d], prim + 1),
@@ -73,14 +85,20 @@ fn edges_exactly_on_sample_positions_cover_each_sample_once() {
         assert_eq!(red + blue, grid.samples() as usize, "{grid}: {samples:?}");
         // Left of x = 1/2 is red, right is blue; the tie column goes wholly to one side.
         let n = grid.side() as usize;
-        assert!(red >= n * (n / 2) && blue >= n * (n / 2), "{grid}: {red} red {blue} blue");
+        assert!(
+            red >= n * (n / 2) && blue >= n * (n / 2),
+            "{grid}: {red} red {blue} blue"
+        );
     }
     let mut ss = SupersampleTarget::full_screen(vp, 3, [0; 3]);
     draw_screen_triangles(&tris, &mut ss);
     let image = ss.resolve(&mut Counters::default());
     let rgb = image.regions()[0].color(1, 1).unwrap();
     // 3 or 6 of 9 samples red, the rest blue: red + blue channels add up to 255 (+-1).
-    assert!(rgb[1] == 0 && (254..=256).contains(&(u32::from(rgb[0]) + u32::from(rgb[2]))), "{rgb:?}");
+    assert!(
+        rgb[1] == 0 && (254..=256).contains(&(u32::from(rgb[0]) + u32::from(rgb[2]))),
+        "{rgb:?}"
+    );
     assert!(rgb[0] == 85 || rgb[0] == 170, "{rgb:?}");
 }
 
@@ -96,8 +114,7 @@ fn two_polygons_sharing_an_edge_inside_a_pixel_are_reclaimed() {
     // they agree.
     let quad = |rgb2: [u8; 3]| {
         vec![
-            ScreenTriangle::new([p(0.3, 0.3, RED), p(5.7, 0.3, RED), p(5.7, 5.7, RED)], 0)
-                .unwrap(),
+            ScreenTriangle::new([p(0.3, 0.3, RED), p(5.7, 0.3, RED), p(5.7, 5.7, RED)], 0).unwrap(),
             ScreenTriangle::new([p(0.3, 0.3, rgb2), p(5.7, 5.7, rgb2), p(0.3, 5.7, rgb2)], 1)
                 .unwrap(),
         ]
@@ -148,7 +165,10 @@ fn a_pixel_crossed_by_many_edges_holds_one_block() {
     assert_eq!(s.live_cells, 16 * super_pixels);
     assert!(t.is_super(2, 2));
     assert_eq!(t.samples(2, 2).unwrap().len(), 16);
-    assert!(c.aa_coverage_masks >= 12, "each triangle formed a mask at (2, 2)");
+    assert!(
+        c.aa_coverage_masks >= 12,
+        "each triangle formed a mask at (2, 2)"
+    );
 }
 
 /// Paper 000, section 4.2: reclaiming needs a depth spread "smaller than 1 unit" (strictly).
@@ -157,7 +177,11 @@ fn a_pixel_crossed_by_many_edges_holds_one_block() {
 #[test]
 fn depth_spread_exactly_at_the_reclaim_threshold_is_kept() {
     let vp = Viewport::new(4, 4).unwrap();
-    for (gap, reclaimed) in [(RECLAIM_SPREAD, false), (RECLAIM_SPREAD - 1, true), (0, true)] {
+    for (gap, reclaimed) in [
+        (RECLAIM_SPREAD, false),
+        (RECLAIM_SPREAD - 1, true),
+        (0, true),
+    ] {
         let mut tris = rect(0.0, -10.0, 1.5, 14.0, 1_000_000, RED, 0);
         tris.extend(rect(1.5, -10.0, 4.0, 14.0, 1_000_000 + gap, RED, 2));
         let mut t = adaptive(vp, Grid::X4, true);
@@ -182,7 +206,10 @@ fn simulate(scene: &Arc<Scene>, procs: u32, frames: &str, set: &[(&str, String)]
         procs,
         frames: Some(frames.into()),
         seed: 1,
-        set: set.iter().map(|(k, v)| (k.to_string(), v.clone())).collect(),
+        set: set
+            .iter()
+            .map(|(k, v)| (k.to_string(), v.clone()))
+            .collect(),
     };
     run(&spec.resolve(Some(scene.clone())).unwrap()).unwrap()
 }
@@ -201,13 +228,21 @@ fn a_pool_of_zero_bytes_samples_everything_once() {
     let mut t = AdaptiveTarget::full_screen(vp, config, g.background);
     draw_mesh(&g.vertices, &g.triangles, vp, &raster_options(&g), &mut t);
     let s = t.stats();
-    assert_eq!((s.supersampled_pixels, s.live_cells, s.pool_cells), (0, 0, 0));
+    assert_eq!(
+        (s.supersampled_pixels, s.live_cells, s.pool_cells),
+        (0, 0, 0)
+    );
     assert!(s.overflowed_pixels > 1000, "{s:?}");
     let (reference, _) = render(&g);
     let image = t.resolve(&mut Counters::default());
     assert_eq!(image.regions()[0].colors(), reference.colors());
 
-    let r = simulate(&b, 4, "3", &[("aa", "adaptive".into()), ("aa-pool", "0B".into())]);
+    let r = simulate(
+        &b,
+        4,
+        "3",
+        &[("aa", "adaptive".into()), ("aa-pool", "0B".into())],
+    );
     assert_eq!(r.image.colors(), reference.colors());
     assert!(r.frames[0].aa.iter().all(|a| a.supersampled_pixels == 0));
 }
@@ -224,7 +259,12 @@ fn a_pool_exhausted_mid_frame_on_some_nodes_only() {
     assert!(lo < hi, "{peaks:?}");
     let cells = (lo + hi) / 2 / 16 * 16;
     let pool = format!("{}B", cells * SUBPIXEL_BYTES);
-    let r = simulate(&t, 8, "0..2", &[("aa", "adaptive".into()), ("aa-pool", pool)]);
+    let r = simulate(
+        &t,
+        8,
+        "0..2",
+        &[("aa", "adaptive".into()), ("aa-pool", pool)],
+    );
     let (first, second) = (&r.frames[0].aa, &r.frames[1].aa);
     let mut short = 0;
     for (node, a) in first.iter().enumerate() {
@@ -232,7 +272,10 @@ fn a_pool_exhausted_mid_frame_on_some_nodes_only() {
         assert_eq!(a.overflowed_pixels > 0, overflowed, "node {node}: {a:?}");
         if overflowed {
             short += 1;
-            assert!(a.supersampled_pixels > 0 && a.peak_cells <= cells, "mid-frame: {a:?}");
+            assert!(
+                a.supersampled_pixels > 0 && a.peak_cells <= cells,
+                "mid-frame: {a:?}"
+            );
             assert!(second[node].grid_side < 4, "node {node} adapts");
         } else {
             assert_eq!(second[node].grid_side, 4, "node {node} keeps 4x4");

@@ -13,9 +13,7 @@ use sortsim::raster::aa::{
     adapt, AaStats, AdaptiveConfig, AdaptiveTarget, Grid, SupersampleTarget, PIXEL_BYTES,
     SUBPIXEL_BYTES,
 };
-use sortsim::raster::{
-    draw_mesh, draw_screen_triangles, ScreenTriangle, ScreenVertex, Viewport,
-};
+use sortsim::raster::{draw_mesh, draw_screen_triangles, ScreenTriangle, ScreenVertex, Viewport};
 use sortsim::scene::Scene;
 use sortsim::spec::run::RunSpec;
 
@@ -98,7 +96,12 @@ fn all_edge_pixels() -> (Viewport, Vec<ScreenTriangle>) {
         for x in 0..512u32 {
             // Four colours, so the four quarters of every pixel differ.
             let rgb = [(x % 2) as f64, (y % 2) as f64, 0.5];
-            let (a, b, c, d) = (v(x, y, rgb), v(x + 1, y, rgb), v(x + 1, y + 1, rgb), v(x, y + 1, rgb));
+            let (a, b, c, d) = (
+                v(x, y, rgb),
+                v(x + 1, y, rgb),
+                v(x + 1, y + 1, rgb),
+                v(x, y + 1, rgb),
+            );
             let prim = 2 * (y * 512 + x);
             tris.extend(ScreenTriangle::new([a, b, c], prim));
             tris.extend(ScreenTriangle::new([a, c, d], prim + 1));
@@ -121,7 +124,10 @@ fn the_pool_supersamples_25_44_and_100_percent_of_pixels() {
         draw_screen_triangles(&tris, &mut t);
         let s = t.stats();
         let got = share(s.live_super_pixels, &s);
-        eprintln!("{grid}: {got:.4} supersampled, {} overflowed", s.overflowed_pixels);
+        eprintln!(
+            "{grid}: {got:.4} supersampled, {} overflowed",
+            s.overflowed_pixels
+        );
         // Exact up to the last block that fits (one pixel in 262,144).
         assert!((got - expected).abs() < 1e-5, "{grid}: {got} vs {expected}");
         // The rest were sampled once: overflow exactly when the pool is short.
@@ -140,7 +146,10 @@ fn letter_b_supersamples_under_5_percent_and_reclaims_most() {
     let frames = 0..b.frame_count();
     let plain = animate(&b, frames.clone(), false);
     let reclaimed = animate(&b, frames, true);
-    let worst = plain.iter().map(|s| share(s.supersampled_pixels, s)).fold(0.0, f64::max);
+    let worst = plain
+        .iter()
+        .map(|s| share(s.supersampled_pixels, s))
+        .fold(0.0, f64::max);
     let memory = mean(plain.iter().map(|s| s.memory_used().get() as f64 / MB));
     let live = mean(reclaimed.iter().map(|s| share(s.live_super_pixels, s)));
     let memory_reclaimed = mean(reclaimed.iter().map(|s| s.memory_used().get() as f64 / MB));
@@ -152,17 +161,23 @@ fn letter_b_supersamples_under_5_percent_and_reclaims_most() {
         "letter B: worst {worst:.4} supersampled, {memory:.3} MB; reclaiming: {live:.4} live, \
          {memory_reclaimed:.3} MB, at most {most_reclaimed:.3} reclaimed"
     );
-    assert!(plain.iter().all(|s| s.grid_side == 4 && s.overflowed_pixels == 0));
+    assert!(plain
+        .iter()
+        .all(|s| s.grid_side == 4 && s.overflowed_pixels == 0));
     // "less than 5%": a bound, held exactly.
     assert!(worst < 0.05, "{worst}");
     // 4.61 MB is 3.14 MB + 5% of pixels at 4x4; under 5% must stay under it.
-    assert!(memory > 3.14 && memory < 4.61, "{memory}");
+    let pixel_array = 3_145_728.0 / MB;
+    assert!(memory > pixel_array && memory < 4.61, "{memory}");
     // 1.3% after reclaiming: the stand-in keeps about 2.1% over the 20 frames (its tumbling
     // B shows more silhouette, which no reclaiming removes); held to within a factor of 2
     // (0.65% .. 2.6%).
     assert!((0.0065..0.026).contains(&live), "{live}");
     // 3.52 MB: within 10% (the Pixel array's exact 3.14 MB dominates it; about 3.75 MB).
-    assert!((memory_reclaimed / 3.52 - 1.0).abs() < 0.10, "{memory_reclaimed}");
+    assert!(
+        (memory_reclaimed / 3.52 - 1.0).abs() < 0.10,
+        "{memory_reclaimed}"
+    );
     // "up to a maximum of 74%": the best frame reclaims 55% .. 90%.
     assert!((0.55..0.90).contains(&most_reclaimed), "{most_reclaimed}");
 }
@@ -186,7 +201,9 @@ fn five_hundred_tetrahedra_supersample_about_a_quarter() {
         "500 tetrahedra: {supersampled:.4} supersampled, {memory:.3} MB; reclaiming removes \
          {removed:.3}, leaving {live:.4}"
     );
-    assert!(plain.iter().all(|s| s.grid_side == 4 && s.overflowed_pixels == 0));
+    assert!(plain
+        .iter()
+        .all(|s| s.grid_side == 4 && s.overflowed_pixels == 0));
     // About 24%: within 25% relative, the stand-in's own tolerance.
     assert!((supersampled / 0.24 - 1.0).abs() < 0.25, "{supersampled}");
     // 10.14 MB: within 20% (3.14 MB of it is exact; the rest follows the share above).
@@ -217,12 +234,18 @@ fn three_thousand_tetrahedra_adapt_down_and_stay_in_the_pool() {
                 .collect::<Vec<_>>()
         );
         assert_eq!(frames[0].grid_side, 4);
-        assert!(frames[0].overflowed_pixels > 0, "4x4 cannot hold this scene");
+        assert!(
+            frames[0].overflowed_pixels > 0,
+            "4x4 cannot hold this scene"
+        );
         if !reclaim {
             assert_eq!(frames[1].grid_side, 2, "the overflowing frame forces 2x2");
         }
         assert!(frames[1..].iter().all(|s| s.grid_side < 4));
-        assert!(frames[1..].iter().all(|s| s.overflowed_pixels == 0), "{reclaim}");
+        assert!(
+            frames[1..].iter().all(|s| s.overflowed_pixels == 0),
+            "{reclaim}"
+        );
         assert!(frames[1..].iter().all(|s| s.peak_cells <= s.pool_cells));
         // About 50% edge pixels: the most any frame supersampled, within 25% relative.
         let most = frames[1..]
@@ -248,14 +271,26 @@ fn a_sudden_view_change_overflows_one_frame_and_recovers_in_the_next() {
         let mut config = AdaptiveConfig::for_pixels(vp.pixels() as u64);
         config.grid = grid;
         let mut target = AdaptiveTarget::full_screen(vp, config, g.background);
-        draw_mesh(&g.vertices, &g.triangles, vp, &raster_options(g), &mut target);
+        draw_mesh(
+            &g.vertices,
+            &g.triangles,
+            vp,
+            &raster_options(g),
+            &mut target,
+        );
         let s = target.stats();
         overflowed.push(s.overflowed_pixels);
         grid = adapt(&s);
     }
     assert_eq!(overflowed[0], 0, "the letter B fits at 4x4");
-    assert!(overflowed[1] > 0, "the change overflows the frame it happens in");
-    assert_eq!(overflowed[2], 0, "and the next frame is within the pool: {overflowed:?}");
+    assert!(
+        overflowed[1] > 0,
+        "the change overflows the frame it happens in"
+    );
+    assert_eq!(
+        overflowed[2], 0,
+        "and the next frame is within the pool: {overflowed:?}"
+    );
 }
 
 fn simulate(
@@ -300,7 +335,10 @@ fn eight_processors_use_close_to_a_megabyte_each() {
     let mut all = Vec::new();
     for f in &r.frames {
         assert_eq!(f.aa.len(), 8);
-        let m: Vec<f64> = f.aa.iter().map(|a| a.memory_used().get() as f64 / MB).collect();
+        let m: Vec<f64> =
+            f.aa.iter()
+                .map(|a| a.memory_used().get() as f64 / MB)
+                .collect();
         let (lo, hi) = (
             m.iter().cloned().fold(f64::MAX, f64::min),
             m.iter().cloned().fold(0.0, f64::max),
@@ -317,8 +355,14 @@ fn eight_processors_use_close_to_a_megabyte_each() {
     // What each node is charged for is the preallocated pool (2x2 for all its pixels) and
     // the Pixel array, whatever the cells in use: 32,768 pixels each.
     for m in &r.stats.memory {
-        assert_eq!(m.high_water_by_tag["subpixel pool"].get(), 32_768 * 4 * SUBPIXEL_BYTES);
-        assert_eq!(m.high_water_by_tag["pixel array"].get(), 32_768 * PIXEL_BYTES);
+        assert_eq!(
+            m.high_water_by_tag["subpixel pool"].get(),
+            32_768 * 4 * SUBPIXEL_BYTES
+        );
+        assert_eq!(
+            m.high_water_by_tag["pixel array"].get(),
+            32_768 * PIXEL_BYTES
+        );
     }
 }
 
@@ -342,7 +386,14 @@ fn triangles_per_s(r: &RunResult) -> f64 {
 fn anti_aliasing_costs_much_on_8_processors_and_little_on_256_and_512() {
     let head = scene("plb-head-standin.json");
     let ratio = |procs: u32| {
-        let none = simulate("delta.json", &head, "sort-middle/ellsworth", procs, "0..2", &[]);
+        let none = simulate(
+            "delta.json",
+            &head,
+            "sort-middle/ellsworth",
+            procs,
+            "0..2",
+            &[],
+        );
         let aa = simulate(
             "delta.json",
             &head,
@@ -359,7 +410,7 @@ fn anti_aliasing_costs_much_on_8_processors_and_little_on_256_and_512() {
     assert!((0.25..0.70).contains(&r8), "{r8}");
     for procs in [256, 512] {
         let r = ratio(procs);
-        assert!(r >= 0.90 && r <= 1.02, "{procs}: {r}");
+        assert!((0.90..=1.02).contains(&r), "{procs}: {r}");
     }
 }
 
@@ -388,4 +439,33 @@ fn the_run_image_is_the_resolved_image() {
     eprintln!("{differ} of {pixels} pixels differ from the aliased image");
     // Edge pixels are about 3% of the screen for the letter B: some differ, most do not.
     assert!(differ > 0 && differ < pixels / 10, "{differ}");
+}
+
+/// An accuracy reference must be possible: 16x16 = 256 samples per pixel on a 512x512
+/// screen is 256 * 7 * 262,144 = 469,762,048 modelled bytes (the host holds a primitive id
+/// per sample too, about 740 MB, once). Its image and 4x4 supersampling's agree closely.
+#[test]
+fn a_256_sample_reference_renders_a_512_screen() {
+    let g = scene("p000-letter-b.json").frame(5).unwrap();
+    let vp = viewport(&g);
+    let draw = |side: u32| {
+        let mut t = SupersampleTarget::full_screen(vp, side, g.background);
+        draw_mesh(&g.vertices, &g.triangles, vp, &raster_options(&g), &mut t);
+        let bytes = t.bytes().get();
+        (t.resolve(&mut sortsim::raster::Counters::default()), bytes)
+    };
+    let (fine, bytes) = draw(16);
+    assert_eq!(bytes, 469_762_048);
+    let (coarse, _) = draw(4);
+    let (a, b) = (fine.regions()[0].colors(), coarse.regions()[0].colors());
+    let diff: u64 = a
+        .iter()
+        .zip(b)
+        .flat_map(|(p, q)| (0..3).map(move |c| u64::from(p[c].abs_diff(q[c]))))
+        .sum();
+    let mean = diff as f64 / (3 * a.len()) as f64;
+    eprintln!("16x16 vs 4x4: mean channel difference {mean:.4}");
+    // Differences live on edge pixels only (about 3% of the screen), each at most one
+    // sample's worth of 4x4 (1/16 of 255 = 16): the mean stays well under 1.
+    assert!(mean > 0.0 && mean < 1.0, "{mean}");
 }

@@ -8,9 +8,7 @@
 use crate::engine::{Node, SimError};
 use crate::raster::aa::{AaMethod, AaStats, AdaptiveConfig, AdaptiveTarget, Grid};
 use crate::raster::aa::{SupersampleTarget, PIXEL_BYTES};
-use crate::raster::{
-    Counters, RegionSet, ScreenRect, Target, Viewport, BYTES_PER_PIXEL,
-};
+use crate::raster::{Counters, RegionSet, ScreenRect, Target, Viewport, BYTES_PER_PIXEL};
 use crate::units::Bytes;
 
 use super::Msg;
@@ -65,9 +63,7 @@ impl Canvas {
                 let config = AdaptiveConfig {
                     pool: aa.pool.unwrap_or(AdaptiveConfig::default_pool(pixels)),
                     grid,
-                    reclaim_spread: aa
-                        .reclaim
-                        .then_some(crate::raster::aa::RECLAIM_SPREAD),
+                    reclaim_spread: aa.reclaim.then_some(crate::raster::aa::RECLAIM_SPREAD),
                 };
                 AdaptiveTarget::new(viewport, rects, config, clear).map(Canvas::Adaptive)
             }

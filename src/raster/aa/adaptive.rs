@@ -297,7 +297,10 @@ impl AdaptiveTarget {
                             counters.aa_resolved_pixels += 1;
                             let cells = self.pool.cells(b);
                             let z = self.pool.z[cells.clone()].iter().copied().min();
-                            (box_filter(&self.pool.rgb[cells]), z.unwrap_or(Depth::CLEARED))
+                            (
+                                box_filter(&self.pool.rgb[cells]),
+                                z.unwrap_or(Depth::CLEARED),
+                            )
                         }
                     };
                     out.set_pixel(r, x, y, rgb, z);
@@ -452,8 +455,14 @@ impl AdaptiveTarget {
         if hi - lo >= i64::from(spread) {
             return;
         }
-        let prim = self.pool.prim[cells].iter().copied().min().unwrap_or(f.prim);
-        let centre = (lo + hi).div_euclid(2).clamp(0, i64::from(Depth::FAR.raw())) as u32;
+        let prim = self.pool.prim[cells]
+            .iter()
+            .copied()
+            .min()
+            .unwrap_or(f.prim);
+        let centre = (lo + hi)
+            .div_euclid(2)
+            .clamp(0, i64::from(Depth::FAR.raw())) as u32;
         let p = &mut self.planes[r];
         p.rgb[i] = rgb;
         p.z[i] = centre;
@@ -490,8 +499,9 @@ impl AdaptiveTarget {
 fn offset_of(slope: [i64; 2], ox: i64, oy: i64) -> i64 {
     let d = i128::from(masks::STEPS);
     let num = i128::from(slope[0]) * i128::from(ox) + i128::from(slope[1]) * i128::from(oy);
-    (num + 128 * d).div_euclid(256 * d).clamp(i128::from(i64::MIN / 2), i128::from(i64::MAX / 2))
-        as i64
+    (num + 128 * d)
+        .div_euclid(256 * d)
+        .clamp(i128::from(i64::MIN / 2), i128::from(i64::MAX / 2)) as i64
 }
 
 impl Target for AdaptiveTarget {
@@ -518,5 +528,54 @@ impl Target for AdaptiveTarget {
             };
             self.fragment(rect, frag.x, y, f, span, counters);
         }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn demand(peak_cells: u64, grid_side: u32, overflowed: u64, pool_cells: u64) -> AaStats {
+        AaStats {
+            grid_side,
+            peak_cells,
+            overflowed_pixels: overflowed,
+            pool_cells,
+            ..AaStats::default()
+        }
+    }
+
+    /// Paper 000, section 4.1: a pool of 4 cells per pixel holds 4x4 blocks for 25% of the
+    /// pixels, 3x3 for 44%, 2x2 for all of them.
+    #[test]
+    fn adaptation_picks_the_finest_grid_the_demand_fits() {
+        let pixels = 1000;
+        let pool = 4 * pixels;
+        // 250 edge pixels at 4x4 fill the pool exactly: keep 4x4.
+        assert_eq!(adapt(&demand(250 * 16, 4, 0, pool)), Grid::X4);
+        // One more (overflowed) pixel: 3x3 (251 * 9 <= 4000).
+        assert_eq!(adapt(&demand(250 * 16, 4, 1, pool)), Grid::X3);
+        // 444 at 3x3 still fit 3x3; 445 need 2x2.
+        assert_eq!(adapt(&demand(444 * 9, 3, 0, pool)), Grid::X3);
+        assert_eq!(adapt(&demand(445 * 9, 3, 0, pool)), Grid::X2);
+        // Few edges again: back to 4x4.
+        assert_eq!(adapt(&demand(100 * 4, 2, 0, pool)), Grid::X4);
+        // More than the pool holds even at 2x2: 2x2 is the floor.
+        assert_eq!(adapt(&demand(4000, 2, 500, pool)), Grid::X2);
+        // An empty pool: 2x2, nothing fits anyway.
+        assert_eq!(adapt(&demand(0, 4, 10, 0)), Grid::X2);
+    }
+
+    #[test]
+    fn a_block_goes_back_on_the_free_list_and_is_reused() {
+        let mut pool = Pool::new(Bytes::new(2 * 16 * SUBPIXEL_BYTES), Grid::X4);
+        let a = pool.alloc().unwrap();
+        let b = pool.alloc().unwrap();
+        assert!(pool.alloc().is_none() && pool.exhausted());
+        pool.release(a);
+        assert_eq!(pool.live, 16);
+        assert_eq!(pool.alloc(), Some(a));
+        assert_eq!((pool.live, pool.peak), (32, 32));
+        assert_ne!(a, b);
     }
 }

@@ -159,9 +159,8 @@ pub enum Crossing {
 pub fn crossing(edge: &Edge, px: i64, py: i64) -> Crossing {
     let (x0, y0) = (px * SUBPIXEL_ONE, py * SUBPIXEL_ONE);
     let corner = [(0, 0), (1, 0), (1, 1), (0, 1)];
-    let e = corner.map(|(cx, cy)| {
-        i128::from(edge.eval(x0 + cx * SUBPIXEL_ONE, y0 + cy * SUBPIXEL_ONE))
-    });
+    let e = corner
+        .map(|(cx, cy)| i128::from(edge.eval(x0 + cx * SUBPIXEL_ONE, y0 + cy * SUBPIXEL_ONE)));
     if e.iter().all(|&v| v >= 0) {
         return Crossing::Inside;
     }

@@ -169,7 +169,13 @@ mod tests {
             AaMethod::parse("supersample:256"),
             Some(AaMethod::Supersample { side: 16 })
         );
-        for bad in ["supersample:15", "supersample:1", "supersample:1024", "fxaa", ""] {
+        for bad in [
+            "supersample:15",
+            "supersample:1",
+            "supersample:1024",
+            "fxaa",
+            "",
+        ] {
             assert_eq!(AaMethod::parse(bad), None, "{bad}");
         }
         assert!(AaMethod::VALID.contains("perfect square"));

@@ -61,7 +61,9 @@ impl SupersampleTarget {
             .collect();
         // Cell centres (2i + 1) / 2k of a pixel, rounded to the subpixel lattice.
         let at = |i: u32| ((2 * i + 1) * SUBPIXEL_ONE as u32 / (2 * side)) as u8;
-        let positions = (0..side * side).map(|s| (at(s % side), at(s / side))).collect();
+        let positions = (0..side * side)
+            .map(|s| (at(s % side), at(s / side)))
+            .collect();
         Ok(SupersampleTarget {
             viewport,
             rects,
@@ -75,9 +77,8 @@ impl SupersampleTarget {
     /// The whole viewport.
     pub fn full_screen(viewport: Viewport, side: u32, clear: [u8; 3]) -> SupersampleTarget {
         // The viewport's own rectangle always lies in it.
-        SupersampleTarget::new(viewport, vec![viewport.rect()], side, clear).unwrap_or_else(
-            |_| unreachable!("a viewport's rectangle is inside the viewport"),
-        )
+        SupersampleTarget::new(viewport, vec![viewport.rect()], side, clear)
+            .unwrap_or_else(|_| unreachable!("a viewport's rectangle is inside the viewport"))
     }
 
     pub fn side(&self) -> u32 {
