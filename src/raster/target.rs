@@ -23,12 +23,13 @@
 //! Such a target returns [`Sampling::Conservative`] from [`Target::sampling`], so its spans
 //! hold every pixel the triangle touches, not only covered centres. A span carries its
 //! triangle ([`Span::triangle`]), which answers `fully_covers_pixel(x, y)` (an interior
-//! pixel: store one 12-byte Pixel record) and `coverage_mask(x, y, samples)` (an edge
-//! pixel: store its mask in a 7-byte Subpixel record; an empty mask means the pixel was
-//! only near a corner, skip it). The span's fragments give depth and colour at the pixel
+//! pixel: sample once) and, for edge pixels, either `coverage_mask(x, y, samples)` (exact
+//! per-sample coverage; an empty mask means the pixel was only near a corner) or the
+//! bitmask table of `aa::masks`. The span's fragments give depth and colour at the pixel
 //! centre, clamped to the triangle's range even where the centre lies outside it. Samples
 //! obey the same top-left rule as centres, so the coverage masks of a mesh are watertight
-//! too (tests/raster_coverage.rs checks this with a mask-counting target).
+//! too (tests/raster_coverage.rs checks this with a mask-counting target). The targets
+//! themselves live in `aa/` (adaptive supersampling, k x k supersampling).
 
 use super::counters::Counters;
 use super::fixed::Depth;
@@ -295,11 +296,7 @@ impl RegionSet {
     }
 
     /// Regions already checked by [`check_regions`], cleared to `clear`.
-    pub(crate) fn from_checked(
-        _viewport: Viewport,
-        rects: Vec<ScreenRect>,
-        clear: [u8; 3],
-    ) -> RegionSet {
+    pub(crate) fn from_checked(rects: Vec<ScreenRect>, clear: [u8; 3]) -> RegionSet {
         let bufs = rects.iter().map(|&r| PixelBuffer::new(r, clear)).collect();
         RegionSet { rects, bufs }
     }

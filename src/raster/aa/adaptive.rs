@@ -184,7 +184,6 @@ struct Frag {
 /// regions in sort-middle, or the whole screen), sharing one Subpixel pool.
 #[derive(Clone, Debug)]
 pub struct AdaptiveTarget {
-    viewport: Viewport,
     rects: Vec<ScreenRect>,
     planes: Vec<Plane>,
     pool: Pool,
@@ -206,7 +205,6 @@ impl AdaptiveTarget {
     ) -> Result<AdaptiveTarget, RegionError> {
         check_regions(viewport, &rects)?;
         Ok(AdaptiveTarget {
-            viewport,
             planes: rects.iter().map(|&r| Plane::new(r, clear)).collect(),
             rects,
             pool: Pool::new(config.pool, config.grid),
@@ -221,7 +219,6 @@ impl AdaptiveTarget {
     /// The whole viewport as one region.
     pub fn full_screen(viewport: Viewport, config: AdaptiveConfig, clear: [u8; 3]) -> Self {
         AdaptiveTarget {
-            viewport,
             rects: vec![viewport.rect()],
             planes: vec![Plane::new(viewport.rect(), clear)],
             pool: Pool::new(config.pool, config.grid),
@@ -285,7 +282,7 @@ impl AdaptiveTarget {
     /// pixels keep their one sample), with each pixel's nearest depth. Counts one
     /// `aa_resolved_pixels` per super pixel.
     pub fn resolve(&self, counters: &mut Counters) -> RegionSet {
-        let mut out = RegionSet::from_checked(self.viewport, self.rects.clone(), self.clear);
+        let mut out = RegionSet::from_checked(self.rects.clone(), self.clear);
         for (r, plane) in self.planes.iter().enumerate() {
             let rect = plane.rect;
             for y in rect.y0()..rect.y1() {

@@ -30,7 +30,6 @@ struct Samples {
 /// A k x k supersampling buffer over disjoint regions.
 #[derive(Clone, Debug)]
 pub struct SupersampleTarget {
-    viewport: Viewport,
     rects: Vec<ScreenRect>,
     regions: Vec<Samples>,
     side: u32,
@@ -65,7 +64,6 @@ impl SupersampleTarget {
             .map(|s| (at(s % side), at(s / side)))
             .collect();
         Ok(SupersampleTarget {
-            viewport,
             rects,
             regions,
             side,
@@ -116,7 +114,7 @@ impl SupersampleTarget {
     /// Box-filtered image with each pixel's nearest sample depth; one
     /// `aa_resolved_pixels` per pixel.
     pub fn resolve(&self, counters: &mut Counters) -> RegionSet {
-        let mut out = RegionSet::from_checked(self.viewport, self.rects.clone(), self.clear);
+        let mut out = RegionSet::from_checked(self.rects.clone(), self.clear);
         let n = (self.side * self.side) as usize;
         for (r, s) in self.regions.iter().enumerate() {
             let w = s.rect.width() as usize;
