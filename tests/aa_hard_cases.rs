@@ -283,3 +283,90 @@ fn a_pool_exhausted_mid_frame_on_some_nodes_only() {
     }
     assert!(short > 0 && short < 8, "{short} of 8 nodes ran out");
 }
+
+/// summary.json and summary.md show anti-aliasing only when a run used it, and the same
+/// run twice records the same numbers (no host state leaks into them).
+#[test]
+fn summaries_show_anti_aliasing_only_when_on_and_deterministically() {
+    use sortsim::report::run::RunSummary;
+    let b = scene("p000-letter-b.json");
+    let summarize = |set: &[(&str, &str)]| {
+        let spec = RunSpec {
+            machine: root().join("machines/power-challenge.json"),
+            scene: b.file().to_path_buf(),
+            algo: "sort-middle/static".into(),
+            procs: 4,
+            frames: Some("0..2".into()),
+            seed: 1,
+            set: set
+                .iter()
+                .map(|(k, v)| (k.to_string(), v.to_string()))
+                .collect(),
+        };
+        let cfg = spec.resolve(Some(b.clone())).unwrap();
+        let result = run(&cfg).unwrap();
+        let s = RunSummary::new(&cfg, &result);
+        (
+            serde_json::to_string(&s).unwrap(),
+            s.markdown(),
+            result.frames,
+        )
+    };
+    let (json, md, _) = summarize(&[]);
+    assert!(!json.contains("\"aa\"") && !md.contains("Anti-aliasing"));
+    let (json, md, frames) = summarize(&[("aa", "adaptive")]);
+    for key in [
+        "grid_side_per_node",
+        "supersampled_pixels",
+        "reclaimed_pixels",
+        "overflowed_pixels",
+        "memory_mean_bytes",
+    ] {
+        assert!(json.contains(key), "{key}");
+    }
+    assert!(md.contains("## Anti-aliasing") && md.contains("4x4 4x4 4x4 4x4"));
+    let (json_again, _, frames_again) = summarize(&[("aa", "adaptive")]);
+    assert_eq!(json, json_again);
+    assert_eq!(frames, frames_again);
+}
+
+/// An adaptive target over a node's regions gives, on those regions, the pixels a
+/// full-screen target gives (same pool size, no overflow): regions only cut the screen.
+#[test]
+fn regions_see_the_pixels_of_the_whole_screen() {
+    let g = scene("p000-tetra-500.json").frame(2).unwrap();
+    let vp = viewport(&g);
+    let config = AdaptiveConfig::for_pixels(vp.pixels() as u64);
+    let mut whole = AdaptiveTarget::full_screen(vp, config, g.background);
+    draw_mesh(
+        &g.vertices,
+        &g.triangles,
+        vp,
+        &raster_options(&g),
+        &mut whole,
+    );
+    let rect = |x0, y0, x1, y1| sortsim::raster::ScreenRect::new(x0, y0, x1, y1).unwrap();
+    let rects = vec![
+        rect(0, 0, 200, 300),
+        rect(200, 0, 512, 300),
+        rect(0, 300, 512, 512),
+    ];
+    let mut parts = AdaptiveTarget::new(vp, rects, config, g.background).unwrap();
+    draw_mesh(
+        &g.vertices,
+        &g.triangles,
+        vp,
+        &raster_options(&g),
+        &mut parts,
+    );
+    assert_eq!(whole.stats(), parts.stats());
+    let mut a = sortsim::raster::Framebuffer::new(vp);
+    let mut b = sortsim::raster::Framebuffer::new(vp);
+    whole.resolve_into(&mut a, &mut Counters::default());
+    parts.resolve_into(&mut b, &mut Counters::default());
+    assert_eq!(a.colors(), b.colors());
+    assert!(matches!(
+        AdaptiveTarget::new(vp, vec![rect(0, 0, 600, 10)], config, [0; 3]),
+        Err(sortsim::raster::RegionError::OutsideViewport(0))
+    ));
+}

@@ -18,7 +18,7 @@ use crate::raster::counters::Counters;
 use crate::raster::fixed::Depth;
 use crate::raster::scan::{Sampling, Span};
 use crate::raster::screen::{ScreenRect, Viewport};
-use crate::raster::target::{check_regions, nearer, RegionError, RegionSet, Target};
+use crate::raster::target::{check_regions, nearer, Framebuffer, RegionError, RegionSet, Target};
 use crate::units::Bytes;
 
 /// Reclaiming's depth threshold in raw depth units: a super pixel whose samples all have
@@ -281,6 +281,12 @@ impl AdaptiveTarget {
     /// The box-filtered image of every region (super pixels average their samples, plain
     /// pixels keep their one sample), with each pixel's nearest depth. Counts one
     /// `aa_resolved_pixels` per super pixel.
+    /// [`resolve`](Self::resolve) straight into a framebuffer (pixels outside the regions
+    /// keep what the framebuffer holds).
+    pub fn resolve_into(&self, fb: &mut Framebuffer, counters: &mut Counters) {
+        self.resolve(counters).copy_into(fb);
+    }
+
     pub fn resolve(&self, counters: &mut Counters) -> RegionSet {
         let mut out = RegionSet::from_checked(self.rects.clone(), self.clear);
         for (r, plane) in self.planes.iter().enumerate() {

@@ -12,7 +12,7 @@ use crate::raster::counters::Counters;
 use crate::raster::fixed::{Depth, SUBPIXEL_ONE};
 use crate::raster::scan::{Sampling, Span};
 use crate::raster::screen::{ScreenRect, Viewport};
-use crate::raster::target::{check_regions, nearer, RegionError, RegionSet, Target};
+use crate::raster::target::{check_regions, nearer, Framebuffer, RegionError, RegionSet, Target};
 
 /// The largest k: 16 x 16 = 256 samples per pixel (sample positions stay on the 1/256
 /// subpixel lattice exactly for k = 2, 4, 8, 16).
@@ -113,6 +113,12 @@ impl SupersampleTarget {
 
     /// Box-filtered image with each pixel's nearest sample depth; one
     /// `aa_resolved_pixels` per pixel.
+    /// [`resolve`](Self::resolve) straight into a framebuffer (pixels outside the regions
+    /// keep what the framebuffer holds).
+    pub fn resolve_into(&self, fb: &mut Framebuffer, counters: &mut Counters) {
+        self.resolve(counters).copy_into(fb);
+    }
+
     pub fn resolve(&self, counters: &mut Counters) -> RegionSet {
         let mut out = RegionSet::from_checked(self.rects.clone(), self.clear);
         let n = (self.side * self.side) as usize;
