@@ -459,7 +459,7 @@ fn bad_flags_are_refused_with_exit_code_2() {
                 "--set",
                 "aa-pool=10MB",
             ],
-            "--set aa-pool=10MB: expected this option only with aa=adaptive",
+            "--set aa-pool=10MB: expected aa=adaptive with it",
         ),
     ];
     for (args, fragment) in cases {

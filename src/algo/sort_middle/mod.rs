@@ -515,7 +515,11 @@ fn aa_settings(o: &super::Options) -> Result<AaSettings, RunError> {
     let adaptive_only = ["aa-pool", "aa-start", "aa-reclaim"];
     if method != AaMethod::Adaptive {
         if let Some((k, _)) = o.pairs().find(|(k, _)| adaptive_only.contains(&k.as_str())) {
-            return Err(bad(o, k, "this option only with aa=adaptive"));
+            return Err(bad(
+                o,
+                k,
+                "aa=adaptive with it (it applies to adaptive supersampling only)",
+            ));
         }
     }
     Ok(AaSettings {

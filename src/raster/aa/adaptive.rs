@@ -204,23 +204,19 @@ impl AdaptiveTarget {
         clear: [u8; 3],
     ) -> Result<AdaptiveTarget, RegionError> {
         check_regions(viewport, &rects)?;
-        Ok(AdaptiveTarget {
-            planes: rects.iter().map(|&r| Plane::new(r, clear)).collect(),
-            rects,
-            pool: Pool::new(config.pool, config.grid),
-            config,
-            clear,
-            supersampled: 0,
-            reclaimed: 0,
-            overflowed: 0,
-        })
+        Ok(AdaptiveTarget::build(rects, config, clear))
     }
 
     /// The whole viewport as one region.
     pub fn full_screen(viewport: Viewport, config: AdaptiveConfig, clear: [u8; 3]) -> Self {
+        AdaptiveTarget::build(vec![viewport.rect()], config, clear)
+    }
+
+    /// A target over regions already checked.
+    fn build(rects: Vec<ScreenRect>, config: AdaptiveConfig, clear: [u8; 3]) -> Self {
         AdaptiveTarget {
-            rects: vec![viewport.rect()],
-            planes: vec![Plane::new(viewport.rect(), clear)],
+            planes: rects.iter().map(|&r| Plane::new(r, clear)).collect(),
+            rects,
             pool: Pool::new(config.pool, config.grid),
             config,
             clear,
