@@ -19,6 +19,7 @@ use std::sync::Arc;
 
 use crate::engine::RunStats;
 use crate::machine::MachineConfig;
+use crate::raster::aa::AaStats;
 use crate::raster::Framebuffer;
 use crate::scene::Scene;
 use crate::units::{Bytes, SimTime};
@@ -128,6 +129,9 @@ pub struct FrameRecord {
     pub messages: u64,
     /// When each node finished rasterizing (paper 001's load imbalance uses these).
     pub raster_finish: Vec<SimTime>,
+    /// Per node, what anti-aliasing did this frame (supersampled, reclaimed and overflowed
+    /// pixels, the subpixel resolution used, memory); empty when anti-aliasing is off.
+    pub aa: Vec<AaStats>,
 }
 
 impl FrameRecord {

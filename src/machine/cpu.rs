@@ -24,10 +24,15 @@ pub enum Op {
     RegionCount,
     AssignRegion,
     ClearPixel,
+    CoverageMask,
+    SubpixelTest,
+    SubpixelWrite,
+    ReclaimCheck,
+    ResolvePixel,
 }
 
 impl Op {
-    pub const ALL: [Op; 14] = [
+    pub const ALL: [Op; 19] = [
         Op::TransformVertex,
         Op::ClipTriangle,
         Op::SetupTriangle,
@@ -42,6 +47,11 @@ impl Op {
         Op::RegionCount,
         Op::AssignRegion,
         Op::ClearPixel,
+        Op::CoverageMask,
+        Op::SubpixelTest,
+        Op::SubpixelWrite,
+        Op::ReclaimCheck,
+        Op::ResolvePixel,
     ];
 
     pub fn name(self) -> &'static str {
@@ -60,6 +70,11 @@ impl Op {
             Op::RegionCount => "region_count",
             Op::AssignRegion => "assign_region",
             Op::ClearPixel => "clear_pixel",
+            Op::CoverageMask => "coverage_mask",
+            Op::SubpixelTest => "subpixel_test",
+            Op::SubpixelWrite => "subpixel_write",
+            Op::ReclaimCheck => "reclaim_check",
+            Op::ResolvePixel => "resolve_pixel",
         }
     }
 

@@ -46,6 +46,18 @@ pub struct Counters {
     pub active_removals: u64,
     /// Scanline renderer: scanlines completed (each one cleared and emitted).
     pub scanlines: u64,
+    /// Anti-aliasing: coverage masks formed for partially covered pixels (a bitmask table
+    /// lookup per edge for the adaptive target; exact sample tests for supersampling).
+    pub aa_coverage_masks: u64,
+    /// Anti-aliasing: subpixel samples depth-tested.
+    pub aa_subpixel_tests: u64,
+    /// Anti-aliasing: subpixel samples written (including a block's initial copy of its
+    /// pixel's sample).
+    pub aa_subpixel_writes: u64,
+    /// Adaptive anti-aliasing: super pixels checked for reclaiming.
+    pub aa_reclaim_checks: u64,
+    /// Anti-aliasing: pixels box-filtered from their samples.
+    pub aa_resolved_pixels: u64,
 }
 
 impl Counters {
@@ -73,6 +85,11 @@ impl AddAssign for Counters {
         self.active_inserts += o.active_inserts;
         self.active_removals += o.active_removals;
         self.scanlines += o.scanlines;
+        self.aa_coverage_masks += o.aa_coverage_masks;
+        self.aa_subpixel_tests += o.aa_subpixel_tests;
+        self.aa_subpixel_writes += o.aa_subpixel_writes;
+        self.aa_reclaim_checks += o.aa_reclaim_checks;
+        self.aa_resolved_pixels += o.aa_resolved_pixels;
     }
 }
 
@@ -107,11 +124,18 @@ mod tests {
             active_inserts: 14,
             active_removals: 15,
             scanlines: 16,
+            aa_coverage_masks: 17,
+            aa_subpixel_tests: 18,
+            aa_subpixel_writes: 19,
+            aa_reclaim_checks: 20,
+            aa_resolved_pixels: 21,
         };
         let mut sum = one;
         sum += one;
         assert_eq!(sum.scanlines, 32);
         assert_eq!(sum.triangles_in, 2);
+        assert_eq!(sum.aa_resolved_pixels, 42);
+        assert_eq!(sum.aa_coverage_masks, 34);
         assert_eq!(sum, one + one);
         assert_eq!(one.culled(), 2 + 3 + 4 + 5);
     }

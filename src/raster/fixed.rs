@@ -400,6 +400,12 @@ impl DepthPlane {
         self.gx
     }
 
+    /// Change per pixel down, in the same fixed point as [`DepthPlane::step_x`].
+    #[inline]
+    pub fn step_y(&self) -> i128 {
+        self.gy
+    }
+
     /// Rounds and clamps a raw value to the triangle's depth range.
     #[inline]
     pub fn resolve(&self, raw: i128) -> u32 {

@@ -12,7 +12,9 @@
 //! * `scan`: exact spans per row and fragments along them;
 //! * `target`: the [`Target`] trait and the buffers fragments land in;
 //! * `scanline`: the scanline z-buffer renderer over the same spans;
-//! * `counters`, `screen`, `image`: counts, screen coordinate types, PNG and image hash.
+//! * `counters`, `screen`, `image`: counts, screen coordinate types, PNG and image hash;
+//! * `aa`: anti-aliasing targets (paper 000's adaptive supersampling with its bitmask table
+//!   and Subpixel pool, and k x k supersampling), resolved to region images.
 //!
 //! Entry points, by the stage an algorithm runs on a node:
 //! * whole pipeline: [`draw_mesh`], [`draw_subset`] (the triangles one node owns);
@@ -44,6 +46,7 @@
 //! assert_eq!(fb.color(0, 7), Some([255, 0, 0]));
 //! ```
 
+pub mod aa;
 mod clip;
 pub mod counters;
 pub mod fixed;
@@ -312,6 +315,10 @@ mod tests {
             ("counters.rs", include_str!("counters.rs")),
             ("screen.rs", include_str!("screen.rs")),
             ("image.rs", include_str!("image.rs")),
+            ("aa/mod.rs", include_str!("aa/mod.rs")),
+            ("aa/masks.rs", include_str!("aa/masks.rs")),
+            ("aa/adaptive.rs", include_str!("aa/adaptive.rs")),
+            ("aa/supersample.rs", include_str!("aa/supersample.rs")),
         ];
         for (name, src) in files {
             assert!(src.starts_with("//!"), "{name} must start with a //! doc");

@@ -513,6 +513,15 @@ impl RasterTriangle {
             .resolve(self.depth.at(px - self.anchor.0, py - self.anchor.1))
     }
 
+    /// Depth of the plane at the centre of pixel `(px, py)` in 1/256 depth units, neither
+    /// rounded nor clamped to the triangle's range: where anti-aliasing targets extrapolate
+    /// subpixel depths from (a clamped centre would bend the plane at edge pixels).
+    pub(crate) fn depth_fine_at(&self, px: i64, py: i64) -> i64 {
+        let raw = self.depth.at(px - self.anchor.0, py - self.anchor.1);
+        (raw >> (super::fixed::DEPTH_FRAC - 8)).clamp(i128::from(i64::MIN), i128::from(i64::MAX))
+            as i64
+    }
+
     /// Colour of the triangle's planes at the centre of pixel `(px, py)`, clamped per
     /// channel to the vertices' range. Equals the colour of a fragment there.
     pub fn color_at(&self, px: i64, py: i64) -> [u8; 3] {

@@ -23,12 +23,13 @@
 //! Such a target returns [`Sampling::Conservative`] from [`Target::sampling`], so its spans
 //! hold every pixel the triangle touches, not only covered centres. A span carries its
 //! triangle ([`Span::triangle`]), which answers `fully_covers_pixel(x, y)` (an interior
-//! pixel: store one 12-byte Pixel record) and `coverage_mask(x, y, samples)` (an edge
-//! pixel: store its mask in a 7-byte Subpixel record; an empty mask means the pixel was
-//! only near a corner, skip it). The span's fragments give depth and colour at the pixel
+//! pixel: sample once) and, for edge pixels, either `coverage_mask(x, y, samples)` (exact
+//! per-sample coverage; an empty mask means the pixel was only near a corner) or the
+//! bitmask table of `aa::masks`. The span's fragments give depth and colour at the pixel
 //! centre, clamped to the triangle's range even where the centre lies outside it. Samples
 //! obey the same top-left rule as centres, so the coverage masks of a mesh are watertight
-//! too (tests/raster_coverage.rs checks this with a mask-counting target).
+//! too (tests/raster_coverage.rs checks this with a mask-counting target). The targets
+//! themselves live in `aa/` (adaptive supersampling, k x k supersampling).
 
 use super::counters::Counters;
 use super::fixed::Depth;
@@ -252,6 +253,19 @@ pub enum RegionError {
     Overlap(usize, usize),
 }
 
+/// Regions must lie in the viewport and not overlap (every region target's rule).
+pub(crate) fn check_regions(viewport: Viewport, rects: &[ScreenRect]) -> Result<(), RegionError> {
+    for (i, r) in rects.iter().enumerate() {
+        if !r.within(viewport) {
+            return Err(RegionError::OutsideViewport(i));
+        }
+        if let Some(j) = rects[..i].iter().position(|q| q.overlaps(*r)) {
+            return Err(RegionError::Overlap(j, i));
+        }
+    }
+    Ok(())
+}
+
 /// Several disjoint screen regions, each with its own colour and depth buffer: the memory
 /// of one sort-middle rasterizer node.
 #[derive(Clone, Debug, PartialEq, Eq)]
@@ -263,14 +277,7 @@ pub struct RegionSet {
 impl RegionSet {
     /// Regions must lie in the viewport and not overlap; they need not cover it.
     pub fn new(viewport: Viewport, rects: Vec<ScreenRect>) -> Result<RegionSet, RegionError> {
-        for (i, r) in rects.iter().enumerate() {
-            if !r.within(viewport) {
-                return Err(RegionError::OutsideViewport(i));
-            }
-            if let Some(j) = rects[..i].iter().position(|q| q.overlaps(*r)) {
-                return Err(RegionError::Overlap(j, i));
-            }
-        }
+        check_regions(viewport, &rects)?;
         let bufs = rects.iter().map(|&r| PixelBuffer::new(r, [0; 3])).collect();
         Ok(RegionSet { rects, bufs })
     }
@@ -288,8 +295,25 @@ impl RegionSet {
         Ok(set)
     }
 
+    /// Regions already checked by [`check_regions`], cleared to `clear`.
+    pub(crate) fn from_checked(rects: Vec<ScreenRect>, clear: [u8; 3]) -> RegionSet {
+        let bufs = rects.iter().map(|&r| PixelBuffer::new(r, clear)).collect();
+        RegionSet { rects, bufs }
+    }
+
     pub fn regions(&self) -> &[PixelBuffer] {
         &self.bufs
+    }
+
+    /// Stores a finished pixel of region `region` (an anti-aliasing target's resolved
+    /// colour and nearest depth); pixels outside the region are ignored.
+    pub(crate) fn set_pixel(&mut self, region: usize, x: u32, y: u32, rgb: [u8; 3], z: u32) {
+        if let Some(b) = self.bufs.get_mut(region) {
+            if let Some(i) = b.index(x, y) {
+                b.color[i] = rgb;
+                b.depth[i] = z;
+            }
+        }
     }
 
     /// Copies every region into a framebuffer (colour and depth).

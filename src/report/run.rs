@@ -41,6 +41,46 @@ pub struct FrameSummary {
     pub load_imbalance_pct: f64,
     pub bytes: u64,
     pub messages: u64,
+    /// Anti-aliasing this frame, when the run used it.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub aa: Option<AaFrameSummary>,
+}
+
+/// One frame's anti-aliasing over all nodes (paper 000's memory figures).
+#[derive(Serialize, Debug, Clone, PartialEq)]
+pub struct AaFrameSummary {
+    /// Samples per side each node used (4 = 4x4).
+    pub grid_side_per_node: Vec<u32>,
+    pub supersampled_pixels: u64,
+    pub reclaimed_pixels: u64,
+    pub overflowed_pixels: u64,
+    /// Super pixels left after reclaiming.
+    pub live_super_pixels: u64,
+    /// Pixels of the screen the nodes held.
+    pub pixels: u64,
+    /// Per node: Pixel array plus Subpixel cells in use at the end of the frame.
+    pub memory_min_bytes: u64,
+    pub memory_mean_bytes: f64,
+    pub memory_max_bytes: u64,
+}
+
+fn aa_summary(r: &FrameRecord) -> Option<AaFrameSummary> {
+    if r.aa.is_empty() {
+        return None;
+    }
+    let sum = |f: fn(&crate::raster::aa::AaStats) -> u64| r.aa.iter().map(f).sum::<u64>();
+    let memory: Vec<u64> = r.aa.iter().map(|a| a.memory_used().get()).collect();
+    Some(AaFrameSummary {
+        grid_side_per_node: r.aa.iter().map(|a| a.grid_side).collect(),
+        supersampled_pixels: sum(|a| a.supersampled_pixels),
+        reclaimed_pixels: sum(|a| a.reclaimed_pixels),
+        overflowed_pixels: sum(|a| a.overflowed_pixels),
+        live_super_pixels: sum(|a| a.live_super_pixels),
+        pixels: sum(|a| a.pixels),
+        memory_min_bytes: memory.iter().copied().min().unwrap_or(0),
+        memory_mean_bytes: mean(memory.iter().map(|&m| m as f64)),
+        memory_max_bytes: memory.iter().copied().max().unwrap_or(0),
+    })
 }
 
 fn frame_summary(r: &FrameRecord) -> FrameSummary {
@@ -57,6 +97,7 @@ fn frame_summary(r: &FrameRecord) -> FrameSummary {
         load_imbalance_pct: r.load_imbalance_pct(),
         bytes: r.bytes.get(),
         messages: r.messages,
+        aa: aa_summary(r),
     }
 }
 
@@ -137,6 +178,7 @@ impl RunSummary {
                 f.messages
             );
         }
+        self.aa_markdown(&mut s);
         let phases: Vec<&String> = {
             let mut all: Vec<&String> = self
                 .machine_metrics
@@ -194,6 +236,39 @@ impl RunSummary {
             self.machine_metrics.links.len()
         );
         s
+    }
+}
+
+impl RunSummary {
+    /// The anti-aliasing table of summary.md, when the run anti-aliased.
+    fn aa_markdown(&self, s: &mut String) {
+        if self.per_frame.iter().all(|f| f.aa.is_none()) {
+            return;
+        }
+        let _ = writeln!(s, "\n## Anti-aliasing\n\n| frame | grid per node | supersampled (%) | reclaimed | overflowed | after reclaiming (%) | memory per node min / mean / max (bytes) |");
+        let _ = writeln!(s, "|---:|---|---:|---:|---:|---:|---|");
+        for f in &self.per_frame {
+            let Some(a) = &f.aa else { continue };
+            let pct = |n: u64| 100.0 * n as f64 / a.pixels.max(1) as f64;
+            let grids: Vec<String> = a
+                .grid_side_per_node
+                .iter()
+                .map(|g| format!("{g}x{g}"))
+                .collect();
+            let _ = writeln!(
+                s,
+                "| {} | {} | {:.2} | {} | {} | {:.2} | {} / {:.0} / {} |",
+                f.frame,
+                grids.join(" "),
+                pct(a.supersampled_pixels),
+                a.reclaimed_pixels,
+                a.overflowed_pixels,
+                pct(a.live_super_pixels),
+                a.memory_min_bytes,
+                a.memory_mean_bytes,
+                a.memory_max_bytes
+            );
+        }
     }
 }
 

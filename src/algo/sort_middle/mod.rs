@@ -13,6 +13,7 @@
 
 pub mod assign;
 pub mod buffers;
+pub mod canvas;
 mod ellsworth;
 mod redistribute;
 pub mod regions;
@@ -24,6 +25,7 @@ use std::cell::RefCell;
 use std::rc::Rc;
 
 use assign::Assignment;
+use canvas::{AaSettings, Canvas};
 use regions::RegionGrid;
 use two_step::Groups;
 
@@ -32,6 +34,7 @@ use super::frames::FrameBook;
 use super::{FrameRecord, RunConfig, RunError, RunResult};
 use crate::engine::{Filter, Node, Payload, Sim, SimError};
 use crate::machine::{Counts, Op};
+use crate::raster::aa::{adapt, AaMethod, Grid};
 use crate::raster::{
     draw_screen_triangles, setup_subset, Framebuffer, RasterOptions, RegionSet, ScreenTriangle,
     Viewport,
@@ -64,6 +67,8 @@ pub struct Settings {
     pub groups: Option<Groups>,
     /// The load balancer's estimate of one polygon's rasterization time.
     pub polygon_estimate: SimTime,
+    /// Anti-aliasing (`aa`, `aa-pool`, `aa-start`, `aa-reclaim`).
+    pub aa: AaSettings,
 }
 
 pub(crate) const TAG_POLYGONS: u32 = 1;
@@ -190,6 +195,8 @@ pub(crate) struct Ctx {
     next_assignment: RefCell<Option<Rc<Assignment>>>,
     /// Each processor's regions after the last frame, for the output image.
     images: RefCell<Vec<Option<RegionSet>>>,
+    /// Each processor's subpixel resolution for its next frame (adaptive anti-aliasing).
+    aa_grid: RefCell<Vec<Grid>>,
 }
 
 impl Ctx {
@@ -393,7 +400,8 @@ where
 }
 
 /// Rasterizes this processor's regions: its own triangles, then every polygon message until
-/// `streams` senders have sent their last one.
+/// `streams` senders have sent their last one. Returns the regional image (resolved from
+/// the samples when anti-aliasing).
 async fn rasterize(
     node: &Node<Msg>,
     ctx: &Ctx,
@@ -409,14 +417,23 @@ async fn rasterize(
         .into_iter()
         .map(|r| ctx.settings.grid.rect(r))
         .collect();
-    let pixels: u64 = rects.iter().map(|r| r.pixels() as u64).sum();
-    let memory = Bytes::new(pixels * (3 + 4));
-    node.alloc("framebuffer", memory)?;
-    let mut target = RegionSet::with_clear(ctx.viewport, rects, ctx.background)
-        .map_err(|e| node.error(e.to_string()))?;
-    node.compute(&Counts::of(Op::ClearPixel, pixels)).await;
+    let grid = ctx.aa_grid.borrow()[me as usize];
+    let mut canvas = Canvas::new(
+        node,
+        &ctx.settings.aa,
+        grid,
+        ctx.viewport,
+        rects,
+        ctx.background,
+    )?;
+    let charges = canvas.charges();
+    for &(tag, bytes) in &charges {
+        node.alloc(tag, bytes)?;
+    }
+    node.compute(&Counts::of(Op::ClearPixel, canvas.clear_count()))
+        .await;
     for batch in local.chunks(ctx.batch()) {
-        let c = draw_screen_triangles(batch, &mut target);
+        let c = draw_screen_triangles(batch, canvas.target());
         node.compute(&charge::back_end(&c)).await;
     }
     let mut arrivals = redistribute::Streams::default();
@@ -431,14 +448,62 @@ async fn rasterize(
             unreachable!("filtered by tag")
         };
         debug_assert_eq!(f, frame, "a polygon message crossed a frame boundary");
-        let c = draw_screen_triangles(&tris, &mut target);
+        let c = draw_screen_triangles(&tris, canvas.target());
         node.compute(&charge::back_end(&c)).await;
         arrivals.arrived(env.src, end);
     }
+    let (image, resolve, stats) = canvas.finish();
+    node.compute(&charge::back_end(&resolve)).await;
+    if let Some(stats) = stats {
+        // Memory adaptation (paper 000): this frame's demand picks the next frame's grid.
+        ctx.aa_grid.borrow_mut()[me as usize] = adapt(&stats);
+        let n = ctx.n as usize;
+        ctx.record(frame, |r| {
+            r.aa.resize(n, Default::default());
+            r.aa[me as usize] = stats;
+        });
+    }
     let now = node.now();
     ctx.record(frame, |r| r.raster_finish[me as usize] = now);
-    node.free("framebuffer", memory)?;
-    Ok(target)
+    for &(tag, bytes) in &charges {
+        node.free(tag, bytes)?;
+    }
+    Ok(image)
+}
+
+/// Reads the anti-aliasing options (both variants take them).
+fn aa_settings(o: &super::Options) -> Result<AaSettings, RunError> {
+    let method: String = o.get("aa", "none".to_string(), AaMethod::VALID)?;
+    let method = AaMethod::parse(&method).ok_or_else(|| bad(o, "aa", AaMethod::VALID))?;
+    let pool_given = o.pairs().any(|(k, _)| k == "aa-pool");
+    let pool: Bytes = o.get(
+        "aa-pool",
+        Bytes::new(0),
+        "a Subpixel pool size per processor such as 10MB",
+    )?;
+    let pool = pool_given.then_some(pool);
+    let start = match o.choice("aa-start", "4", &["4", "3", "2"])? {
+        "3" => Grid::X3,
+        "2" => Grid::X2,
+        _ => Grid::X4,
+    };
+    let reclaim = o.choice("aa-reclaim", "on", &["on", "off"])? == "on";
+    let adaptive_only = ["aa-pool", "aa-start", "aa-reclaim"];
+    if method != AaMethod::Adaptive {
+        if let Some((k, _)) = o.pairs().find(|(k, _)| adaptive_only.contains(&k.as_str())) {
+            return Err(bad(
+                o,
+                k,
+                "aa=adaptive with it (it applies to adaptive supersampling only)",
+            ));
+        }
+    }
+    Ok(AaSettings {
+        method,
+        pool,
+        start,
+        reclaim,
+    })
 }
 
 /// Reads the options of `variant` and checks them.
@@ -513,6 +578,7 @@ fn settings(cfg: &RunConfig, variant: Variant, viewport: Viewport) -> Result<Set
             (counts, groups, estimate)
         }
     };
+    let aa = aa_settings(o)?;
     o.finish(cfg.algo.id())?;
     Ok(Settings {
         variant,
@@ -521,6 +587,7 @@ fn settings(cfg: &RunConfig, variant: Variant, viewport: Viewport) -> Result<Set
         counts,
         groups,
         polygon_estimate,
+        aa,
     })
 }
 
@@ -569,6 +636,7 @@ pub fn run(cfg: &RunConfig, variant: Variant) -> Result<RunResult, RunError> {
     let first = cfg.scene.frame(cfg.frames.start)?;
     let viewport = super::reference::viewport(&first);
     let settings = settings(cfg, variant, viewport)?;
+    let settings_start = settings.aa.start;
     let n = cfg.machine.nodes;
     let ctx = Rc::new(Ctx {
         settings,
@@ -580,6 +648,7 @@ pub fn run(cfg: &RunConfig, variant: Variant) -> Result<RunResult, RunError> {
         book: FrameBook::new(cfg.scene.clone(), n, cfg.frames.start, Rc::new(first)),
         next_assignment: RefCell::default(),
         images: RefCell::new(vec![None; n as usize]),
+        aa_grid: RefCell::new(vec![settings_start; n as usize]),
     });
     let mut sim: Sim<Msg> =
         Sim::new(&cfg.machine, cfg.seed).map_err(|e| RunError::Unsupported(e.to_string()))?;

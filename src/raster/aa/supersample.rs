@@ -1,0 +1,196 @@
+//! Traditional supersampling, the reference adaptive supersampling saves memory against:
+//! every pixel holds k x k samples (7 bytes each), each depth-tested on its own, resolved
+//! with a box filter. k = 4 is paper 002's 16 samples and paper 000's 29.4 MB comparison;
+//! k = 16 (256 samples) is an accuracy reference.
+//!
+//! Must never approximate coverage: each sample is tested against the exact edge functions
+//! under the top-left rule (`RasterTriangle::covers_sample`), so a mesh covers each sample
+//! exactly once. Must never read a clock or know about nodes.
+
+use super::{box_filter, sample_depth, slopes, AaStats, SUBPIXEL_BYTES};
+use crate::raster::counters::Counters;
+use crate::raster::fixed::{Depth, SUBPIXEL_ONE};
+use crate::raster::scan::{Sampling, Span};
+use crate::raster::screen::{ScreenRect, Viewport};
+use crate::raster::target::{check_regions, nearer, Framebuffer, RegionError, RegionSet, Target};
+
+/// The largest k: 16 x 16 = 256 samples per pixel (sample positions stay on the 1/256
+/// subpixel lattice exactly for k = 2, 4, 8, 16).
+pub const MAX_SUPERSAMPLE_SIDE: u32 = 16;
+
+/// One region's samples, pixel-major (pixel i's samples at `i * k * k ..`).
+#[derive(Clone, Debug)]
+struct Samples {
+    rect: ScreenRect,
+    z: Vec<u32>,
+    rgb: Vec<[u8; 3]>,
+    prim: Vec<u32>,
+}
+
+/// A k x k supersampling buffer over disjoint regions.
+#[derive(Clone, Debug)]
+pub struct SupersampleTarget {
+    rects: Vec<ScreenRect>,
+    regions: Vec<Samples>,
+    side: u32,
+    /// Sample positions in 1/256 pixel from the pixel's top-left corner, row-major.
+    positions: Vec<(u8, u8)>,
+    clear: [u8; 3],
+}
+
+impl SupersampleTarget {
+    /// `side` is clamped to 1..=[`MAX_SUPERSAMPLE_SIDE`]. Regions as for `RegionSet`.
+    pub fn new(
+        viewport: Viewport,
+        rects: Vec<ScreenRect>,
+        side: u32,
+        clear: [u8; 3],
+    ) -> Result<SupersampleTarget, RegionError> {
+        check_regions(viewport, &rects)?;
+        let side = side.clamp(1, MAX_SUPERSAMPLE_SIDE);
+        let n = (side * side) as usize;
+        let regions = rects
+            .iter()
+            .map(|&rect| Samples {
+                rect,
+                z: vec![Depth::CLEARED; rect.pixels() * n],
+                rgb: vec![clear; rect.pixels() * n],
+                prim: vec![u32::MAX; rect.pixels() * n],
+            })
+            .collect();
+        // Cell centres (2i + 1) / 2k of a pixel, rounded to the subpixel lattice.
+        let at = |i: u32| ((2 * i + 1) * SUBPIXEL_ONE as u32 / (2 * side)) as u8;
+        let positions = (0..side * side)
+            .map(|s| (at(s % side), at(s / side)))
+            .collect();
+        Ok(SupersampleTarget {
+            rects,
+            regions,
+            side,
+            positions,
+            clear,
+        })
+    }
+
+    /// The whole viewport.
+    pub fn full_screen(viewport: Viewport, side: u32, clear: [u8; 3]) -> SupersampleTarget {
+        // The viewport's own rectangle always lies in it.
+        SupersampleTarget::new(viewport, vec![viewport.rect()], side, clear)
+            .unwrap_or_else(|_| unreachable!("a viewport's rectangle is inside the viewport"))
+    }
+
+    pub fn side(&self) -> u32 {
+        self.side
+    }
+
+    pub fn pixels(&self) -> u64 {
+        self.rects.iter().map(|r| r.pixels() as u64).sum()
+    }
+
+    /// Samples per pixel times pixels.
+    pub fn samples(&self) -> u64 {
+        self.pixels() * u64::from(self.side * self.side)
+    }
+
+    /// What the buffer holds: every pixel supersampled, every sample a 7-byte cell.
+    pub fn stats(&self) -> AaStats {
+        AaStats {
+            grid_side: self.side,
+            pixels: self.pixels(),
+            supersampled_pixels: self.pixels(),
+            live_super_pixels: self.pixels(),
+            peak_cells: self.samples(),
+            live_cells: self.samples(),
+            pool_cells: self.samples(),
+            ..AaStats::default()
+        }
+    }
+
+    /// Modelled memory: samples times [`SUBPIXEL_BYTES`] (no Pixel array).
+    pub fn bytes(&self) -> crate::units::Bytes {
+        crate::units::Bytes::new(self.samples() * SUBPIXEL_BYTES)
+    }
+
+    /// Box-filtered image with each pixel's nearest sample depth; one
+    /// `aa_resolved_pixels` per pixel.
+    /// [`resolve`](Self::resolve) straight into a framebuffer (pixels outside the regions
+    /// keep what the framebuffer holds).
+    pub fn resolve_into(&self, fb: &mut Framebuffer, counters: &mut Counters) {
+        self.resolve(counters).copy_into(fb);
+    }
+
+    pub fn resolve(&self, counters: &mut Counters) -> RegionSet {
+        let mut out = RegionSet::from_checked(self.rects.clone(), self.clear);
+        let n = (self.side * self.side) as usize;
+        for (r, s) in self.regions.iter().enumerate() {
+            let w = s.rect.width() as usize;
+            for i in 0..s.rect.pixels() {
+                let cells = i * n..(i + 1) * n;
+                let z = s.z[cells.clone()].iter().copied().min();
+                let (x, y) = (s.rect.x0() + (i % w) as u32, s.rect.y0() + (i / w) as u32);
+                out.set_pixel(
+                    r,
+                    x,
+                    y,
+                    box_filter(&s.rgb[cells]),
+                    z.unwrap_or(Depth::CLEARED),
+                );
+                counters.aa_resolved_pixels += 1;
+            }
+        }
+        out
+    }
+}
+
+impl Target for SupersampleTarget {
+    fn rects(&self) -> &[ScreenRect] {
+        &self.rects
+    }
+
+    fn sampling(&self) -> Sampling {
+        Sampling::Conservative
+    }
+
+    fn span(&mut self, rect: usize, span: &Span<'_>, c: &mut Counters) {
+        let tri = span.triangle();
+        let slope = slopes(tri);
+        let prim = span.prim();
+        let y = span.y();
+        let n = (self.side * self.side) as usize;
+        let half = SUBPIXEL_ONE / 2;
+        let s = &mut self.regions[rect];
+        let w = s.rect.width() as usize;
+        let row = (y - s.rect.y0()) as usize * w;
+        for f in span.fragments() {
+            let (px, py) = (i64::from(f.x), i64::from(y));
+            let full = tri.fully_covers_pixel(px, py);
+            let centre = tri.depth_fine_at(px, py);
+            if !full {
+                c.aa_coverage_masks += 1;
+            }
+            let base = (row + (f.x - s.rect.x0()) as usize) * n;
+            for (k, &(sx, sy)) in self.positions.iter().enumerate() {
+                if !full && !tri.covers_sample(px, py, sx, sy) {
+                    continue;
+                }
+                let z = sample_depth(
+                    centre,
+                    slope,
+                    i64::from(sx) - half,
+                    i64::from(sy) - half,
+                    SUBPIXEL_ONE,
+                );
+                let cell = base + k;
+                c.aa_subpixel_tests += 1;
+                c.bytes_touched += 4;
+                if nearer(z, prim, s.z[cell], s.prim[cell]) {
+                    s.z[cell] = z;
+                    s.rgb[cell] = f.rgb;
+                    s.prim[cell] = prim;
+                    c.aa_subpixel_writes += 1;
+                    c.bytes_touched += SUBPIXEL_BYTES;
+                }
+            }
+        }
+    }
+}
