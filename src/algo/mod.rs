@@ -175,6 +175,20 @@ pub enum RunError {
     Unsupported(String),
 }
 
+/// The error for option `key` whose value is not `what` the algorithm expects.
+pub(crate) fn bad_option(o: &Options, key: &str, what: &str) -> RunError {
+    let value = o
+        .pairs()
+        .find(|(k, _)| *k == key)
+        .map(|(_, v)| v.clone())
+        .unwrap_or_default();
+    RunError::Option(OptionError::Invalid {
+        key: key.into(),
+        value,
+        message: format!("expected {what}"),
+    })
+}
+
 /// Where an algorithm sorts, and which of its family's variants it is.
 enum Family {
     SortMiddle(sort_middle::Variant),

@@ -36,7 +36,7 @@ use std::rc::Rc;
 
 use super::frames::FrameBook;
 use super::primitives::{deal, Deal};
-use super::{RunConfig, RunError, RunResult};
+use super::{bad_option as bad, RunConfig, RunError, RunResult};
 use crate::engine::{Node, Payload, Sim, SimError};
 use crate::net::Network;
 use crate::raster::{Framebuffer, RasterOptions, Viewport};
@@ -293,19 +293,6 @@ fn settings(cfg: &RunConfig, variant: Variant) -> Result<Settings, RunError> {
         assignment,
         local_zbuffer,
         chunk_rows,
-    })
-}
-
-fn bad(o: &super::Options, key: &str, what: &str) -> RunError {
-    let value = o
-        .pairs()
-        .find(|(k, _)| *k == key)
-        .map(|(_, v)| v.clone())
-        .unwrap_or_default();
-    RunError::Option(super::OptionError::Invalid {
-        key: key.into(),
-        value,
-        message: format!("expected {what}"),
     })
 }
 

@@ -31,7 +31,7 @@ use two_step::Groups;
 
 use super::charge;
 use super::frames::FrameBook;
-use super::{FrameRecord, RunConfig, RunError, RunResult};
+use super::{bad_option as bad, FrameRecord, RunConfig, RunError, RunResult};
 use crate::engine::{Filter, Node, Payload, Sim, SimError};
 use crate::machine::{Counts, Op};
 use crate::raster::aa::{adapt, AaMethod, Grid};
@@ -588,19 +588,6 @@ fn settings(cfg: &RunConfig, variant: Variant, viewport: Viewport) -> Result<Set
         groups,
         polygon_estimate,
         aa,
-    })
-}
-
-fn bad(o: &super::Options, key: &str, what: &str) -> RunError {
-    let value = o
-        .pairs()
-        .find(|(k, _)| *k == key)
-        .map(|(_, v)| v.clone())
-        .unwrap_or_default();
-    RunError::Option(super::OptionError::Invalid {
-        key: key.into(),
-        value,
-        message: format!("expected {what}"),
     })
 }
 
