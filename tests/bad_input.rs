@@ -664,6 +664,20 @@ fn sort_last_runs_refuse_what_the_machine_or_options_cannot_do() {
             &["chunk-rows=0"],
             "a whole number of scanlines, at least 1",
         ),
+        (
+            "machines/snooping-bus.json",
+            "sort-last/snooping",
+            "4",
+            &["aa=adaptive"],
+            "--set aa=adaptive: expected none or supersample:N",
+        ),
+        (
+            "machines/snooping-bus.json",
+            "sort-last/pixelflow",
+            "4",
+            &["aa=supersample:15"],
+            "expected none or supersample:N with N a perfect square from 4 to 256",
+        ),
     ];
     for (machine, algo, procs, sets, fragment) in cases {
         let mut args = vec![
@@ -692,4 +706,29 @@ fn sort_last_runs_refuse_what_the_machine_or_options_cannot_do() {
         assert!(!stderr.contains("panicked"), "{stderr}");
         assert!(!out_dir.exists(), "{args:?}: a refused run wrote output");
     }
+}
+
+/// A sample grid past the rasterizer's viewport limit is refused before anything runs.
+#[test]
+fn a_sort_last_sample_grid_too_large_is_refused() {
+    let out = sortsim(&[
+        "run",
+        "--machine",
+        "machines/snooping-bus.json",
+        "--scene",
+        "scenes/p003-brooks.json",
+        "--algo",
+        "sort-last/snooping",
+        "--procs",
+        "4",
+        "--set",
+        "aa=supersample:256",
+    ]);
+    let stderr = String::from_utf8_lossy(&out.stderr);
+    assert_eq!(out.status.code(), Some(2), "{stderr}");
+    assert!(
+        stderr.contains("1204x1204 pixels at 16x16 samples is a 19264x19264 sample grid; sort-last/snooping merges samples on grids of at most 16384 per side"),
+        "{stderr}"
+    );
+    assert!(!stderr.contains("panicked"), "{stderr}");
 }

@@ -198,7 +198,11 @@ pub(crate) async fn processor(node: Node<Msg>, ctx: Rc<Ctx>) -> Result<(), SimEr
             let now = node.now();
             ctx.record(frame, |r| r.end = now);
             if ctx.is_last(frame) {
-                ctx.set_image(sparse::framebuffer(ctx.viewport, ctx.background, &all));
+                ctx.set_image(
+                    &node,
+                    sparse::framebuffer(ctx.viewport, ctx.background, &all),
+                )
+                .await;
             }
         } else {
             let rows = owned_rows(height, n, me) as u64;

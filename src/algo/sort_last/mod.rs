@@ -38,7 +38,10 @@ use super::frames::FrameBook;
 use super::primitives::{deal, Deal};
 use super::{bad_option as bad, RunConfig, RunError, RunResult};
 use crate::engine::{Node, Payload, Sim, SimError};
+use crate::machine::{Counts, Op};
 use crate::net::Network;
+use crate::raster::aa::{downsample, AaMethod};
+use crate::raster::screen::MAX_VIEWPORT;
 use crate::raster::{Framebuffer, RasterOptions, Viewport};
 use crate::scene::FrameGeometry;
 use crate::units::Bytes;
@@ -90,6 +93,9 @@ pub struct Settings {
     pub local_zbuffer: bool,
     /// Pipeline composition: scanlines per chunk.
     pub chunk_rows: u32,
+    /// Samples per pixel side (`aa=supersample:N`: sqrt N; 1 without anti-aliasing). Nodes
+    /// render and merge samples, so every pixel the algorithm moves is a sample.
+    pub side: u32,
 }
 
 /// Bytes of one full-frame pixel as a node holds and ships it: rgb and a 32-bit z.
@@ -171,8 +177,17 @@ impl Ctx {
         Ok(super::primitives::share_of(&dealt, node.id()))
     }
 
-    /// Hands over the final image (the merged frame of the run's last frame).
-    pub fn set_image(&self, image: Framebuffer) {
+    /// Hands over the final image (the merged frame of the run's last frame, on the sample
+    /// grid), charging the holder for resolving samples to pixels when anti-aliasing.
+    pub async fn set_image<M: Payload>(&self, node: &Node<M>, image: Framebuffer) {
+        let side = self.settings.side;
+        let image = if side > 1 {
+            let pixels = self.viewport.pixels() as u64 / u64::from(side * side);
+            node.compute(&Counts::of(Op::ResolvePixel, pixels)).await;
+            downsample(&image, side)
+        } else {
+            image
+        };
         *self.image.borrow_mut() = Some(image);
     }
 }
@@ -287,19 +302,50 @@ fn settings(cfg: &RunConfig, variant: Variant) -> Result<Settings, RunError> {
         }
         _ => 1,
     };
+    let aa: String = o.get("aa", "none".to_string(), SORT_LAST_AA)?;
+    let side = match AaMethod::parse(&aa) {
+        Some(AaMethod::None) => 1,
+        Some(AaMethod::Supersample { side }) => side,
+        _ => return Err(bad(o, "aa", SORT_LAST_AA)),
+    };
     o.finish(cfg.algo.id())?;
     Ok(Settings {
         variant,
         assignment,
         local_zbuffer,
         chunk_rows,
+        side,
+    })
+}
+
+/// What `aa` may be in a sort-last run.
+const SORT_LAST_AA: &str = "none or supersample:N with N a perfect square from 4 to 256 \
+     (sort-last merges move every sample; adaptive supersampling is modelled in the \
+     sort-middle family, whose pools stay on the node that owns a region)";
+
+/// The grid nodes render and merge on: the screen, or with `supersample:N` a grid sqrt N
+/// times finer in each direction, one sample per grid pixel at the sample positions of
+/// [`crate::raster::aa::SupersampleTarget`].
+fn sample_grid(cfg: &RunConfig, screen: Viewport, side: u32) -> Result<Viewport, RunError> {
+    Viewport::new(screen.width() * side, screen.height() * side).ok_or_else(|| {
+        RunError::Unsupported(format!(
+            "{}x{} pixels at {side}x{side} samples is a {}x{} sample grid; {} merges samples \
+             on grids of at most {MAX_VIEWPORT} per side",
+            screen.width(),
+            screen.height(),
+            screen.width() * side,
+            screen.height() * side,
+            cfg.algo.id()
+        ))
     })
 }
 
 /// Checks a variant's options and machine against `cfg` without running it.
 pub fn check(cfg: &RunConfig, variant: Variant) -> Result<(), RunError> {
     requirements(cfg, variant)?;
-    settings(cfg, variant).map(|_| ())
+    let settings = settings(cfg, variant)?;
+    let first = cfg.scene.frame(cfg.frames.start)?;
+    sample_grid(cfg, super::reference::viewport(&first), settings.side).map(|_| ())
 }
 
 /// Runs a sort-last variant.
@@ -307,7 +353,8 @@ pub fn run(cfg: &RunConfig, variant: Variant) -> Result<RunResult, RunError> {
     requirements(cfg, variant)?;
     let settings = settings(cfg, variant)?;
     let first = cfg.scene.frame(cfg.frames.start)?;
-    let viewport = super::reference::viewport(&first);
+    let screen = super::reference::viewport(&first);
+    let viewport = sample_grid(cfg, screen, settings.side)?;
     let n = cfg.machine.nodes;
     let ctx = Rc::new(Ctx {
         settings,
@@ -358,11 +405,11 @@ where
 }
 
 fn finish(ctx: Rc<Ctx>, stats: crate::engine::RunStats) -> Result<RunResult, RunError> {
-    let image = ctx
-        .image
-        .borrow_mut()
-        .take()
-        .unwrap_or_else(|| Framebuffer::with_clear(ctx.viewport, ctx.background));
+    let image = ctx.image.borrow_mut().take().unwrap_or_else(|| {
+        let side = ctx.settings.side;
+        let screen = Viewport::new(ctx.viewport.width() / side, ctx.viewport.height() / side);
+        Framebuffer::with_clear(screen.unwrap_or(ctx.viewport), ctx.background)
+    });
     Ok(RunResult {
         stats,
         frames: ctx.book.records(),

@@ -111,7 +111,7 @@ pub(super) async fn processor(node: Node<Msg>, ctx: Rc<Ctx>) -> Result<(), SimEr
         local::free_full_frame(&node, &ctx)?;
         if let Some(image) = image {
             if ctx.is_last(frame) {
-                ctx.set_image(image.finish(&ctx));
+                ctx.set_image(&node, image.finish(&ctx)).await;
             }
             full_frame::end_frame(&node, &ctx, frame).await?;
         }

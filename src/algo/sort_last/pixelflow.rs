@@ -112,7 +112,11 @@ pub(crate) async fn processor(node: Node<Rows>, ctx: Rc<Ctx>) -> Result<(), SimE
             let now = node.now();
             ctx.record(frame, |r| r.end = now);
             if ctx.is_last(frame) {
-                ctx.set_image(sparse::framebuffer(ctx.viewport, ctx.background, &output));
+                ctx.set_image(
+                    &node,
+                    sparse::framebuffer(ctx.viewport, ctx.background, &output),
+                )
+                .await;
             }
         }
     }

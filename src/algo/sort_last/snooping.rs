@@ -160,7 +160,11 @@ pub(crate) async fn processor(
             ctx.record(frame, |r| r.end = now);
             let pixels = shared.take(&ctx, frame);
             if ctx.is_last(frame) {
-                ctx.set_image(sparse::framebuffer(ctx.viewport, ctx.background, &pixels));
+                ctx.set_image(
+                    &node,
+                    sparse::framebuffer(ctx.viewport, ctx.background, &pixels),
+                )
+                .await;
             }
         }
     }

@@ -19,7 +19,7 @@ pub mod supersample;
 
 pub use adaptive::{adapt, AdaptiveConfig, AdaptiveTarget, RECLAIM_SPREAD};
 pub use masks::Grid;
-pub use supersample::{SupersampleTarget, MAX_SUPERSAMPLE_SIDE};
+pub use supersample::{downsample, SupersampleTarget, MAX_SUPERSAMPLE_SIDE};
 
 use crate::raster::fixed::{Depth, DEPTH_FRAC};
 use crate::raster::setup::RasterTriangle;

@@ -142,6 +142,42 @@ impl SupersampleTarget {
     }
 }
 
+/// Resolves an image of samples drawn on a grid `side` times finer in each direction (one
+/// sample per pixel of `samples`, as sort-last merges move them) with the same box filter as
+/// [`SupersampleTarget::resolve`]: each output pixel is the rounded mean of its `side x side`
+/// samples, its depth the nearest of them. `samples`' sides must be multiples of `side`.
+pub fn downsample(samples: &Framebuffer, side: u32) -> Framebuffer {
+    let (w, h) = (samples.width() / side, samples.height() / side);
+    let viewport = Viewport::new(w, h).expect("a sample grid is at least one pixel per side");
+    let mut out = Framebuffer::new(viewport);
+    let (colors, depths) = (samples.colors(), samples.depths());
+    let big_w = samples.width() as usize;
+    let side = side as usize;
+    let mut cell = Vec::with_capacity(side * side);
+    let mut row_rgb = Vec::with_capacity(w as usize);
+    let mut row_z = Vec::with_capacity(w as usize);
+    for y in 0..h as usize {
+        row_rgb.clear();
+        row_z.clear();
+        for x in 0..w as usize {
+            cell.clear();
+            let mut z = u32::MAX;
+            for sy in y * side..(y + 1) * side {
+                let start = sy * big_w + x * side;
+                cell.extend_from_slice(&colors[start..start + side]);
+                z = depths[start..start + side]
+                    .iter()
+                    .copied()
+                    .fold(z, u32::min);
+            }
+            row_rgb.push(box_filter(&cell));
+            row_z.push(z);
+        }
+        out.set_row(y as u32, &row_rgb, &row_z);
+    }
+    out
+}
+
 impl Target for SupersampleTarget {
     fn rects(&self) -> &[ScreenRect] {
         &self.rects
