@@ -222,18 +222,21 @@ fn parse_set(pairs: &[String]) -> Result<std::collections::BTreeMap<String, Stri
         .collect()
 }
 
+/// The report folder: `-o` when given, else `prefix` followed by the input file's stem.
+fn out_dir(given: &Option<PathBuf>, input: &Path, prefix: &str) -> PathBuf {
+    given.clone().unwrap_or_else(|| {
+        let stem = input
+            .file_stem()
+            .map_or("report".into(), |s| s.to_string_lossy().into_owned());
+        PathBuf::from(format!("{prefix}{stem}"))
+    })
+}
+
 /// `sortsim accuracy`: every anti-aliasing mode and network fidelity of one run, against a
 /// supersampled reference; the report goes to `-o` (reports/accuracy/<scene name>).
 fn accuracy(args: &AccuracyArgs) -> Result<(), Failure> {
     use sortsim::accuracy::{run_study, StudyConfig, StudyError};
-    let stem = args
-        .scene
-        .file_stem()
-        .map_or("scene".into(), |s| s.to_string_lossy().into_owned());
-    let out = args
-        .out
-        .clone()
-        .unwrap_or_else(|| PathBuf::from(format!("reports/accuracy/{stem}")));
+    let out = out_dir(&args.out, &args.scene, "reports/accuracy/");
     let mut fidelities: Vec<Fidelity> = args.fidelities.iter().map(|&f| fidelity(f)).collect();
     fidelities.sort_unstable();
     fidelities.dedup();
@@ -379,14 +382,7 @@ fn write_file(dir: &Path, name: &str, text: &str) -> Result<(), Failure> {
 fn sweep(args: &SweepArgs) -> Result<(), Failure> {
     use sortsim::sweep::{run_sweep, spec::load_sweep, SweepError, SweepOptions};
     let spec = load_sweep(&args.spec)?;
-    let stem = args
-        .spec
-        .file_stem()
-        .map_or("sweep".into(), |s| s.to_string_lossy().into_owned());
-    let out = args
-        .out
-        .clone()
-        .unwrap_or_else(|| PathBuf::from(format!("reports/sweep-{stem}")));
+    let out = out_dir(&args.out, &args.spec, "reports/sweep-");
     let jobs = args.jobs.map_or_else(
         || std::thread::available_parallelism().map_or(1, |n| n.get()),
         |j| j as usize,

@@ -189,6 +189,33 @@ pub(crate) fn bad_option(o: &Options, key: &str, what: &str) -> RunError {
     })
 }
 
+/// Runs one program per processor, `program(node, ctx)`, on a fresh simulation of `cfg`'s
+/// machine, to the end.
+pub(crate) fn simulate<M, C, F, Fut>(
+    cfg: &RunConfig,
+    ctx: &std::rc::Rc<C>,
+    program: F,
+) -> Result<RunStats, RunError>
+where
+    M: crate::engine::Payload,
+    F: Fn(crate::engine::Node<M>, std::rc::Rc<C>) -> Fut,
+    Fut: std::future::Future<Output = Result<(), crate::engine::SimError>> + 'static,
+{
+    let mut sim: crate::engine::Sim<M> = crate::engine::Sim::new(&cfg.machine, cfg.seed)
+        .map_err(|e| RunError::Unsupported(e.to_string()))?;
+    if cfg.timeline {
+        sim.record_timeline();
+    }
+    for p in 0..cfg.machine.nodes {
+        sim.spawn(
+            p,
+            format!("processor {p}"),
+            program(sim.node(p), ctx.clone()),
+        );
+    }
+    Ok(sim.run()?)
+}
+
 /// Where an algorithm sorts, and which of its family's variants it is.
 enum Family {
     SortMiddle(sort_middle::Variant),

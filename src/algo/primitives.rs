@@ -86,11 +86,14 @@ pub fn deal(
     }
 }
 
-/// The primitives (database indices) `deal` gave processor `me`, ascending.
-pub fn share_of(assignment: &[u32], me: u32) -> Vec<u32> {
-    (0..assignment.len() as u32)
-        .filter(|&k| assignment[k as usize] == me)
-        .collect()
+/// Every processor's primitives (database indices, ascending) under `assignment`, in one
+/// pass: `shares(a, n)[p]` is what `deal` gave processor p.
+pub fn shares(assignment: &[u32], n: u32) -> Vec<Vec<u32>> {
+    let mut out = vec![Vec::new(); n as usize];
+    for (k, &p) in assignment.iter().enumerate() {
+        out[p as usize].push(k as u32);
+    }
+    out
 }
 
 #[cfg(test)]
@@ -121,8 +124,9 @@ mod tests {
     #[test]
     fn shares_partition_the_primitives() {
         let a = deal(Deal::Scatter, 7, |_| 0, 3, 0, "s");
-        let total: usize = (0..3).map(|p| share_of(&a, p).len()).sum();
+        let shares = shares(&a, 3);
+        let total: usize = shares.iter().map(Vec::len).sum();
         assert_eq!(total, 7);
-        assert_eq!(share_of(&a, 1), [1, 4]);
+        assert_eq!(shares[1], [1, 4]);
     }
 }

@@ -13,9 +13,9 @@
 use std::rc::Rc;
 
 use super::full_frame::{
-    self, merge, rows_bytes, tag, Image, Msg, Rows, BAND_REPLY, BAND_REQUEST, CONTROL_BYTES,
-    PARTITION,
+    self, rows_bytes, tag, Image, Msg, Rows, BAND_REPLY, BAND_REQUEST, CONTROL_BYTES, PARTITION,
 };
+use super::sparse::merge_sorted;
 use super::{local, request, Ctx};
 use crate::engine::{Filter, Node, SimError};
 use crate::machine::{Counts, Op};
@@ -65,7 +65,7 @@ pub(super) async fn processor(node: Node<Msg>, ctx: Rc<Ctx>) -> Result<(), SimEr
             let Msg::BandReply { pixels, .. } = env.payload else {
                 unreachable!("filtered by tag")
             };
-            merged = merge(&merged, &pixels);
+            merged = merge_sorted(&merged, &pixels);
             node.compute(&Counts::of(Op::CompositePixel, band_pixels(&ctx, me)))
                 .await;
         }

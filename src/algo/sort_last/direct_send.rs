@@ -20,7 +20,7 @@ use super::sparse::{self, BucketTarget, Image, Px, MESSAGE_PIXELS};
 use super::{local, Ctx};
 use crate::engine::{Filter, Node, Payload, SimError};
 use crate::machine::{Counts, Op};
-use crate::raster::{SparseBuffer, ACTIVE_PIXEL_BYTES};
+use crate::raster::ACTIVE_PIXEL_BYTES;
 use crate::units::Bytes;
 
 #[derive(Clone, Debug)]
@@ -114,14 +114,10 @@ pub(crate) async fn processor(node: Node<Msg>, ctx: Rc<Ctx>) -> Result<(), SimEr
         );
         node.alloc("owned rows", part_bytes)?;
         node.phase("render");
-        let share = ctx.share(&node, frame)?;
         let mut stream = Outgoing::new(n);
         if ctx.settings.local_zbuffer {
             local::clear_full_frame(&node, &ctx).await?;
-            let mut buffer = SparseBuffer::new(ctx.viewport);
-            local::render(&node, &ctx, frame, &share, &mut buffer).await?;
-            let now = node.now();
-            ctx.record(frame, |r| r.raster_finish[me as usize] = now);
+            let buffer = local::render_own_share(&node, &ctx, frame).await?;
             let w = ctx.viewport.width();
             let mut buckets = vec![Vec::new(); n as usize];
             for p in buffer.active() {
@@ -141,6 +137,7 @@ pub(crate) async fn processor(node: Node<Msg>, ctx: Rc<Ctx>) -> Result<(), SimEr
             stream.flush(&node, &ctx, frame, &mut part, false).await;
         } else {
             // Every fragment as generated: render a batch, ship the full messages.
+            let share = ctx.share(&node, frame)?;
             let mut target = BucketTarget::new(ctx.viewport, n);
             for batch in share.chunks(local::BATCH) {
                 let before = target.fragments;
@@ -153,8 +150,7 @@ pub(crate) async fn processor(node: Node<Msg>, ctx: Rc<Ctx>) -> Result<(), SimEr
                 ));
                 stream.flush(&node, &ctx, frame, &mut part, false).await;
             }
-            let now = node.now();
-            ctx.record(frame, |r| r.raster_finish[me as usize] = now);
+            local::raster_finished(&node, &ctx, frame);
             node.phase("send");
         }
         stream.flush(&node, &ctx, frame, &mut part, true).await;

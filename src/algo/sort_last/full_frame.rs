@@ -12,7 +12,6 @@ use std::rc::Rc;
 
 use super::Ctx;
 use crate::engine::{Filter, Node, Payload, SimError};
-use crate::raster::target::nearer;
 use crate::raster::{ActivePixel, Framebuffer};
 use crate::units::Bytes;
 
@@ -111,38 +110,6 @@ impl Rows {
     }
 }
 
-/// Merges two raster-ordered pixel lists by depth: where both hold a pixel, the nearer one
-/// (`nearer`'s (depth, primitive) order) stays.
-pub fn merge(a: &[ActivePixel], b: &[ActivePixel]) -> Vec<ActivePixel> {
-    let mut out = Vec::with_capacity(a.len().max(b.len()));
-    let (mut i, mut j) = (0, 0);
-    while i < a.len() && j < b.len() {
-        let (p, q) = (a[i], b[j]);
-        match (p.y, p.x).cmp(&(q.y, q.x)) {
-            std::cmp::Ordering::Less => {
-                out.push(p);
-                i += 1;
-            }
-            std::cmp::Ordering::Greater => {
-                out.push(q);
-                j += 1;
-            }
-            std::cmp::Ordering::Equal => {
-                out.push(if nearer(q.z, q.prim, p.z, p.prim) {
-                    q
-                } else {
-                    p
-                });
-                i += 1;
-                j += 1;
-            }
-        }
-    }
-    out.extend_from_slice(&a[i..]);
-    out.extend_from_slice(&b[j..]);
-    out
-}
-
 /// The final image being assembled from merged pixels (one frame buffer: the holder's).
 pub struct Image {
     width: u32,
@@ -220,10 +187,4 @@ pub async fn end_frame(node: &Node<Msg>, ctx: &Ctx, frame: u32) -> Result<(), Si
         );
     }
     Ok(())
-}
-
-/// Records when this node finished rasterizing `frame` (paper 001's load imbalance).
-pub fn raster_finished<M: Payload>(node: &Node<M>, ctx: &Ctx, frame: u32) {
-    let (me, now) = (node.id() as usize, node.now());
-    ctx.record(frame, |r| r.raster_finish[me] = now);
 }

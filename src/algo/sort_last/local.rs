@@ -8,7 +8,7 @@ use super::Ctx;
 use crate::algo::charge;
 use crate::engine::{Node, Payload, SimError};
 use crate::machine::{Counts, Op};
-use crate::raster::{draw_subset, Counters, Target};
+use crate::raster::{draw_subset, Counters, SparseBuffer, Target};
 
 /// Primitives per compute charge: events grow with batches, not with pixels, and a request
 /// for work waits at most one batch before the renderer looks at it.
@@ -43,6 +43,26 @@ pub(crate) async fn render<M: Payload, T: Target>(
         r.triangles_in_view += total.triangles_in - total.culled_outside - total.culled_invalid
     });
     Ok(total)
+}
+
+/// Renders this node's static share of `frame` into an active-pixel buffer and records when
+/// rasterization finished.
+pub(crate) async fn render_own_share<M: Payload>(
+    node: &Node<M>,
+    ctx: &Ctx,
+    frame: u32,
+) -> Result<SparseBuffer, SimError> {
+    let share = ctx.share(node, frame)?;
+    let mut buffer = SparseBuffer::new(ctx.viewport);
+    render(node, ctx, frame, &share, &mut buffer).await?;
+    raster_finished(node, ctx, frame);
+    Ok(buffer)
+}
+
+/// Records when this node finished rasterizing `frame` (paper 001's load imbalance).
+pub(crate) fn raster_finished<M: Payload>(node: &Node<M>, ctx: &Ctx, frame: u32) {
+    let (me, now) = (node.id() as usize, node.now());
+    ctx.record(frame, |r| r.raster_finish[me] = now);
 }
 
 /// Allocates a full colour and z frame in the node's memory pool and charges clearing it.

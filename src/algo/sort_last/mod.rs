@@ -35,9 +35,9 @@ use std::cell::RefCell;
 use std::rc::Rc;
 
 use super::frames::FrameBook;
-use super::primitives::{deal, Deal};
-use super::{bad_option as bad, RunConfig, RunError, RunResult};
-use crate::engine::{Node, Payload, Sim, SimError};
+use super::primitives::{deal, shares, Deal};
+use super::{bad_option as bad, simulate, RunConfig, RunError, RunResult};
+use crate::engine::{Node, Payload, SimError};
 use crate::machine::{Counts, Op};
 use crate::net::Network;
 use crate::raster::aa::{downsample, AaMethod};
@@ -112,6 +112,8 @@ pub(crate) struct Ctx {
     book: FrameBook,
     /// The final image, set by whichever node holds it when the last frame is merged.
     image: RefCell<Option<Framebuffer>>,
+    /// The latest frame's deal, every node's share.
+    shares: RefCell<Option<(u32, Vec<Vec<u32>>)>>,
 }
 
 impl Ctx {
@@ -165,16 +167,21 @@ impl Ctx {
         Bytes::new(self.viewport.pixels() as u64 * FULL_FRAME_PIXEL_BYTES)
     }
 
-    /// The static share of processor `me` in `frame`: database indices, ascending. With
-    /// request balancing this is the initial scatter.
+    /// The static share of this node in `frame`: database indices, ascending. With request
+    /// balancing this is the initial scatter. The deal is made once per frame, for all nodes.
     pub fn share<M: Payload>(&self, node: &Node<M>, frame: u32) -> Result<Vec<u32>, SimError> {
-        let geometry = self.geometry(node, frame)?;
-        let rule = match self.settings.assignment {
-            Assignment::Static(rule) => rule,
-            Assignment::Request { .. } => Deal::Scatter,
-        };
-        let dealt = static_assignment(&geometry, frame, rule, self.n, self.cfg.seed);
-        Ok(super::primitives::share_of(&dealt, node.id()))
+        let mut cache = self.shares.borrow_mut();
+        if cache.as_ref().is_none_or(|(f, _)| *f != frame) {
+            let geometry = self.geometry(node, frame)?;
+            let rule = match self.settings.assignment {
+                Assignment::Static(rule) => rule,
+                Assignment::Request { .. } => Deal::Scatter,
+            };
+            let dealt = static_assignment(&geometry, frame, rule, self.n, self.cfg.seed);
+            *cache = Some((frame, shares(&dealt, self.n)));
+        }
+        let (_, shares) = cache.as_ref().expect("filled above");
+        Ok(shares[node.id() as usize].clone())
     }
 
     /// Hands over the final image (the merged frame of the run's last frame, on the sample
@@ -365,43 +372,22 @@ pub fn run(cfg: &RunConfig, variant: Variant) -> Result<RunResult, RunError> {
         raster: super::reference::raster_options(&first),
         book: FrameBook::new(cfg.scene.clone(), n, cfg.frames.start, Rc::new(first)),
         image: RefCell::default(),
+        shares: RefCell::default(),
     });
     let stats = match variant {
-        Variant::Df => simulate(&ctx, df::processor)?,
-        Variant::Pc => simulate(&ctx, pc::processor)?,
-        Variant::ScanlineFlow => simulate(&ctx, scanline_flow::processor)?,
-        Variant::PixelFlow => simulate(&ctx, pixelflow::processor)?,
-        Variant::DirectSend => simulate(&ctx, direct_send::processor)?,
+        Variant::Df => simulate(cfg, &ctx, df::processor)?,
+        Variant::Pc => simulate(cfg, &ctx, pc::processor)?,
+        Variant::ScanlineFlow => simulate(cfg, &ctx, scanline_flow::processor)?,
+        Variant::PixelFlow => simulate(cfg, &ctx, pixelflow::processor)?,
+        Variant::DirectSend => simulate(cfg, &ctx, direct_send::processor)?,
         Variant::Snooping => {
             let shared = Rc::new(snooping::Shared::default());
-            simulate(&ctx, move |node, ctx| {
+            simulate(cfg, &ctx, move |node, ctx| {
                 snooping::processor(node, ctx, shared.clone())
             })?
         }
     };
     finish(ctx, stats)
-}
-
-/// Runs one program per processor on a fresh simulation of the run's machine.
-fn simulate<M, F, Fut>(ctx: &Rc<Ctx>, program: F) -> Result<crate::engine::RunStats, RunError>
-where
-    M: Payload,
-    F: Fn(Node<M>, Rc<Ctx>) -> Fut,
-    Fut: std::future::Future<Output = Result<(), SimError>> + 'static,
-{
-    let mut sim: Sim<M> = Sim::new(&ctx.cfg.machine, ctx.cfg.seed)
-        .map_err(|e| RunError::Unsupported(e.to_string()))?;
-    if ctx.cfg.timeline {
-        sim.record_timeline();
-    }
-    for p in 0..ctx.n {
-        sim.spawn(
-            p,
-            format!("processor {p}"),
-            program(sim.node(p), ctx.clone()),
-        );
-    }
-    Ok(sim.run()?)
 }
 
 fn finish(ctx: Rc<Ctx>, stats: crate::engine::RunStats) -> Result<RunResult, RunError> {

@@ -21,8 +21,9 @@ use std::collections::VecDeque;
 use std::rc::Rc;
 
 use super::full_frame::{
-    self, merge, rows_bytes, tag, Image, Msg, Rows, CHUNK, CONTROL_BYTES, CREDIT, LOCAL,
+    self, rows_bytes, tag, Image, Msg, Rows, CHUNK, CONTROL_BYTES, CREDIT, LOCAL,
 };
+use super::sparse::merge_sorted;
 use super::{local, request, Ctx};
 use crate::engine::{Filter, Node, SimError};
 use crate::machine::{Counts, Op};
@@ -86,7 +87,7 @@ pub(super) async fn processor(node: Node<Msg>, ctx: Rc<Ctx>) -> Result<(), SimEr
                     unreachable!("filtered by tag")
                 };
                 let (y0, y1) = extent(c);
-                let merged = merge(&pixels, rows.rows(y0, y1));
+                let merged = merge_sorted(&pixels, rows.rows(y0, y1));
                 let width = ctx.viewport.width() as u64;
                 node.compute(&Counts::of(Op::CompositePixel, (y1 - y0) as u64 * width))
                     .await;

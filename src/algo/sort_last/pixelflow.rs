@@ -23,7 +23,6 @@ use super::sparse::{self, Px};
 use super::{local, Ctx, FULL_FRAME_PIXEL_BYTES};
 use crate::engine::{Filter, Node, Payload, SimError};
 use crate::machine::{Counts, Op};
-use crate::raster::SparseBuffer;
 use crate::units::Bytes;
 
 /// Rows `y0..y1` of a partially merged frame: only its active pixels, raster order.
@@ -56,12 +55,8 @@ pub(crate) async fn processor(node: Node<Rows>, ctx: Rc<Ctx>) -> Result<(), SimE
             ctx.record(frame, |r| r.start = now);
         }
         node.phase("render");
-        let share = ctx.share(&node, frame)?;
         local::clear_full_frame(&node, &ctx).await?;
-        let mut buffer = SparseBuffer::new(ctx.viewport);
-        local::render(&node, &ctx, frame, &share, &mut buffer).await?;
-        let now = node.now();
-        ctx.record(frame, |r| r.raster_finish[me as usize] = now);
+        let buffer = local::render_own_share(&node, &ctx, frame).await?;
         let own = sparse::sorted_active(&buffer, w);
         drop(buffer);
 

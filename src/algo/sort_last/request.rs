@@ -22,7 +22,7 @@ use std::cell::RefCell;
 use std::collections::VecDeque;
 use std::rc::Rc;
 
-use super::full_frame::{self, tag, Msg, CONTROL_BYTES, WORK_PACKET, WORK_REQUEST};
+use super::full_frame::{tag, Msg, CONTROL_BYTES, WORK_PACKET, WORK_REQUEST};
 use super::{local, Assignment, Ctx};
 use crate::algo::sort_middle::DATABASE_BYTES_PER_TRIANGLE;
 use crate::engine::{Filter, Node, SimError};
@@ -36,60 +36,59 @@ pub(crate) async fn render_share(
     ctx: &Rc<Ctx>,
     frame: u32,
 ) -> Result<SparseBuffer, SimError> {
+    let Assignment::Request { split, min_packet } = ctx.settings.assignment else {
+        return local::render_own_share(node, ctx, frame).await;
+    };
+    if ctx.n == 1 {
+        // Nobody to ask: the scatter is the whole share.
+        return local::render_own_share(node, ctx, frame).await;
+    }
     let mut target = SparseBuffer::new(ctx.viewport);
     let share = ctx.share(node, frame)?;
-    match ctx.settings.assignment {
-        Assignment::Request { split, min_packet } if ctx.n > 1 => {
-            let queue = Rc::new(RefCell::new(VecDeque::from(share)));
-            node.spawn_daemon(
-                format!("load balancer {}", node.id()),
-                balancer(
-                    node.clone(),
-                    ctx.clone(),
-                    frame,
-                    queue.clone(),
-                    split,
-                    min_packet,
-                ),
-            );
-            let mut finished = node.now();
-            loop {
-                loop {
-                    let batch: Vec<u32> = {
-                        let mut q = queue.borrow_mut();
-                        let k = q.len().min(local::BATCH);
-                        q.drain(..k).collect()
-                    };
-                    if batch.is_empty() {
-                        break;
-                    }
-                    local::render(node, ctx, frame, &batch, &mut target).await?;
-                    finished = node.now();
-                }
-                let next = (node.id() + 1) % ctx.n;
-                let request = Msg::WorkRequest {
-                    frame,
-                    origin: node.id(),
-                };
-                ctx.send(node, frame, next, Bytes::new(CONTROL_BYTES), request)
-                    .await;
-                let env = node.recv(Filter::tag(tag(WORK_PACKET, frame))).await;
-                let Msg::WorkPacket { prims, .. } = env.payload else {
-                    unreachable!("filtered by tag")
-                };
-                if prims.is_empty() {
-                    break; // my request came back unanswered: local termination
-                }
-                queue.borrow_mut().extend(prims);
+    let queue = Rc::new(RefCell::new(VecDeque::from(share)));
+    node.spawn_daemon(
+        format!("load balancer {}", node.id()),
+        balancer(
+            node.clone(),
+            ctx.clone(),
+            frame,
+            queue.clone(),
+            split,
+            min_packet,
+        ),
+    );
+    let mut finished = node.now();
+    loop {
+        loop {
+            let batch: Vec<u32> = {
+                let mut q = queue.borrow_mut();
+                let k = q.len().min(local::BATCH);
+                q.drain(..k).collect()
+            };
+            if batch.is_empty() {
+                break;
             }
-            let me = node.id() as usize;
-            ctx.record(frame, |r| r.raster_finish[me] = finished);
+            local::render(node, ctx, frame, &batch, &mut target).await?;
+            finished = node.now();
         }
-        _ => {
-            local::render(node, ctx, frame, &share, &mut target).await?;
-            full_frame::raster_finished(node, ctx, frame);
+        let next = (node.id() + 1) % ctx.n;
+        let request = Msg::WorkRequest {
+            frame,
+            origin: node.id(),
+        };
+        ctx.send(node, frame, next, Bytes::new(CONTROL_BYTES), request)
+            .await;
+        let env = node.recv(Filter::tag(tag(WORK_PACKET, frame))).await;
+        let Msg::WorkPacket { prims, .. } = env.payload else {
+            unreachable!("filtered by tag")
+        };
+        if prims.is_empty() {
+            break; // my request came back unanswered: local termination
         }
+        queue.borrow_mut().extend(prims);
     }
+    let me = node.id() as usize;
+    ctx.record(frame, |r| r.raster_finish[me] = finished);
     Ok(target)
 }
 

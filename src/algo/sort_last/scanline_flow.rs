@@ -24,8 +24,9 @@
 
 use std::rc::Rc;
 
-use super::full_frame::{self, merge, rows_bytes, tag, Image, Msg, CHUNK, CONTROL_BYTES, CREDIT};
-use super::Ctx;
+use super::full_frame::{self, rows_bytes, tag, Image, Msg, CHUNK, CONTROL_BYTES, CREDIT};
+use super::sparse::merge_sorted;
+use super::{local, Ctx};
 use crate::algo::charge;
 use crate::engine::{Filter, Node, SimError};
 use crate::machine::{Counts, Op};
@@ -125,7 +126,7 @@ pub(super) async fn processor(node: Node<Msg>, ctx: Rc<Ctx>) -> Result<(), SimEr
             let y = y as u32;
             node.compute(&line.work).await;
             if y + 1 == h {
-                full_frame::raster_finished(&node, &ctx, frame);
+                local::raster_finished(&node, &ctx, frame);
             }
             let merged = if me == 0 {
                 line.pixels
@@ -136,7 +137,7 @@ pub(super) async fn processor(node: Node<Msg>, ctx: Rc<Ctx>) -> Result<(), SimEr
                 let Msg::Chunk { pixels, .. } = env.payload else {
                     unreachable!("filtered by tag")
                 };
-                let merged = merge(&pixels, &line.pixels);
+                let merged = merge_sorted(&pixels, &line.pixels);
                 node.compute(&Counts::of(Op::CompositePixel, width)).await;
                 let credit = Msg::Credit { frame };
                 ctx.send(&node, frame, me - 1, Bytes::new(CONTROL_BYTES), credit)

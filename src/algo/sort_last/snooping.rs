@@ -29,7 +29,7 @@ use super::sparse::{self, Image, Px, MESSAGE_PIXELS};
 use super::{local, Ctx};
 use crate::engine::{Filter, Node, Payload, SimError};
 use crate::machine::{Counts, Op};
-use crate::raster::{SparseBuffer, ACTIVE_PIXEL_BYTES};
+use crate::raster::ACTIVE_PIXEL_BYTES;
 use crate::units::Bytes;
 
 /// Broadcast pixels. `total` is set on the last message of the sender's turn to the
@@ -96,12 +96,8 @@ pub(crate) async fn processor(
             ctx.record(frame, |r| r.start = now);
         }
         node.phase("render");
-        let share = ctx.share(&node, frame)?;
         local::clear_full_frame(&node, &ctx).await?;
-        let mut buffer = SparseBuffer::new(ctx.viewport);
-        local::render(&node, &ctx, frame, &share, &mut buffer).await?;
-        let now = node.now();
-        ctx.record(frame, |r| r.raster_finish[me as usize] = now);
+        let buffer = local::render_own_share(&node, &ctx, frame).await?;
         let own = sparse::sorted_active(&buffer, ctx.viewport.width());
         drop(buffer);
 

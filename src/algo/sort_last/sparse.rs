@@ -1,5 +1,6 @@
 //! The host-side pixel mechanisms paper 003's three merges share: a compact shipped pixel
-//! (`Px`, its screen location as one index), a dense depth-merge buffer (`Image`, a node's
+//! (`Px`, its screen location as one index), the one raster-order depth merge of pixel lists
+//! (paper 001's full-frame merges use it too), a dense depth-merge buffer (`Image`, a node's
 //! merged frame, an owner's part of the screen, or a frame buffer), a target that buckets
 //! every fragment by the node owning its row before any depth test (direct send without a
 //! local z-buffer), and the message size the merges batch pixels into.
@@ -9,7 +10,9 @@
 //! z-buffer's image.
 
 use crate::raster::target::nearer;
-use crate::raster::{Counters, Framebuffer, ScreenRect, Span, SparseBuffer, Target, Viewport};
+use crate::raster::{
+    ActivePixel, Counters, Framebuffer, ScreenRect, Span, SparseBuffer, Target, Viewport,
+};
 
 /// Pixels per message when a merge batches pixels (11 KiB of active pixels).
 pub const MESSAGE_PIXELS: usize = 1024;
@@ -26,8 +29,8 @@ pub struct Px {
 
 /// A buffer's active pixels in raster order.
 pub fn sorted_active(buffer: &SparseBuffer, width: u32) -> Vec<Px> {
-    let mut out: Vec<Px> = buffer
-        .active()
+    buffer
+        .active_sorted()
         .iter()
         .map(|p| Px {
             loc: p.y * width + p.x,
@@ -35,32 +38,57 @@ pub fn sorted_active(buffer: &SparseBuffer, width: u32) -> Vec<Px> {
             prim: p.prim,
             rgb: p.rgb,
         })
-        .collect();
-    out.sort_unstable_by_key(|p| p.loc);
-    out
+        .collect()
+}
+
+/// A pixel a merge orders by screen location and compares by depth.
+pub trait MergePixel: Copy {
+    /// Raster order: row-major screen location.
+    fn raster_key(&self) -> u64;
+    /// (depth, primitive id), compared with `nearer`.
+    fn depth(&self) -> (u32, u32);
+}
+
+impl MergePixel for Px {
+    fn raster_key(&self) -> u64 {
+        u64::from(self.loc)
+    }
+    fn depth(&self) -> (u32, u32) {
+        (self.z, self.prim)
+    }
+}
+
+impl MergePixel for ActivePixel {
+    fn raster_key(&self) -> u64 {
+        (u64::from(self.y) << 32) | u64::from(self.x)
+    }
+    fn depth(&self) -> (u32, u32) {
+        (self.z, self.prim)
+    }
 }
 
 /// Depth-merges two raster-ordered pixel lists into one (the nearer pixel wins a shared
-/// location).
-pub fn merge_sorted(a: &[Px], b: &[Px]) -> Vec<Px> {
+/// location). Every sort-last merge of pixel lists goes through here.
+pub fn merge_sorted<P: MergePixel>(a: &[P], b: &[P]) -> Vec<P> {
     let mut out = Vec::with_capacity(a.len() + b.len());
     let (mut i, mut j) = (0, 0);
     while i < a.len() && j < b.len() {
         let (p, q) = (a[i], b[j]);
-        if p.loc < q.loc {
-            out.push(p);
-            i += 1;
-        } else if q.loc < p.loc {
-            out.push(q);
-            j += 1;
-        } else {
-            out.push(if nearer(q.z, q.prim, p.z, p.prim) {
-                q
-            } else {
-                p
-            });
-            i += 1;
-            j += 1;
+        match p.raster_key().cmp(&q.raster_key()) {
+            std::cmp::Ordering::Less => {
+                out.push(p);
+                i += 1;
+            }
+            std::cmp::Ordering::Greater => {
+                out.push(q);
+                j += 1;
+            }
+            std::cmp::Ordering::Equal => {
+                let ((pz, pp), (qz, qp)) = (p.depth(), q.depth());
+                out.push(if nearer(qz, qp, pz, pp) { q } else { p });
+                i += 1;
+                j += 1;
+            }
         }
     }
     out.extend_from_slice(&a[i..]);

@@ -31,8 +31,8 @@ use two_step::Groups;
 
 use super::charge;
 use super::frames::FrameBook;
-use super::{bad_option as bad, FrameRecord, RunConfig, RunError, RunResult};
-use crate::engine::{Filter, Node, Payload, Sim, SimError};
+use super::{bad_option as bad, simulate, FrameRecord, RunConfig, RunError, RunResult};
+use crate::engine::{Filter, Node, Payload, SimError};
 use crate::machine::{Counts, Op};
 use crate::raster::aa::{adapt, AaMethod, Grid};
 use crate::raster::{
@@ -637,26 +637,10 @@ pub fn run(cfg: &RunConfig, variant: Variant) -> Result<RunResult, RunError> {
         images: RefCell::new(vec![None; n as usize]),
         aa_grid: RefCell::new(vec![settings_start; n as usize]),
     });
-    let mut sim: Sim<Msg> =
-        Sim::new(&cfg.machine, cfg.seed).map_err(|e| RunError::Unsupported(e.to_string()))?;
-    if cfg.timeline {
-        sim.record_timeline();
-    }
-    for p in 0..n {
-        let (node, ctx) = (sim.node(p), ctx.clone());
-        match variant {
-            Variant::Ellsworth => {
-                sim.spawn(p, format!("processor {p}"), ellsworth::processor(node, ctx))
-            }
-            Variant::Static => sim.spawn(
-                p,
-                format!("processor {p}"),
-                static_regions::processor(node, ctx),
-            ),
-        }
-    }
-    let stats = sim.run()?;
-    drop(sim);
+    let stats = match variant {
+        Variant::Ellsworth => simulate(cfg, &ctx, ellsworth::processor)?,
+        Variant::Static => simulate(cfg, &ctx, static_regions::processor)?,
+    };
     let mut image = Framebuffer::with_clear(viewport, ctx.background);
     for regions in ctx.images.borrow().iter().flatten() {
         regions.copy_into(&mut image);
