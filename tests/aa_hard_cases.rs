@@ -370,3 +370,37 @@ fn regions_see_the_pixels_of_the_whole_screen() {
         Err(sortsim::raster::RegionError::OutsideViewport(0))
     ));
 }
+
+/// Design principle 3: anti-aliasing switched on for a scene that does not exercise it (one
+/// polygon covering every pixel of the screen, no edge inside it) changes nothing: no super
+/// pixel, no Subpixel in use, and the resolved image equals the aliased one.
+#[test]
+fn a_screen_without_edges_is_not_changed_by_anti_aliasing() {
+    let vp = Viewport::new(16, 12).unwrap();
+    // A triangle much larger than the screen: its edges lie outside every pixel.
+    let tri: Vec<ScreenTriangle> = ScreenTriangle::new(
+        [
+            v(-40.0, -40.0, 7, RED),
+            v(80.0, -40.0, 7, RED),
+            v(-40.0, 80.0, 7, RED),
+        ],
+        0,
+    )
+    .into_iter()
+    .collect();
+    for grid in [Grid::X2, Grid::X3, Grid::X4] {
+        let mut t = adaptive(vp, grid, true);
+        draw_screen_triangles(&tri, &mut t);
+        let s = t.stats();
+        assert_eq!(
+            (s.supersampled_pixels, s.live_cells),
+            (0, 0),
+            "{grid:?}: {s:?}"
+        );
+        let image = t.resolve(&mut Counters::default());
+        assert!(
+            image.regions()[0].colors().iter().all(|&c| c == RED),
+            "{grid:?}: every pixel is the polygon's colour"
+        );
+    }
+}
