@@ -13,6 +13,7 @@
 //! Depth order is the module's (depth, primitive id) rule, per Pixel and per Subpixel.
 
 use super::masks::{self, Grid};
+use super::merge::{AaPixel, Sample};
 use super::{box_filter, fine, sample_depth, slopes, AaStats, SUBPIXEL_BYTES};
 use crate::raster::counters::Counters;
 use crate::raster::fixed::Depth;
@@ -267,6 +268,45 @@ impl AdaptiveTarget {
                 .map(|c| (self.pool.z[c], self.pool.rgb[c]))
                 .collect()
         })
+    }
+
+    /// Calls `f` with every pixel a fragment reached, region by region in raster order: a
+    /// plain pixel with its plane, a super pixel with its samples.
+    pub(crate) fn for_each_pixel(&self, mut f: impl FnMut(u32, u32, AaPixel)) {
+        for plane in &self.planes {
+            let rect = plane.rect;
+            for y in rect.y0()..rect.y1() {
+                for x in rect.x0()..rect.x1() {
+                    let i = plane.index(x, y);
+                    match plane.block[i] {
+                        NO_BLOCK if plane.prim[i] == u32::MAX => {}
+                        NO_BLOCK => f(
+                            x,
+                            y,
+                            AaPixel::Plain {
+                                z: plane.z[i],
+                                fine: fine(plane.z[i]),
+                                prim: plane.prim[i],
+                                rgb: plane.rgb[i],
+                                slope: plane.slope[i],
+                            },
+                        ),
+                        b => {
+                            let samples = self
+                                .pool
+                                .cells(b)
+                                .map(|c| Sample {
+                                    z: self.pool.z[c],
+                                    prim: self.pool.prim[c],
+                                    rgb: self.pool.rgb[c],
+                                })
+                                .collect();
+                            f(x, y, AaPixel::Super(std::rc::Rc::new(samples)));
+                        }
+                    }
+                }
+            }
+        }
     }
 
     fn locate(&self, x: u32, y: u32) -> Option<(usize, usize)> {

@@ -5,6 +5,8 @@
 //! * `masks`: the precomputed bitmask table (edge entry/exit -> n x n coverage);
 //! * `adaptive`: [`AdaptiveTarget`], 12-byte Pixels plus a fixed pool of 7-byte Subpixel
 //!   cells for edge pixels only, memory adaptation and reclaiming;
+//! * `merge`: an adaptive pixel shipped to another buffer and merged there sample by
+//!   sample (sort-last), with the receiver's pool;
 //! * `supersample`: [`SupersampleTarget`], every pixel k x k samples.
 //!
 //! Both targets ask the scan step for conservative spans and resolve with a box filter into
@@ -15,10 +17,12 @@
 
 pub mod adaptive;
 pub mod masks;
+pub mod merge;
 pub mod supersample;
 
 pub use adaptive::{adapt, AdaptiveConfig, AdaptiveTarget, RECLAIM_SPREAD};
 pub use masks::Grid;
+pub use merge::{AaPixel, Blocks, Sample};
 pub use supersample::{downsample, SupersampleTarget, MAX_SUPERSAMPLE_SIDE};
 
 use crate::raster::fixed::{Depth, DEPTH_FRAC};
