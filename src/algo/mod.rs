@@ -6,6 +6,7 @@
 //! what it needs, e.g. a broadcast medium, and asks the network), never read the clock except
 //! through `Node::now`, and never invent a time: every duration is charged from counts.
 
+pub mod aa;
 pub mod charge;
 mod frames;
 pub mod options;

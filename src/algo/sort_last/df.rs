@@ -12,10 +12,8 @@
 
 use std::rc::Rc;
 
-use super::full_frame::{
-    self, rows_bytes, tag, Image, Msg, Rows, BAND_REPLY, BAND_REQUEST, CONTROL_BYTES, PARTITION,
-};
-use super::sparse::merge_sorted;
+use super::full_frame::{self, tag, Msg, Rows, BAND_REPLY, BAND_REQUEST, CONTROL_BYTES, PARTITION};
+use super::pixel::ShippedPixel;
 use super::{local, request, Ctx};
 use crate::engine::{Filter, Node, SimError};
 use crate::machine::{Counts, Op};
@@ -34,17 +32,20 @@ fn band_pixels(ctx: &Ctx, b: u32) -> u64 {
     (y1 - y0) as u64 * ctx.viewport.width() as u64
 }
 
-pub(super) async fn processor(node: Node<Msg>, ctx: Rc<Ctx>) -> Result<(), SimError> {
+pub(super) async fn processor<P: ShippedPixel>(
+    node: Node<Msg<P>>,
+    ctx: Rc<Ctx>,
+) -> Result<(), SimError> {
     let me = node.id();
     let n = ctx.n;
+    let (w, h) = (ctx.viewport.width(), ctx.viewport.height());
     for frame in ctx.frames() {
-        full_frame::start_frame(&node, &ctx, frame).await;
+        full_frame::start_frame(&node, &ctx, frame).await?;
         node.phase("clear");
         local::clear_full_frame(&node, &ctx).await?;
         node.phase("render");
         let rendered = request::render_share(&node, &ctx, frame).await?;
-        let rows = Rc::new(Rows::new(rendered.active_sorted(), ctx.viewport.height()));
-        drop(rendered);
+        let rows = Rc::new(Rows::new(rendered, w, h));
 
         node.phase("merge");
         node.spawn(
@@ -58,23 +59,22 @@ pub(super) async fn processor(node: Node<Msg>, ctx: Rc<Ctx>) -> Result<(), SimEr
         }
         let (y0, y1) = band(&ctx, me);
         let mut merged = rows.rows(y0, y1).to_vec();
-        let band_bytes = rows_bytes(&ctx, y1 - y0);
+        let band_bytes = ctx.rows_bytes(y1 - y0);
         node.alloc("band buffer", band_bytes)?;
         for _ in 1..n {
             let env = node.recv(Filter::tag(tag(BAND_REPLY, frame))).await;
             let Msg::BandReply { pixels, .. } = env.payload else {
                 unreachable!("filtered by tag")
             };
-            merged = merge_sorted(&merged, &pixels);
-            node.compute(&Counts::of(Op::CompositePixel, band_pixels(&ctx, me)))
+            merged = ctx
+                .merge_rows(&node, &pixels, &merged, band_pixels(&ctx, me))
                 .await;
         }
         node.free("band buffer", band_bytes)?;
 
         if me == 0 {
             node.phase("assemble");
-            let mut image = Image::new(&ctx);
-            image.put(&merged);
+            let mut image = merged;
             for _ in 1..n {
                 let env = node.recv(Filter::tag(tag(PARTITION, frame))).await;
                 let Msg::Partition {
@@ -83,30 +83,39 @@ pub(super) async fn processor(node: Node<Msg>, ctx: Rc<Ctx>) -> Result<(), SimEr
                 else {
                     unreachable!("filtered by tag")
                 };
-                image.put(&pixels);
-                let bytes = rows_bytes(&ctx, band(&ctx, b).1 - band(&ctx, b).0);
+                let (b0, b1) = band(&ctx, b);
+                let bytes = ctx.chunk_bytes(b1 - b0, &pixels);
                 node.compute(&Counts::of(Op::ByteCopy, bytes.get())).await;
+                image.extend(pixels);
             }
             local::free_full_frame(&node, &ctx)?;
             if ctx.is_last(frame) {
-                ctx.set_image(&node, image.finish(&ctx)).await;
+                ctx.set_image(&node, &image).await;
             }
+            ctx.end_frame(&node, frame)?;
             full_frame::end_frame(&node, &ctx, frame).await?;
         } else {
+            let bytes = ctx.chunk_bytes(y1 - y0, &merged);
             let msg = Msg::Partition {
                 frame,
                 band: me,
                 pixels: merged,
             };
-            ctx.send(&node, frame, 0, band_bytes, msg).await;
+            ctx.send(&node, frame, 0, bytes, msg).await;
             local::free_full_frame(&node, &ctx)?;
+            ctx.end_frame(&node, frame)?;
         }
     }
     Ok(())
 }
 
 /// Answers the N-1 band requests for this node's rendered frame.
-async fn serve(node: Node<Msg>, ctx: Rc<Ctx>, frame: u32, rows: Rc<Rows>) -> Result<(), SimError> {
+async fn serve<P: ShippedPixel>(
+    node: Node<Msg<P>>,
+    ctx: Rc<Ctx>,
+    frame: u32,
+    rows: Rc<Rows<P>>,
+) -> Result<(), SimError> {
     for _ in 1..ctx.n {
         let env = node.recv(Filter::tag(tag(BAND_REQUEST, frame))).await;
         let Msg::BandRequest { band: b, .. } = env.payload else {
@@ -114,9 +123,9 @@ async fn serve(node: Node<Msg>, ctx: Rc<Ctx>, frame: u32, rows: Rc<Rows>) -> Res
         };
         let (y0, y1) = band(&ctx, b);
         let pixels = Rc::new(rows.rows(y0, y1).to_vec());
+        let bytes = ctx.chunk_bytes(y1 - y0, &pixels);
         let msg = Msg::BandReply { frame, pixels };
-        ctx.send(&node, frame, env.src, rows_bytes(&ctx, y1 - y0), msg)
-            .await;
+        ctx.send(&node, frame, env.src, bytes, msg).await;
     }
     Ok(())
 }

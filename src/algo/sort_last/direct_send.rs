@@ -5,39 +5,43 @@
 //! ships only its active pixels. Owners z-merge what they receive (`composite_pixel` per
 //! pixel) and finally send their rows to node 0, which holds the frame buffer.
 //!
-//! What the frame record counts: the merge traffic only, in active pixels
-//! (`ACTIVE_PIXEL_BYTES` each), including the pixels a node owns itself (delivered through
-//! its own memory, with no network message), as paper 003 and trace replay count d*A. The
-//! image gather to node 0 (rgb rows, 3 bytes a pixel) crosses the network and shows in the
-//! machine's per-node statistics, but not in the frame's bytes.
+//! What the frame record counts: the merge traffic only, in shipped pixels (an address and
+//! a record each, `ACTIVE_PIXEL_BYTES` without anti-aliasing), including the pixels a node
+//! owns itself (delivered through its own memory, with no network message), as paper 003 and
+//! trace replay count d*A. With adaptive anti-aliasing a fragment that covers its pixel
+//! partly carries its coverage mask, a shipped super pixel its Subpixels, and the owner
+//! merges sample by sample. Owners resolve their rows; the image gather to node 0 (rgb rows,
+//! 3 bytes a pixel) crosses the network and shows in the machine's per-node statistics, but
+//! not in the frame's bytes.
 //!
 //! Must never depth-test before shipping unless `local-zbuffer=on`, and never let an owner
 //! decide its rows before every sender's last message has arrived.
 
 use std::rc::Rc;
 
-use super::sparse::{self, BucketTarget, Image, Px, MESSAGE_PIXELS};
+use super::pixel::{Px, ShippedPixel};
+use super::sparse::{BucketTarget, Image, MESSAGE_PIXELS};
 use super::{local, Ctx};
 use crate::engine::{Filter, Node, Payload, SimError};
 use crate::machine::{Counts, Op};
-use crate::raster::ACTIVE_PIXEL_BYTES;
 use crate::units::Bytes;
 
 #[derive(Clone, Debug)]
-pub(crate) enum Msg {
+pub(crate) enum Msg<P> {
     /// Pixels for the receiver's rows. `total` is set on the sender's last message of the
     /// frame to the number of messages it sent this receiver (messages of different sizes
     /// may overtake each other, so the flag alone would not do).
     Pixels {
         frame: u32,
-        pixels: Rc<Vec<Px>>,
+        pixels: Rc<Vec<P>>,
         total: Option<u32>,
     },
-    /// An owner's finished rows, active pixels only on the host (charged as full rows).
+    /// An owner's finished rows (resolved to colours), active pixels only on the host
+    /// (charged as full rows).
     Part { frame: u32, pixels: Rc<Vec<Px>> },
 }
 
-impl Payload for Msg {
+impl<P: ShippedPixel> Payload for Msg<P> {
     fn tag(&self) -> u32 {
         match self {
             Msg::Pixels { frame, .. } => 2 * frame,
@@ -50,14 +54,14 @@ impl Payload for Msg {
 const IMAGE_PIXEL_BYTES: u64 = 3;
 
 /// The owner's part of the screen as dense slots: row y = me + k n is slot row k.
-struct Part {
+struct Part<P> {
     width: u32,
     n: u32,
-    image: Image,
+    image: Image<P>,
 }
 
-impl Part {
-    fn new(ctx: &Ctx, me: u32) -> Part {
+impl<P: ShippedPixel> Part<P> {
+    fn new(ctx: &Ctx, me: u32) -> Part<P> {
         let rows = owned_rows(ctx.viewport.height(), ctx.n, me);
         Part {
             width: ctx.viewport.width(),
@@ -66,27 +70,21 @@ impl Part {
         }
     }
 
-    fn slot(&self, loc: u32) -> usize {
-        let (y, x) = (loc / self.width, loc % self.width);
-        ((y / self.n) * self.width + x) as usize
-    }
-
-    fn merge(&mut self, pixels: &[Px]) {
-        for p in pixels {
-            let slot = self.slot(p.loc);
-            self.image.merge(slot, p);
-        }
+    /// Depth-merges pixels into the part (`composite_pixel` each, and the subpixel work).
+    async fn merge(&mut self, node: &Node<Msg<P>>, ctx: &Ctx, pixels: &[P]) {
+        let (width, n) = (self.width, self.n);
+        let slot = |loc: u32| ((loc / width / n) * width + loc % width) as usize;
+        ctx.merge_into(node, &mut self.image, slot, pixels, Op::CompositePixel)
+            .await;
     }
 
     /// The active pixels of the part, raster order.
-    fn pixels(&self, me: u32, height: u32) -> Vec<Px> {
+    fn pixels(&self, me: u32, height: u32) -> Vec<P> {
         let mut out = Vec::new();
-        for (k, y) in (me..height).step_by(self.n as usize).enumerate() {
+        for k in 0..(me..height).step_by(self.n as usize).count() {
             for x in 0..self.width {
                 let slot = k * self.width as usize + x as usize;
-                if let Some(p) = self.image.pixel(slot, y * self.width + x) {
-                    out.push(p);
-                }
+                out.extend(self.image.pixel(slot).cloned());
             }
         }
         out
@@ -98,47 +96,43 @@ fn owned_rows(height: u32, n: u32, me: u32) -> u32 {
 }
 
 /// One processor: renderer, sender, owner of its scanlines; node 0 also the frame buffer.
-pub(crate) async fn processor(node: Node<Msg>, ctx: Rc<Ctx>) -> Result<(), SimError> {
+pub(crate) async fn processor<P: ShippedPixel>(
+    node: Node<Msg<P>>,
+    ctx: Rc<Ctx>,
+) -> Result<(), SimError> {
     let me = node.id();
     let n = ctx.n;
+    let w = ctx.viewport.width();
     for frame in ctx.frames() {
         if me == 0 {
             let now = node.now();
             ctx.record(frame, |r| r.start = now);
         }
-        let mut part = Part::new(&ctx, me);
-        let part_bytes = Bytes::new(
-            owned_rows(ctx.viewport.height(), n, me) as u64
-                * ctx.viewport.width() as u64
-                * super::FULL_FRAME_PIXEL_BYTES,
-        );
+        ctx.begin_frame(&node, frame)?;
+        let mut part = Part::<P>::new(&ctx, me);
+        let part_bytes = ctx.rows_bytes(owned_rows(ctx.viewport.height(), n, me));
         node.alloc("owned rows", part_bytes)?;
         node.phase("render");
         let mut stream = Outgoing::new(n);
         if ctx.settings.local_zbuffer {
             local::clear_full_frame(&node, &ctx).await?;
-            let buffer = local::render_own_share(&node, &ctx, frame).await?;
-            let w = ctx.viewport.width();
+            let rendered: Vec<P> = local::render_own_share(&node, &ctx, frame).await?;
             let mut buckets = vec![Vec::new(); n as usize];
-            for p in buffer.active() {
-                buckets[(p.y % n) as usize].push(Px {
-                    loc: p.y * w + p.x,
-                    z: p.z,
-                    prim: p.prim,
-                    rgb: p.rgb,
-                });
-            }
-            node.compute(&Counts::of(Op::BucketInsert, buffer.active().len() as u64))
+            node.compute(&Counts::of(Op::BucketInsert, rendered.len() as u64))
                 .await;
-            drop(buffer);
+            for p in rendered {
+                buckets[(p.loc() / w % n) as usize].push(p);
+            }
             local::free_full_frame(&node, &ctx)?;
+            // The local frame is gone once bucketed: its Subpixel blocks are free again.
+            ctx.aa.release_render(me);
             node.phase("send");
             stream.add(buckets);
             stream.flush(&node, &ctx, frame, &mut part, false).await;
         } else {
             // Every fragment as generated: render a batch, ship the full messages.
             let share = ctx.share(&node, frame)?;
-            let mut target = BucketTarget::new(ctx.viewport, n);
+            let mut target = BucketTarget::<P>::new(&ctx, frame);
             for batch in share.chunks(local::BATCH) {
                 let before = target.fragments;
                 local::render(&node, &ctx, frame, batch, &mut target).await?;
@@ -167,9 +161,7 @@ pub(crate) async fn processor(node: Node<Msg>, ctx: Rc<Ctx>) -> Result<(), SimEr
             let Msg::Pixels { pixels, total, .. } = env.payload else {
                 unreachable!("tag 2f carries pixels")
             };
-            node.compute(&Counts::of(Op::CompositePixel, pixels.len() as u64))
-                .await;
-            part.merge(&pixels);
+            part.merge(&node, &ctx, &pixels).await;
             received[src] += 1;
             if total.is_some() {
                 expected[src] = total;
@@ -179,8 +171,9 @@ pub(crate) async fn processor(node: Node<Msg>, ctx: Rc<Ctx>) -> Result<(), SimEr
         node.phase("gather");
         let height = ctx.viewport.height();
         let width = ctx.viewport.width() as u64;
+        let mine = resolve(&node, &part.pixels(me, height)).await;
         if me == 0 {
-            let mut all = part.pixels(0, height);
+            let mut all = mine;
             for _ in 1..n {
                 let env = node.recv(Filter::tag(2 * frame + 1)).await;
                 let Msg::Part { pixels, .. } = env.payload else {
@@ -194,42 +187,60 @@ pub(crate) async fn processor(node: Node<Msg>, ctx: Rc<Ctx>) -> Result<(), SimEr
             let now = node.now();
             ctx.record(frame, |r| r.end = now);
             if ctx.is_last(frame) {
-                ctx.set_image(
-                    &node,
-                    sparse::framebuffer(ctx.viewport, ctx.background, &all),
-                )
-                .await;
+                ctx.set_image(&node, &all).await;
             }
         } else {
             let rows = owned_rows(height, n, me) as u64;
             let msg = Msg::Part {
                 frame,
-                pixels: Rc::new(part.pixels(me, height)),
+                pixels: Rc::new(mine),
             };
             node.send(0, Bytes::new(rows * width * IMAGE_PIXEL_BYTES), msg)
                 .await;
         }
         node.free("owned rows", part_bytes)?;
+        ctx.end_frame(&node, frame)?;
     }
     Ok(())
 }
 
+/// An owner's rows as the image shows them: super pixels box-filtered (`resolve_pixel`
+/// each), before they are gathered as colours.
+async fn resolve<P: ShippedPixel>(node: &Node<Msg<P>>, pixels: &[P]) -> Vec<Px> {
+    let mut filtered = 0;
+    let out = pixels
+        .iter()
+        .map(|p| {
+            let (rgb, z, super_pixel) = p.resolve();
+            filtered += u64::from(super_pixel);
+            Px {
+                loc: p.loc(),
+                z,
+                prim: 0,
+                rgb,
+            }
+        })
+        .collect();
+    node.compute(&Counts::of(Op::ResolvePixel, filtered)).await;
+    out
+}
+
 /// A sender's pixels waiting per owner.
-struct Outgoing {
-    pending: Vec<Vec<Px>>,
+struct Outgoing<P> {
+    pending: Vec<Vec<P>>,
     /// Messages sent to each node so far this frame.
     sent: Vec<u32>,
 }
 
-impl Outgoing {
-    fn new(n: u32) -> Outgoing {
+impl<P: ShippedPixel> Outgoing<P> {
+    fn new(n: u32) -> Outgoing<P> {
         Outgoing {
             pending: vec![Vec::new(); n as usize],
             sent: vec![0; n as usize],
         }
     }
 
-    fn add(&mut self, buckets: Vec<Vec<Px>>) {
+    fn add(&mut self, buckets: Vec<Vec<P>>) {
         for (pending, mut b) in self.pending.iter_mut().zip(buckets) {
             if pending.is_empty() {
                 *pending = b;
@@ -244,10 +255,10 @@ impl Outgoing {
     /// senders do not all hit node 0 first. The node's own pixels merge locally.
     async fn flush(
         &mut self,
-        node: &Node<Msg>,
+        node: &Node<Msg<P>>,
         ctx: &Ctx,
         frame: u32,
-        part: &mut Part,
+        part: &mut Part<P>,
         last: bool,
     ) {
         let me = node.id();
@@ -255,30 +266,29 @@ impl Outgoing {
         for k in 1..=n {
             let dst = (me + k) % n;
             let pending = std::mem::take(&mut self.pending[dst as usize]);
-            let mut chunks: Vec<&[Px]> = pending.chunks(MESSAGE_PIXELS).collect();
+            let mut chunks: Vec<&[P]> = pending.chunks(MESSAGE_PIXELS).collect();
             let keep = if !last && chunks.last().is_some_and(|c| c.len() < MESSAGE_PIXELS) {
                 chunks.pop()
             } else {
                 None
             };
             if dst == me {
-                let count: usize = chunks.iter().map(|c| c.len()).sum();
-                if count > 0 {
-                    node.compute(&Counts::of(Op::CompositePixel, count as u64))
-                        .await;
-                    for c in &chunks {
-                        part.merge(c);
-                    }
-                    let bytes = Bytes::new(count as u64 * ACTIVE_PIXEL_BYTES);
-                    ctx.record(frame, |r| r.bytes += bytes);
+                let bytes: u64 = chunks
+                    .iter()
+                    .flat_map(|c| c.iter())
+                    .map(P::wire_bytes)
+                    .sum();
+                for c in &chunks {
+                    part.merge(node, ctx, c).await;
                 }
+                ctx.record(frame, |r| r.bytes += Bytes::new(bytes));
             } else {
                 if last && chunks.is_empty() {
                     chunks.push(&[]);
                 }
                 let count = chunks.len();
                 for (i, c) in chunks.into_iter().enumerate() {
-                    let bytes = Bytes::new(c.len() as u64 * ACTIVE_PIXEL_BYTES);
+                    let bytes = Bytes::new(c.iter().map(P::wire_bytes).sum());
                     self.sent[dst as usize] += 1;
                     let total = self.sent[dst as usize];
                     let msg = Msg::Pixels {

@@ -10,17 +10,17 @@
 
 use std::rc::Rc;
 
+use super::pixel::ShippedPixel;
 use super::Ctx;
 use crate::engine::{Filter, Node, Payload, SimError};
-use crate::raster::{ActivePixel, Framebuffer};
 use crate::units::Bytes;
 
 /// Bytes of a control message (a request, a credit, a frame start).
 pub const CONTROL_BYTES: u64 = 16;
 
 /// The messages of the full-frame algorithms. Tags carry the frame (see [`tag`]).
-#[derive(Clone)]
-pub enum Msg {
+#[derive(Clone, Debug)]
+pub enum Msg<P> {
     /// The holder of the previous frame's image lets everyone start `frame`.
     Start { frame: u32 },
     /// Request balancing: `origin` asks around the ring for work.
@@ -31,21 +31,15 @@ pub enum Msg {
     /// DF: the owner of band `band` asks for that part of a node's frame.
     BandRequest { frame: u32, band: u32 },
     /// DF: one node's part of band `band` (a full band is charged).
-    BandReply {
-        frame: u32,
-        pixels: Rc<Vec<ActivePixel>>,
-    },
+    BandReply { frame: u32, pixels: Rc<Vec<P>> },
     /// DF: a merged partition on its way to the controller.
     Partition {
         frame: u32,
         band: u32,
-        pixels: Vec<ActivePixel>,
+        pixels: Vec<P>,
     },
     /// PC and ScanlineFlow: rows merged so far (a whole chunk or scanline is charged).
-    Chunk {
-        frame: u32,
-        pixels: Vec<ActivePixel>,
-    },
+    Chunk { frame: u32, pixels: Vec<P> },
     /// PC and ScanlineFlow: an input buffer was freed (a credit for the sender).
     Credit { frame: u32 },
     /// A hand-off between two programs of one node (a semaphore), never on the network.
@@ -68,7 +62,7 @@ pub fn tag(kind: u32, frame: u32) -> u32 {
     (frame << 4) | kind
 }
 
-impl Payload for Msg {
+impl<P: ShippedPixel> Payload for Msg<P> {
     fn tag(&self) -> u32 {
         match self {
             Msg::Start { frame } => tag(START, *frame),
@@ -85,18 +79,18 @@ impl Payload for Msg {
 }
 
 /// A node's frame on the host: active pixels in raster order, and where each row starts.
-pub struct Rows {
-    pixels: Vec<ActivePixel>,
+pub struct Rows<P> {
+    pixels: Vec<P>,
     starts: Vec<usize>,
 }
 
-impl Rows {
-    /// From active pixels sorted by (y, x), for a viewport of `height` rows.
-    pub fn new(pixels: Vec<ActivePixel>, height: u32) -> Rows {
+impl<P: ShippedPixel> Rows<P> {
+    /// From active pixels in raster order, for a viewport of `width` x `height`.
+    pub fn new(pixels: Vec<P>, width: u32, height: u32) -> Rows<P> {
         let mut starts = Vec::with_capacity(height as usize + 1);
         let mut i = 0;
         for y in 0..=height {
-            while i < pixels.len() && pixels[i].y < y {
+            while i < pixels.len() && pixels[i].loc() / width < y {
                 i += 1;
             }
             starts.push(i);
@@ -105,55 +99,19 @@ impl Rows {
     }
 
     /// The active pixels of rows `y0..y1`.
-    pub fn rows(&self, y0: u32, y1: u32) -> &[ActivePixel] {
+    pub fn rows(&self, y0: u32, y1: u32) -> &[P] {
         &self.pixels[self.starts[y0 as usize]..self.starts[y1 as usize]]
     }
 }
 
-/// The final image being assembled from merged pixels (one frame buffer: the holder's).
-pub struct Image {
-    width: u32,
-    colors: Vec<[u8; 3]>,
-    depths: Vec<u32>,
-}
-
-impl Image {
-    pub fn new(ctx: &Ctx) -> Image {
-        let n = ctx.viewport.pixels();
-        Image {
-            width: ctx.viewport.width(),
-            colors: vec![ctx.background; n],
-            depths: vec![u32::MAX; n],
-        }
-    }
-
-    pub fn put(&mut self, pixels: &[ActivePixel]) {
-        for p in pixels {
-            let i = (p.y * self.width + p.x) as usize;
-            self.colors[i] = p.rgb;
-            self.depths[i] = p.z;
-        }
-    }
-
-    pub fn finish(self, ctx: &Ctx) -> Framebuffer {
-        let mut fb = Framebuffer::with_clear(ctx.viewport, ctx.background);
-        let w = self.width as usize;
-        for y in 0..ctx.viewport.height() {
-            let o = y as usize * w;
-            fb.set_row(y, &self.colors[o..o + w], &self.depths[o..o + w]);
-        }
-        fb
-    }
-}
-
-/// Bytes of `rows` full scanlines as a node holds and ships them.
-pub fn rows_bytes(ctx: &Ctx, rows: u32) -> Bytes {
-    Bytes::new(rows as u64 * ctx.viewport.width() as u64 * super::FULL_FRAME_PIXEL_BYTES)
-}
-
 /// Starts `frame` on this node: the first frame starts at once; a later one when the holder
-/// of the previous frame's image says so. Node 0 records the frame's start.
-pub async fn start_frame(node: &Node<Msg>, ctx: &Ctx, frame: u32) {
+/// of the previous frame's image says so. Node 0 records the frame's start; every node
+/// takes its Subpixel pool (adaptive anti-aliasing).
+pub async fn start_frame<P: ShippedPixel>(
+    node: &Node<Msg<P>>,
+    ctx: &Ctx,
+    frame: u32,
+) -> Result<(), SimError> {
     if frame != ctx.cfg.frames.start {
         node.recv(Filter::tag(tag(START, frame))).await;
     }
@@ -161,11 +119,16 @@ pub async fn start_frame(node: &Node<Msg>, ctx: &Ctx, frame: u32) {
         let now = node.now();
         ctx.record(frame, |r| r.start = now);
     }
+    ctx.begin_frame(node, frame)
 }
 
 /// Ends `frame` at the node holding its image: records the end and lets every other node
 /// start the next frame. (The holder itself starts the next frame when this returns.)
-pub async fn end_frame(node: &Node<Msg>, ctx: &Ctx, frame: u32) -> Result<(), SimError> {
+pub async fn end_frame<P: ShippedPixel>(
+    node: &Node<Msg<P>>,
+    ctx: &Ctx,
+    frame: u32,
+) -> Result<(), SimError> {
     let now = node.now();
     ctx.record(frame, |r| r.end = now);
     if !ctx.is_last(frame) {

@@ -4,11 +4,12 @@
 //!
 //! Must never merge or send: merging is each variant's business.
 
+use super::pixel::ShippedPixel;
 use super::Ctx;
 use crate::algo::charge;
 use crate::engine::{Node, Payload, SimError};
 use crate::machine::{Counts, Op};
-use crate::raster::{draw_subset, Counters, SparseBuffer, Target};
+use crate::raster::{draw_subset, Counters, Target};
 
 /// Primitives per compute charge: events grow with batches, not with pixels, and a request
 /// for work waits at most one batch before the renderer looks at it.
@@ -45,18 +46,18 @@ pub(crate) async fn render<M: Payload, T: Target>(
     Ok(total)
 }
 
-/// Renders this node's static share of `frame` into an active-pixel buffer and records when
-/// rasterization finished.
-pub(crate) async fn render_own_share<M: Payload>(
+/// Renders this node's static share of `frame` into the run's buffer, records when
+/// rasterization finished, and returns the rendered pixels in raster order.
+pub(crate) async fn render_own_share<P: ShippedPixel, M: Payload>(
     node: &Node<M>,
     ctx: &Ctx,
     frame: u32,
-) -> Result<SparseBuffer, SimError> {
+) -> Result<Vec<P>, SimError> {
     let share = ctx.share(node, frame)?;
-    let mut buffer = SparseBuffer::new(ctx.viewport);
+    let mut buffer = P::buffer(ctx, frame);
     render(node, ctx, frame, &share, &mut buffer).await?;
     raster_finished(node, ctx, frame);
-    Ok(buffer)
+    Ok(P::collect(buffer, ctx, node.id()))
 }
 
 /// Records when this node finished rasterizing `frame` (paper 001's load imbalance).
@@ -65,7 +66,8 @@ pub(crate) fn raster_finished<M: Payload>(node: &Node<M>, ctx: &Ctx, frame: u32)
     ctx.record(frame, |r| r.raster_finish[me] = now);
 }
 
-/// Allocates a full colour and z frame in the node's memory pool and charges clearing it.
+/// Allocates a full frame (colour and z, or paper 000's Pixels) in the node's memory pool and
+/// charges clearing it (a Subpixel pool needs no clearing: its free list is reset).
 pub(crate) async fn clear_full_frame<M: Payload>(
     node: &Node<M>,
     ctx: &Ctx,

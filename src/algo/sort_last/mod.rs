@@ -20,11 +20,13 @@
 //! Must never name a topology: a variant states what it needs (node i linked to node i+1, a
 //! broadcast medium) and `requirements` asks the network.
 
+mod aa;
 mod df;
 mod direct_send;
 mod full_frame;
 mod local;
 mod pc;
+mod pixel;
 mod pixelflow;
 mod request;
 mod scanline_flow;
@@ -34,17 +36,19 @@ mod sparse;
 use std::cell::RefCell;
 use std::rc::Rc;
 
+use super::aa::{aa_settings, AaSettings};
 use super::frames::FrameBook;
 use super::primitives::{deal, shares, Deal};
 use super::{bad_option as bad, simulate, RunConfig, RunError, RunResult};
 use crate::engine::{Node, Payload, SimError};
 use crate::machine::{Counts, Op};
 use crate::net::Network;
-use crate::raster::aa::{downsample, AaMethod};
+use crate::raster::aa::{downsample, AaMethod, PIXEL_BYTES};
 use crate::raster::screen::MAX_VIEWPORT;
 use crate::raster::{Framebuffer, RasterOptions, Viewport};
 use crate::scene::FrameGeometry;
 use crate::units::Bytes;
+use pixel::{AaPx, Px, ShippedPixel};
 
 /// The six sort-last algorithms.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -93,12 +97,16 @@ pub struct Settings {
     pub local_zbuffer: bool,
     /// Pipeline composition: scanlines per chunk.
     pub chunk_rows: u32,
-    /// Samples per pixel side (`aa=supersample:N`: sqrt N; 1 without anti-aliasing). Nodes
-    /// render and merge samples, so every pixel the algorithm moves is a sample.
+    /// Samples per pixel side (`aa=supersample:N`: sqrt N; 1 otherwise). Nodes render and
+    /// merge samples, so every pixel the algorithm moves is a sample.
     pub side: u32,
+    /// The anti-aliasing options (`aa=adaptive`: nodes render into paper 000's adaptive
+    /// buffer and merges move super pixels with their Subpixels).
+    pub aa: AaSettings,
 }
 
-/// Bytes of one full-frame pixel as a node holds and ships it: rgb and a 32-bit z.
+/// Bytes of one full-frame pixel as a node holds and ships it: rgb and a 32-bit z (with
+/// adaptive anti-aliasing, paper 000's 12-byte Pixel instead).
 pub const FULL_FRAME_PIXEL_BYTES: u64 = 3 + 4;
 
 /// What all processors of one run share on the host.
@@ -109,6 +117,8 @@ pub(crate) struct Ctx {
     pub viewport: Viewport,
     pub background: [u8; 3],
     pub raster: RasterOptions,
+    /// Adaptive anti-aliasing: pools, the frame's grid, statistics.
+    pub aa: aa::AaState,
     book: FrameBook,
     /// The final image, set by whichever node holds it when the last frame is merged.
     image: RefCell<Option<Framebuffer>>,
@@ -162,9 +172,74 @@ impl Ctx {
         node.broadcast(bytes, msg).await
     }
 
-    /// The bytes of a full frame, as a node's memory holds it.
+    /// Bytes of one full-frame pixel record.
+    pub fn record_bytes(&self) -> u64 {
+        if self.aa.adaptive {
+            PIXEL_BYTES
+        } else {
+            FULL_FRAME_PIXEL_BYTES
+        }
+    }
+
+    /// The bytes of a full frame, as a node's memory holds it (the Subpixel pool apart).
     pub fn full_frame_bytes(&self) -> Bytes {
-        Bytes::new(self.viewport.pixels() as u64 * FULL_FRAME_PIXEL_BYTES)
+        Bytes::new(self.viewport.pixels() as u64 * self.record_bytes())
+    }
+
+    /// The bytes of `rows` full scanlines as a buffer holds them.
+    pub fn rows_bytes(&self, rows: u32) -> Bytes {
+        Bytes::new(u64::from(rows) * u64::from(self.viewport.width()) * self.record_bytes())
+    }
+
+    /// The bytes of `rows` full scanlines shipped with `pixels` active in them: every
+    /// record, and the Subpixels of the super pixels among them.
+    pub fn chunk_bytes<P: ShippedPixel>(&self, rows: u32, pixels: &[P]) -> Bytes {
+        let extra: u64 = pixels.iter().map(P::extra_bytes).sum();
+        Bytes::new(self.rows_bytes(rows).get() + extra)
+    }
+
+    /// Depth-merges `incoming` into this node's raster-ordered `own` pixels, charging
+    /// `composite_pixel` for `charged` pixels and the subpixel work super pixels caused.
+    pub async fn merge_rows<P: ShippedPixel, M: Payload>(
+        &self,
+        node: &Node<M>,
+        incoming: &[P],
+        own: &[P],
+        charged: u64,
+    ) -> Vec<P> {
+        let (merged, work) = self.aa.with_blocks(node.id(), |blocks| {
+            let merged = sparse::merge_sorted(incoming, own, blocks);
+            (merged, blocks.take_work())
+        });
+        let mut counts = Counts::of(Op::CompositePixel, charged);
+        counts += &super::charge::back_end(&work);
+        node.compute(&counts).await;
+        merged
+    }
+
+    /// Depth-merges `pixels` into the dense `image` (slot of each from `slot`), charging
+    /// `op` per pixel and the subpixel work super pixels caused. Returns the pixels of
+    /// which some sample was nearer than what the image held.
+    pub async fn merge_into<P: ShippedPixel, M: Payload>(
+        &self,
+        node: &Node<M>,
+        image: &mut sparse::Image<P>,
+        slot: impl Fn(u32) -> usize,
+        pixels: &[P],
+        op: Op,
+    ) -> Vec<P> {
+        let (nearer, work) = self.aa.with_blocks(node.id(), |blocks| {
+            let nearer: Vec<P> = pixels
+                .iter()
+                .filter(|p| image.merge(slot(p.loc()), p, blocks))
+                .cloned()
+                .collect();
+            (nearer, blocks.take_work())
+        });
+        let mut counts = Counts::of(op, pixels.len() as u64);
+        counts += &super::charge::back_end(&work);
+        node.compute(&counts).await;
+        nearer
     }
 
     /// The static share of this node in `frame`: database indices, ascending. With request
@@ -184,18 +259,31 @@ impl Ctx {
         Ok(shares[node.id() as usize].clone())
     }
 
-    /// Hands over the final image (the merged frame of the run's last frame, on the sample
-    /// grid), charging the holder for resolving samples to pixels when anti-aliasing.
-    pub async fn set_image<M: Payload>(&self, node: &Node<M>, image: Framebuffer) {
+    /// Hands over the final image from the merged pixels of the run's last frame, charging
+    /// the holder for resolving: super pixels' box filters, or with `supersample:N` every
+    /// pixel's samples.
+    pub async fn set_image<P: ShippedPixel, M: Payload>(&self, node: &Node<M>, pixels: &[P]) {
+        let (image, filtered) = sparse::framebuffer(self.viewport, self.background, pixels);
         let side = self.settings.side;
         let image = if side > 1 {
             let pixels = self.viewport.pixels() as u64 / u64::from(side * side);
             node.compute(&Counts::of(Op::ResolvePixel, pixels)).await;
             downsample(&image, side)
         } else {
+            node.compute(&Counts::of(Op::ResolvePixel, filtered)).await;
             image
         };
         *self.image.borrow_mut() = Some(image);
+    }
+
+    /// Starts `frame`'s anti-aliasing state on `node` (its Subpixel pool).
+    pub fn begin_frame<M: Payload>(&self, node: &Node<M>, frame: u32) -> Result<(), SimError> {
+        self.aa.begin(node, frame)
+    }
+
+    /// Ends `frame` on `node`: records its anti-aliasing statistics, frees its pool.
+    pub fn end_frame<M: Payload>(&self, node: &Node<M>, frame: u32) -> Result<(), SimError> {
+        self.aa.end(node, frame, &self.book, self.n)
     }
 }
 
@@ -309,12 +397,14 @@ fn settings(cfg: &RunConfig, variant: Variant) -> Result<Settings, RunError> {
         }
         _ => 1,
     };
-    let aa: String = o.get("aa", "none".to_string(), SORT_LAST_AA)?;
-    let side = match AaMethod::parse(&aa) {
-        Some(AaMethod::None) => 1,
-        Some(AaMethod::Supersample { side }) => side,
-        _ => return Err(bad(o, "aa", SORT_LAST_AA)),
+    let aa = aa_settings(o)?;
+    let side = match aa.method {
+        AaMethod::None | AaMethod::Adaptive => 1,
+        AaMethod::Supersample { side } => side,
     };
+    if aa.method == AaMethod::Adaptive && variant == Variant::ScanlineFlow {
+        return Err(bad(o, "aa", SCANLINE_FLOW_AA));
+    }
     o.finish(cfg.algo.id())?;
     Ok(Settings {
         variant,
@@ -322,13 +412,15 @@ fn settings(cfg: &RunConfig, variant: Variant) -> Result<Settings, RunError> {
         local_zbuffer,
         chunk_rows,
         side,
+        aa,
     })
 }
 
-/// What `aa` may be in a sort-last run.
-const SORT_LAST_AA: &str = "none or supersample:N with N a perfect square from 4 to 256 \
-     (sort-last merges move every sample; adaptive supersampling is modelled in the \
-     sort-middle family, whose pools stay on the node that owns a region)";
+/// What `aa` may be in a ScanlineFlow run.
+const SCANLINE_FLOW_AA: &str = "none or supersample:N with N a perfect square from 4 to 256: \
+     sort-last/scanline-flow renders with a scanline z-buffer, and paper 000's adaptive \
+     buffer (a frame's Pixels sharing one Subpixel pool) is a whole-frame structure; \
+     adaptive supersampling runs in sort-last/df, pc, pixelflow, direct-send and snooping";
 
 /// The grid nodes render and merge on: the screen, or with `supersample:N` a grid sqrt N
 /// times finer in each direction, one sample per grid pixel at the sample positions of
@@ -364,6 +456,7 @@ pub fn run(cfg: &RunConfig, variant: Variant) -> Result<RunResult, RunError> {
     let viewport = sample_grid(cfg, screen, settings.side)?;
     let n = cfg.machine.nodes;
     let ctx = Rc::new(Ctx {
+        aa: aa::AaState::new(&settings.aa, n, viewport.pixels() as u64, first.background),
         settings,
         n,
         cfg: cfg.clone(),
@@ -374,20 +467,33 @@ pub fn run(cfg: &RunConfig, variant: Variant) -> Result<RunResult, RunError> {
         image: RefCell::default(),
         shares: RefCell::default(),
     });
-    let stats = match variant {
-        Variant::Df => simulate(cfg, &ctx, df::processor)?,
-        Variant::Pc => simulate(cfg, &ctx, pc::processor)?,
-        Variant::ScanlineFlow => simulate(cfg, &ctx, scanline_flow::processor)?,
-        Variant::PixelFlow => simulate(cfg, &ctx, pixelflow::processor)?,
-        Variant::DirectSend => simulate(cfg, &ctx, direct_send::processor)?,
-        Variant::Snooping => {
-            let shared = Rc::new(snooping::Shared::default());
-            simulate(cfg, &ctx, move |node, ctx| {
-                snooping::processor(node, ctx, shared.clone())
-            })?
-        }
+    let stats = if ctx.aa.adaptive {
+        simulate_variant::<AaPx>(cfg, &ctx, variant)?
+    } else {
+        simulate_variant::<Px>(cfg, &ctx, variant)?
     };
     finish(ctx, stats)
+}
+
+/// Runs `variant` with nodes that ship pixels of type `P`.
+fn simulate_variant<P: ShippedPixel>(
+    cfg: &RunConfig,
+    ctx: &Rc<Ctx>,
+    variant: Variant,
+) -> Result<crate::engine::RunStats, RunError> {
+    Ok(match variant {
+        Variant::Df => simulate(cfg, ctx, df::processor::<P>)?,
+        Variant::Pc => simulate(cfg, ctx, pc::processor::<P>)?,
+        Variant::ScanlineFlow => simulate(cfg, ctx, scanline_flow::processor)?,
+        Variant::PixelFlow => simulate(cfg, ctx, pixelflow::processor::<P>)?,
+        Variant::DirectSend => simulate(cfg, ctx, direct_send::processor::<P>)?,
+        Variant::Snooping => {
+            let shared = Rc::new(snooping::Shared::default());
+            simulate(cfg, ctx, move |node, ctx| {
+                snooping::processor::<P>(node, ctx, shared.clone())
+            })?
+        }
+    })
 }
 
 fn finish(ctx: Rc<Ctx>, stats: crate::engine::RunStats) -> Result<RunResult, RunError> {

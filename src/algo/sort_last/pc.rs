@@ -20,40 +20,38 @@ use std::cell::RefCell;
 use std::collections::VecDeque;
 use std::rc::Rc;
 
-use super::full_frame::{
-    self, rows_bytes, tag, Image, Msg, Rows, CHUNK, CONTROL_BYTES, CREDIT, LOCAL,
-};
-use super::sparse::merge_sorted;
+use super::full_frame::{self, tag, Msg, Rows, CHUNK, CONTROL_BYTES, CREDIT, LOCAL};
+use super::pixel::ShippedPixel;
 use super::{local, request, Ctx};
 use crate::engine::{Filter, Node, SimError};
-use crate::machine::{Counts, Op};
-use crate::raster::ActivePixel;
 use crate::units::{Bytes, SimTime};
 
 /// Input buffers per node (paper 001: a double buffer).
 pub const INPUT_BUFFERS: u32 = 2;
 
-pub(super) async fn processor(node: Node<Msg>, ctx: Rc<Ctx>) -> Result<(), SimError> {
+pub(super) async fn processor<P: ShippedPixel>(
+    node: Node<Msg<P>>,
+    ctx: Rc<Ctx>,
+) -> Result<(), SimError> {
     let me = node.id();
     let n = ctx.n;
-    let h = ctx.viewport.height();
+    let (w, h) = (ctx.viewport.width(), ctx.viewport.height());
     let rows_per = ctx.settings.chunk_rows.min(h);
     let chunks = h.div_ceil(rows_per);
     let extent = |c: u32| (c * rows_per, ((c + 1) * rows_per).min(h));
     for frame in ctx.frames() {
-        full_frame::start_frame(&node, &ctx, frame).await;
+        full_frame::start_frame(&node, &ctx, frame).await?;
         node.phase("clear");
         local::clear_full_frame(&node, &ctx).await?;
         node.phase("render");
         let rendered = request::render_share(&node, &ctx, frame).await?;
-        let rows = Rows::new(rendered.active_sorted(), h);
-        drop(rendered);
+        let rows = Rows::new(rendered, w, h);
 
         node.phase("merge");
-        let mut image = (me == n - 1).then(|| Image::new(&ctx));
+        let mut image: Option<Vec<P>> = (me == n - 1).then(Vec::new);
         if n == 1 {
             if let Some(image) = &mut image {
-                image.put(rows.rows(0, h));
+                image.extend_from_slice(rows.rows(0, h));
             }
         } else if me == 0 {
             for c in 0..chunks {
@@ -62,15 +60,13 @@ pub(super) async fn processor(node: Node<Msg>, ctx: Rc<Ctx>) -> Result<(), SimEr
                         .await;
                 }
                 let (y0, y1) = extent(c);
-                let msg = Msg::Chunk {
-                    frame,
-                    pixels: rows.rows(y0, y1).to_vec(),
-                };
-                ctx.send(&node, frame, 1, rows_bytes(&ctx, y1 - y0), msg)
+                let pixels = rows.rows(y0, y1).to_vec();
+                let bytes = ctx.chunk_bytes(y1 - y0, &pixels);
+                ctx.send(&node, frame, 1, bytes, Msg::Chunk { frame, pixels })
                     .await;
             }
         } else {
-            let buffers = Bytes::new(INPUT_BUFFERS as u64 * rows_bytes(&ctx, rows_per).get());
+            let buffers = Bytes::new(INPUT_BUFFERS as u64 * ctx.rows_bytes(rows_per).get());
             node.alloc("input double buffer", buffers)?;
             let outbox = Rc::new(RefCell::new(VecDeque::new()));
             if me < n - 1 {
@@ -87,9 +83,9 @@ pub(super) async fn processor(node: Node<Msg>, ctx: Rc<Ctx>) -> Result<(), SimEr
                     unreachable!("filtered by tag")
                 };
                 let (y0, y1) = extent(c);
-                let merged = merge_sorted(&pixels, rows.rows(y0, y1));
-                let width = ctx.viewport.width() as u64;
-                node.compute(&Counts::of(Op::CompositePixel, (y1 - y0) as u64 * width))
+                let charged = u64::from(y1 - y0) * u64::from(w);
+                let merged = ctx
+                    .merge_rows(&node, &pixels, rows.rows(y0, y1), charged)
                     .await;
                 ctx.send(
                     &node,
@@ -100,7 +96,7 @@ pub(super) async fn processor(node: Node<Msg>, ctx: Rc<Ctx>) -> Result<(), SimEr
                 )
                 .await;
                 match &mut image {
-                    Some(image) => image.put(&merged),
+                    Some(image) => image.extend(merged),
                     None => {
                         outbox.borrow_mut().push_back(merged);
                         node.post(me, SimTime::ZERO, Msg::Local { frame });
@@ -110,9 +106,10 @@ pub(super) async fn processor(node: Node<Msg>, ctx: Rc<Ctx>) -> Result<(), SimEr
             node.free("input double buffer", buffers)?;
         }
         local::free_full_frame(&node, &ctx)?;
+        ctx.end_frame(&node, frame)?;
         if let Some(image) = image {
             if ctx.is_last(frame) {
-                ctx.set_image(&node, image.finish(&ctx)).await;
+                ctx.set_image(&node, &image).await;
             }
             full_frame::end_frame(&node, &ctx, frame).await?;
         }
@@ -121,12 +118,12 @@ pub(super) async fn processor(node: Node<Msg>, ctx: Rc<Ctx>) -> Result<(), SimEr
 }
 
 /// Passes merged chunks to node i+1 as its input buffers free up.
-async fn send_thread(
-    node: Node<Msg>,
+async fn send_thread<P: ShippedPixel>(
+    node: Node<Msg<P>>,
     ctx: Rc<Ctx>,
     frame: u32,
     chunks: u32,
-    outbox: Rc<RefCell<VecDeque<Vec<ActivePixel>>>>,
+    outbox: Rc<RefCell<VecDeque<Vec<P>>>>,
 ) -> Result<(), SimError> {
     let me = node.id();
     let h = ctx.viewport.height();
@@ -140,8 +137,8 @@ async fn send_thread(
         }
         let pixels = outbox.borrow_mut().pop_front().unwrap_or_default();
         let rows = ((c + 1) * rows_per).min(h) - c * rows_per;
-        let msg = Msg::Chunk { frame, pixels };
-        ctx.send(&node, frame, me + 1, rows_bytes(&ctx, rows), msg)
+        let bytes = ctx.chunk_bytes(rows, &pixels);
+        ctx.send(&node, frame, me + 1, bytes, Msg::Chunk { frame, pixels })
             .await;
     }
     Ok(())

@@ -6,8 +6,9 @@
 //!
 //! Frames move in chunks of `chunk_rows` scanlines (one by default), so events grow with
 //! scanlines x nodes, not with pixels. Each chunk is charged and sized as the full rows it
-//! stands for (`FULL_FRAME_PIXEL_BYTES` per pixel, `composite_pixel` per pixel merged), but
-//! the host carries only the chunk's active pixels.
+//! stands for (a full-frame record per pixel plus the Subpixels of its super pixels under
+//! adaptive anti-aliasing, `composite_pixel` per pixel merged), but the host carries only
+//! the chunk's active pixels.
 //!
 //! How the count agrees with trace replay's n*A: the n-1 pipeline links carry A pixels
 //! each as network messages; the last node's stream into the frame buffer is the n-th link
@@ -19,21 +20,19 @@
 
 use std::rc::Rc;
 
-use super::sparse::{self, Px};
-use super::{local, Ctx, FULL_FRAME_PIXEL_BYTES};
+use super::pixel::ShippedPixel;
+use super::{local, Ctx};
 use crate::engine::{Filter, Node, Payload, SimError};
-use crate::machine::{Counts, Op};
-use crate::units::Bytes;
 
 /// Rows `y0..y1` of a partially merged frame: only its active pixels, raster order.
 #[derive(Clone, Debug)]
-pub(crate) struct Rows {
+pub(crate) struct Rows<P> {
     frame: u32,
     y0: u32,
-    pixels: Rc<Vec<Px>>,
+    pixels: Rc<Vec<P>>,
 }
 
-impl Payload for Rows {
+impl<P: ShippedPixel> Payload for Rows<P> {
     /// Frame and chunk, so a stage takes chunks in screen order even if one overtook another.
     fn tag(&self) -> u32 {
         chunk_tag(self.frame, self.y0)
@@ -45,7 +44,10 @@ fn chunk_tag(frame: u32, y0: u32) -> u32 {
 }
 
 /// One pipeline stage.
-pub(crate) async fn processor(node: Node<Rows>, ctx: Rc<Ctx>) -> Result<(), SimError> {
+pub(crate) async fn processor<P: ShippedPixel>(
+    node: Node<Rows<P>>,
+    ctx: Rc<Ctx>,
+) -> Result<(), SimError> {
     let me = node.id();
     let n = ctx.n;
     let (w, h) = (ctx.viewport.width(), ctx.viewport.height());
@@ -54,14 +56,13 @@ pub(crate) async fn processor(node: Node<Rows>, ctx: Rc<Ctx>) -> Result<(), SimE
             let now = node.now();
             ctx.record(frame, |r| r.start = now);
         }
+        ctx.begin_frame(&node, frame)?;
         node.phase("render");
         local::clear_full_frame(&node, &ctx).await?;
-        let buffer = local::render_own_share(&node, &ctx, frame).await?;
-        let own = sparse::sorted_active(&buffer, w);
-        drop(buffer);
+        let own: Vec<P> = local::render_own_share(&node, &ctx, frame).await?;
 
         node.phase("merge");
-        let mut output: Vec<Px> = Vec::new();
+        let mut output: Vec<P> = Vec::new();
         let mut cursor = 0;
         let mut y0 = 0;
         while y0 < h {
@@ -69,7 +70,7 @@ pub(crate) async fn processor(node: Node<Rows>, ctx: Rc<Ctx>) -> Result<(), SimE
             let chunk_pixels = ((y1 - y0) * w) as u64;
             let end = y1 * w;
             let start = cursor;
-            while cursor < own.len() && own[cursor].loc < end {
+            while cursor < own.len() && own[cursor].loc() < end {
                 cursor += 1;
             }
             let mine = &own[start..cursor];
@@ -78,11 +79,10 @@ pub(crate) async fn processor(node: Node<Rows>, ctx: Rc<Ctx>) -> Result<(), SimE
             } else {
                 let tag = chunk_tag(frame, y0);
                 let env = node.recv(Filter::tag(tag).and_source(me - 1)).await;
-                node.compute(&Counts::of(Op::CompositePixel, chunk_pixels))
-                    .await;
-                sparse::merge_sorted(&env.payload.pixels, mine)
+                ctx.merge_rows(&node, &env.payload.pixels, mine, chunk_pixels)
+                    .await
             };
-            let bytes = Bytes::new(chunk_pixels * FULL_FRAME_PIXEL_BYTES);
+            let bytes = ctx.chunk_bytes(y1 - y0, &merged);
             if me + 1 < n {
                 let msg = Rows {
                     frame,
@@ -103,15 +103,12 @@ pub(crate) async fn processor(node: Node<Rows>, ctx: Rc<Ctx>) -> Result<(), SimE
             y0 = y1;
         }
         local::free_full_frame(&node, &ctx)?;
+        ctx.end_frame(&node, frame)?;
         if me + 1 == n {
             let now = node.now();
             ctx.record(frame, |r| r.end = now);
             if ctx.is_last(frame) {
-                ctx.set_image(
-                    &node,
-                    sparse::framebuffer(ctx.viewport, ctx.background, &output),
-                )
-                .await;
+                ctx.set_image(&node, &output).await;
             }
         }
     }

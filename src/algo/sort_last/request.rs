@@ -23,19 +23,20 @@ use std::collections::VecDeque;
 use std::rc::Rc;
 
 use super::full_frame::{tag, Msg, CONTROL_BYTES, WORK_PACKET, WORK_REQUEST};
+use super::pixel::ShippedPixel;
 use super::{local, Assignment, Ctx};
 use crate::algo::sort_middle::DATABASE_BYTES_PER_TRIANGLE;
 use crate::engine::{Filter, Node, SimError};
-use crate::raster::SparseBuffer;
 use crate::units::{Bytes, SimTime};
 
-/// Renders this node's share of `frame` into a sparse buffer (charged as a full frame by the
-/// caller), balancing on request when the run says so.
-pub(crate) async fn render_share(
-    node: &Node<Msg>,
+/// Renders this node's share of `frame` into the run's buffer (charged as a full frame by
+/// the caller), balancing on request when the run says so; returns the rendered pixels in
+/// raster order.
+pub(crate) async fn render_share<P: ShippedPixel>(
+    node: &Node<Msg<P>>,
     ctx: &Rc<Ctx>,
     frame: u32,
-) -> Result<SparseBuffer, SimError> {
+) -> Result<Vec<P>, SimError> {
     let Assignment::Request { split, min_packet } = ctx.settings.assignment else {
         return local::render_own_share(node, ctx, frame).await;
     };
@@ -43,7 +44,7 @@ pub(crate) async fn render_share(
         // Nobody to ask: the scatter is the whole share.
         return local::render_own_share(node, ctx, frame).await;
     }
-    let mut target = SparseBuffer::new(ctx.viewport);
+    let mut target = P::buffer(ctx, frame);
     let share = ctx.share(node, frame)?;
     let queue = Rc::new(RefCell::new(VecDeque::from(share)));
     node.spawn_daemon(
@@ -89,12 +90,12 @@ pub(crate) async fn render_share(
     }
     let me = node.id() as usize;
     ctx.record(frame, |r| r.raster_finish[me] = finished);
-    Ok(target)
+    Ok(P::collect(target, ctx, node.id()))
 }
 
 /// Answers work requests for `frame` between the renderer's batches.
-async fn balancer(
-    node: Node<Msg>,
+async fn balancer<P: ShippedPixel>(
+    node: Node<Msg<P>>,
     ctx: Rc<Ctx>,
     frame: u32,
     queue: Rc<RefCell<VecDeque<u32>>>,

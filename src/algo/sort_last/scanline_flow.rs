@@ -24,15 +24,13 @@
 
 use std::rc::Rc;
 
-use super::full_frame::{self, rows_bytes, tag, Image, Msg, CHUNK, CONTROL_BYTES, CREDIT};
-use super::sparse::merge_sorted;
+use super::full_frame::{self, tag, Msg, CHUNK, CONTROL_BYTES, CREDIT};
+use super::pixel::Px;
 use super::{local, Ctx};
 use crate::algo::charge;
 use crate::engine::{Filter, Node, SimError};
 use crate::machine::{Counts, Op};
-use crate::raster::{
-    render_scanlines_counted, setup_subset, ActivePixel, Counters, ScreenTriangle,
-};
+use crate::raster::{render_scanlines_counted, setup_subset, Counters, ScreenTriangle};
 use crate::units::Bytes;
 
 /// Scanlines that may be in flight into a node (with the one being merged: a triple buffer).
@@ -44,7 +42,7 @@ pub const BUCKET_BYTES_PER_TRIANGLE: u64 = ScreenTriangle::PAYLOAD_BYTES as u64 
 /// One rendered scanline of this node: what rendering it costs and its active pixels.
 struct Line {
     work: Counts,
-    pixels: Vec<ActivePixel>,
+    pixels: Vec<Px>,
 }
 
 /// Renders `tris` scanline by scanline on the host and prices each scanline.
@@ -72,9 +70,8 @@ fn render_lines(ctx: &Ctx, tris: &[ScreenTriangle]) -> (Vec<Line>, Counters) {
             .filter(|&x| line.depths()[x as usize] != u32::MAX)
             .map(|x| {
                 let i = x as usize;
-                ActivePixel {
-                    x,
-                    y,
+                Px {
+                    loc: y * width + x,
                     z: line.depths()[i],
                     rgb: line.colors()[i],
                     prim: line.prims()[i],
@@ -87,13 +84,13 @@ fn render_lines(ctx: &Ctx, tris: &[ScreenTriangle]) -> (Vec<Line>, Counters) {
     (lines, total)
 }
 
-pub(super) async fn processor(node: Node<Msg>, ctx: Rc<Ctx>) -> Result<(), SimError> {
+pub(super) async fn processor(node: Node<Msg<Px>>, ctx: Rc<Ctx>) -> Result<(), SimError> {
     let me = node.id();
     let n = ctx.n;
     let h = ctx.viewport.height();
     let width = ctx.viewport.width() as u64;
     for frame in ctx.frames() {
-        full_frame::start_frame(&node, &ctx, frame).await;
+        full_frame::start_frame(&node, &ctx, frame).await?;
         node.phase("bucket sort");
         let geometry = ctx.geometry(&node, frame)?;
         let share = ctx.share(&node, frame)?;
@@ -118,10 +115,10 @@ pub(super) async fn processor(node: Node<Msg>, ctx: Rc<Ctx>) -> Result<(), SimEr
         drop(tris);
 
         node.phase("scanlines");
-        let line_bytes = rows_bytes(&ctx, 1);
+        let line_bytes = ctx.rows_bytes(1);
         let buffers = Bytes::new(3 * line_bytes.get());
         node.alloc("scanline triple buffer", buffers)?;
-        let mut image = (me == n - 1).then(|| Image::new(&ctx));
+        let mut image: Option<Vec<Px>> = (me == n - 1).then(Vec::new);
         for (y, line) in lines.into_iter().enumerate() {
             let y = y as u32;
             node.compute(&line.work).await;
@@ -137,15 +134,14 @@ pub(super) async fn processor(node: Node<Msg>, ctx: Rc<Ctx>) -> Result<(), SimEr
                 let Msg::Chunk { pixels, .. } = env.payload else {
                     unreachable!("filtered by tag")
                 };
-                let merged = merge_sorted(&pixels, &line.pixels);
-                node.compute(&Counts::of(Op::CompositePixel, width)).await;
+                let merged = ctx.merge_rows(&node, &pixels, &line.pixels, width).await;
                 let credit = Msg::Credit { frame };
                 ctx.send(&node, frame, me - 1, Bytes::new(CONTROL_BYTES), credit)
                     .await;
                 merged
             };
             match &mut image {
-                Some(image) => image.put(&merged),
+                Some(image) => image.extend(merged),
                 None => {
                     // The send costs the cpu its overhead; the link carries the scanline
                     // while the next one is rendered.
@@ -163,9 +159,10 @@ pub(super) async fn processor(node: Node<Msg>, ctx: Rc<Ctx>) -> Result<(), SimEr
         }
         node.free("scanline triple buffer", buffers)?;
         node.free("bucket-sorted triangles", buckets)?;
+        ctx.end_frame(&node, frame)?;
         if let Some(image) = image {
             if ctx.is_last(frame) {
-                ctx.set_image(&node, image.finish(&ctx)).await;
+                ctx.set_image(&node, &image).await;
             }
             full_frame::end_frame(&node, &ctx, frame).await?;
         }

@@ -8,8 +8,10 @@
 //!
 //! The turn passes by a bus-order rule, not a token: node k starts broadcasting when it has
 //! seen all of node k-1's messages of the frame (the last one says how many there were; a
-//! node with nothing left sends one empty message to end its turn), so the frame's bytes are exactly the broadcast pixels times
-//! `ACTIVE_PIXEL_BYTES`.
+//! node with nothing left sends one empty message to end its turn), so the frame's bytes are
+//! exactly the broadcast pixels' (`ACTIVE_PIXEL_BYTES` each without anti-aliasing; with
+//! adaptive anti-aliasing a super pixel carries its Subpixels, tested and written per
+//! sample).
 //!
 //! Host-side shortcut: listeners are charged for every test, but the host applies their
 //! deletions lazily, at the listener's own turn, against one shared array holding the
@@ -25,68 +27,83 @@ use std::cell::RefCell;
 use std::collections::BTreeMap;
 use std::rc::Rc;
 
-use super::sparse::{self, Image, Px, MESSAGE_PIXELS};
+use super::pixel::ShippedPixel;
+use super::sparse::{Image, MESSAGE_PIXELS};
 use super::{local, Ctx};
 use crate::engine::{Filter, Node, Payload, SimError};
 use crate::machine::{Counts, Op};
-use crate::raster::ACTIVE_PIXEL_BYTES;
 use crate::units::Bytes;
 
 /// Broadcast pixels. `total` is set on the last message of the sender's turn to the
 /// number of messages of the turn (so a turn ends right even if messages overtook).
 #[derive(Clone, Debug)]
-pub(crate) struct Broadcast {
+pub(crate) struct Broadcast<P> {
     frame: u32,
-    pixels: Rc<Vec<Px>>,
+    pixels: Rc<Vec<P>>,
     total: Option<u32>,
 }
 
-impl Payload for Broadcast {
+impl<P: ShippedPixel> Payload for Broadcast<P> {
     fn tag(&self) -> u32 {
         self.frame
     }
 }
 
-/// The nearest broadcast pixel per location, per frame in flight (host side).
-#[derive(Default)]
-pub(crate) struct Shared {
-    fronts: RefCell<BTreeMap<u32, Image>>,
+/// The nearest broadcast pixel per location, per frame in flight (host side): node 0's
+/// frame buffer.
+pub(crate) struct Shared<P> {
+    fronts: RefCell<BTreeMap<u32, Image<P>>>,
 }
 
-impl Shared {
-    /// The pixels of `own` (raster order) that no earlier broadcast hides; they become the
-    /// front.
-    fn survivors(&self, ctx: &Ctx, frame: u32, own: &[Px]) -> Vec<Px> {
-        let mut fronts = self.fronts.borrow_mut();
-        let front = fronts
-            .entry(frame)
-            .or_insert_with(|| Image::new(ctx.viewport.pixels()));
-        let mut out = Vec::new();
-        for p in own {
-            if front.merge(p.loc as usize, p) {
-                out.push(*p);
-            }
+impl<P> Default for Shared<P> {
+    fn default() -> Self {
+        Shared {
+            fronts: RefCell::default(),
         }
-        out
+    }
+}
+
+impl<P: ShippedPixel> Shared<P> {
+    /// The pixels of `own` (raster order) that no earlier broadcast hides entirely (some
+    /// sample is nearer); they become the front. Node 0's frame buffer holds the front, so
+    /// its pool provides the blocks and the frame buffer's writes are charged to node 0.
+    fn survivors(&self, ctx: &Ctx, frame: u32, own: &[P]) -> Vec<P> {
+        let mut front = self
+            .fronts
+            .borrow_mut()
+            .remove(&frame)
+            .unwrap_or_else(|| Image::new(ctx.viewport.pixels()));
+        let survivors = ctx.aa.with_blocks(0, |blocks| {
+            let survivors: Vec<P> = own
+                .iter()
+                .filter(|p| front.merge(p.loc() as usize, p, blocks))
+                .cloned()
+                .collect();
+            // Charged by what is broadcast (`charge`), not by the host's lazy front.
+            blocks.take_work();
+            survivors
+        });
+        self.fronts.borrow_mut().insert(frame, front);
+        survivors
     }
 
     /// The frame buffer's pixels of `frame`, dropping the frame's array.
-    fn take(&self, ctx: &Ctx, frame: u32) -> Vec<Px> {
+    fn take(&self, ctx: &Ctx, frame: u32) -> Vec<P> {
         let Some(front) = self.fronts.borrow_mut().remove(&frame) else {
             return Vec::new();
         };
-        (0..ctx.viewport.pixels() as u32)
-            .filter_map(|loc| front.pixel(loc as usize, loc))
+        (0..ctx.viewport.pixels())
+            .filter_map(|slot| front.pixel(slot).cloned())
             .collect()
     }
 }
 
 /// One processor: renderer, broadcaster in its turn, listener otherwise; node 0 also the
 /// frame buffer.
-pub(crate) async fn processor(
-    node: Node<Broadcast>,
+pub(crate) async fn processor<P: ShippedPixel>(
+    node: Node<Broadcast<P>>,
     ctx: Rc<Ctx>,
-    shared: Rc<Shared>,
+    shared: Rc<Shared<P>>,
 ) -> Result<(), SimError> {
     let me = node.id();
     let n = ctx.n;
@@ -95,33 +112,36 @@ pub(crate) async fn processor(
             let now = node.now();
             ctx.record(frame, |r| r.start = now);
         }
+        ctx.begin_frame(&node, frame)?;
         node.phase("render");
         local::clear_full_frame(&node, &ctx).await?;
-        let buffer = local::render_own_share(&node, &ctx, frame).await?;
-        let own = sparse::sorted_active(&buffer, ctx.viewport.width());
-        drop(buffer);
+        let own: Vec<P> = local::render_own_share(&node, &ctx, frame).await?;
+        if me == 0 {
+            // Node 0's frame buffer is the front: its own pixels enter it in turn 0 and take
+            // their blocks there.
+            ctx.aa.release_render(0);
+        }
 
         for turn in 0..n {
             if turn == me {
                 node.phase("broadcast");
                 let survivors = shared.survivors(&ctx, frame, &own);
                 if me == 0 {
-                    node.compute(&Counts::of(Op::PixelWrite, survivors.len() as u64))
-                        .await;
+                    node.compute(&frame_buffer_writes(&survivors)).await;
                 }
                 if n == 1 {
                     // Nobody listens: the pixels go straight into the frame buffer.
-                    let bytes = Bytes::new(survivors.len() as u64 * ACTIVE_PIXEL_BYTES);
+                    let bytes = Bytes::new(survivors.iter().map(P::wire_bytes).sum());
                     ctx.record(frame, |r| r.bytes += bytes);
                     continue;
                 }
-                let mut chunks: Vec<&[Px]> = survivors.chunks(MESSAGE_PIXELS).collect();
+                let mut chunks: Vec<&[P]> = survivors.chunks(MESSAGE_PIXELS).collect();
                 if chunks.is_empty() {
                     chunks.push(&[]);
                 }
                 let count = chunks.len();
                 for (i, c) in chunks.into_iter().enumerate() {
-                    let bytes = Bytes::new(c.len() as u64 * ACTIVE_PIXEL_BYTES);
+                    let bytes = Bytes::new(c.iter().map(P::wire_bytes).sum());
                     let msg = Broadcast {
                         frame,
                         pixels: Rc::new(c.to_vec()),
@@ -134,10 +154,12 @@ pub(crate) async fn processor(
                 let (mut received, mut expected) = (0, None);
                 loop {
                     let env = node.recv(Filter::tag(frame).and_source(turn)).await;
-                    let len = env.payload.pixels.len() as u64;
-                    let mut work = Counts::of(Op::PixelTest, len);
+                    let pixels = &env.payload.pixels;
+                    let samples = pixels.iter().map(P::samples).sum();
+                    let mut work = Counts::of(Op::PixelTest, pixels.len() as u64);
+                    work.add(Op::SubpixelTest, samples);
                     if me == 0 {
-                        work.add(Op::PixelWrite, len);
+                        work += &frame_buffer_writes(pixels);
                     }
                     node.compute(&work).await;
                     received += 1;
@@ -151,18 +173,23 @@ pub(crate) async fn processor(
             }
         }
         local::free_full_frame(&node, &ctx)?;
+        ctx.end_frame(&node, frame)?;
         if me == 0 {
             let now = node.now();
             ctx.record(frame, |r| r.end = now);
             let pixels = shared.take(&ctx, frame);
             if ctx.is_last(frame) {
-                ctx.set_image(
-                    &node,
-                    sparse::framebuffer(ctx.viewport, ctx.background, &pixels),
-                )
-                .await;
+                ctx.set_image(&node, &pixels).await;
             }
         }
     }
     Ok(())
+}
+
+/// What writing broadcast pixels into the frame buffer costs: a pixel write each, and a
+/// subpixel write per sample a super pixel carries.
+fn frame_buffer_writes<P: ShippedPixel>(pixels: &[P]) -> Counts {
+    let mut work = Counts::of(Op::PixelWrite, pixels.len() as u64);
+    work.add(Op::SubpixelWrite, pixels.iter().map(P::samples).sum());
+    work
 }

@@ -12,29 +12,7 @@ use crate::raster::{Counters, RegionSet, ScreenRect, Target, Viewport, BYTES_PER
 use crate::units::Bytes;
 
 use super::Msg;
-
-/// The anti-aliasing options of a run.
-#[derive(Clone, Copy, Debug, PartialEq, Eq)]
-pub struct AaSettings {
-    pub method: AaMethod,
-    /// Subpixel pool per processor (`aa-pool`); `None`: 2x2 for all of its pixels.
-    pub pool: Option<Bytes>,
-    /// First frame's resolution (`aa-start`, paper 000: 4x4).
-    pub start: Grid,
-    /// Reclaiming on (`aa-reclaim`).
-    pub reclaim: bool,
-}
-
-impl Default for AaSettings {
-    fn default() -> AaSettings {
-        AaSettings {
-            method: AaMethod::None,
-            pool: None,
-            start: Grid::X4,
-            reclaim: true,
-        }
-    }
-}
+use crate::algo::aa::AaSettings;
 
 /// One frame's target on one processor.
 pub(crate) enum Canvas {

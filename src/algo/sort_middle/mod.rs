@@ -24,8 +24,9 @@ pub mod utilization;
 use std::cell::RefCell;
 use std::rc::Rc;
 
+use super::aa::{aa_settings, AaSettings};
 use assign::Assignment;
-use canvas::{AaSettings, Canvas};
+use canvas::Canvas;
 use regions::RegionGrid;
 use two_step::Groups;
 
@@ -34,7 +35,7 @@ use super::frames::FrameBook;
 use super::{bad_option as bad, simulate, FrameRecord, RunConfig, RunError, RunResult};
 use crate::engine::{Filter, Node, Payload, SimError};
 use crate::machine::{Counts, Op};
-use crate::raster::aa::{adapt, AaMethod, Grid};
+use crate::raster::aa::{adapt, Grid};
 use crate::raster::{
     draw_screen_triangles, setup_subset, Framebuffer, RasterOptions, RegionSet, ScreenTriangle,
     Viewport,
@@ -469,41 +470,6 @@ async fn rasterize(
         node.free(tag, bytes)?;
     }
     Ok(image)
-}
-
-/// Reads the anti-aliasing options (both variants take them).
-fn aa_settings(o: &super::Options) -> Result<AaSettings, RunError> {
-    let method: String = o.get("aa", "none".to_string(), AaMethod::VALID)?;
-    let method = AaMethod::parse(&method).ok_or_else(|| bad(o, "aa", AaMethod::VALID))?;
-    let pool_given = o.pairs().any(|(k, _)| k == "aa-pool");
-    let pool: Bytes = o.get(
-        "aa-pool",
-        Bytes::new(0),
-        "a Subpixel pool size per processor such as 10MB",
-    )?;
-    let pool = pool_given.then_some(pool);
-    let start = match o.choice("aa-start", "4", &["4", "3", "2"])? {
-        "3" => Grid::X3,
-        "2" => Grid::X2,
-        _ => Grid::X4,
-    };
-    let reclaim = o.choice("aa-reclaim", "on", &["on", "off"])? == "on";
-    let adaptive_only = ["aa-pool", "aa-start", "aa-reclaim"];
-    if method != AaMethod::Adaptive {
-        if let Some((k, _)) = o.pairs().find(|(k, _)| adaptive_only.contains(&k.as_str())) {
-            return Err(bad(
-                o,
-                k,
-                "aa=adaptive with it (it applies to adaptive supersampling only)",
-            ));
-        }
-    }
-    Ok(AaSettings {
-        method,
-        pool,
-        start,
-        reclaim,
-    })
 }
 
 /// Reads the options of `variant` and checks them.

@@ -89,14 +89,15 @@ impl Blocks {
         }
     }
 
-    /// The pool of a buffer that rendered a frame with `stats`, its cells still in use.
-    pub fn after_render(grid: Grid, stats: &AaStats, clear: [u8; 3]) -> Blocks {
-        Blocks {
-            capacity: stats.pool_cells,
-            live: stats.live_cells,
-            peak: stats.peak_cells,
-            ..Blocks::new(grid, Bytes::new(0), clear)
-        }
+    /// Adds a frame rendered into this pool with `stats` (its cells still in use).
+    pub fn absorb(&mut self, stats: &AaStats) {
+        self.peak = self.peak.max(self.live + stats.peak_cells);
+        self.live += stats.live_cells;
+    }
+
+    /// Returns `cells` to the pool (a rendered frame whose pixels have been shipped).
+    pub fn release(&mut self, cells: u64) {
+        self.live = self.live.saturating_sub(cells);
     }
 
     pub fn grid(&self) -> Grid {
@@ -119,15 +120,17 @@ impl Blocks {
     }
 
     /// `render`'s statistics with what the merges added: blocks taken count as supersampled
-    /// pixels, merge overflows as overflowed ones, and the peak covers both.
+    /// pixels, merge overflows as overflowed ones, and the cells in use are the pool's.
     pub fn stats(&self, render: AaStats) -> AaStats {
         let n = u64::from(self.grid.samples());
         AaStats {
+            grid_side: self.grid.side(),
             supersampled_pixels: render.supersampled_pixels + self.taken,
             overflowed_pixels: render.overflowed_pixels + self.overflowed,
             live_super_pixels: self.live / n,
-            peak_cells: self.peak.max(render.peak_cells),
+            peak_cells: self.peak,
             live_cells: self.live,
+            pool_cells: self.capacity,
             ..render
         }
     }

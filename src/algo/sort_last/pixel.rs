@@ -1,0 +1,230 @@
+//! The pixel a sort-last merge moves, as one trait over the two buffers a node can render
+//! into: [`Px`] from an ordinary active-pixel buffer (also on a supersampling grid, where each
+//! grid pixel is one sample) and [`AaPx`] from paper 000's adaptive buffer (a plain Pixel, or
+//! a super pixel carrying its n x n Subpixels). Every variant is written once over
+//! [`ShippedPixel`]; which one a run uses follows `aa`.
+//!
+//! What a pixel costs on the wire: a sparse merge ships its address with it
+//! ([`ShippedPixel::wire_bytes`]); a full-frame merge ships whole rows of records
+//! (`Ctx::rows_bytes`) plus what super pixels carry beyond their record
+//! ([`ShippedPixel::extra_bytes`]).
+//!
+//! Must never charge time or send: the variants do, through `Ctx`.
+
+use std::fmt::Debug;
+
+use super::Ctx;
+use crate::raster::aa::{AaPixel, AdaptiveConfig, AdaptiveTarget, Blocks, PIXEL_BYTES};
+use crate::raster::scan::{Fragment, Sampling, Span};
+use crate::raster::target::nearer;
+use crate::raster::{Counters, SparseBuffer, Target, ACTIVE_PIXEL_BYTES};
+
+/// One pixel as a merge ships it.
+pub(crate) trait ShippedPixel: Clone + Debug + 'static {
+    /// The buffer a node renders its share into.
+    type Buffer: Target;
+
+    /// An empty buffer for `frame` on node `node` (adaptive: the frame's grid and pool).
+    fn buffer(ctx: &Ctx, frame: u32) -> Self::Buffer;
+
+    /// A rendered buffer's pixels in raster order; the node's pool state is noted in `ctx`.
+    fn collect(buffer: Self::Buffer, ctx: &Ctx, node: u32) -> Vec<Self>;
+
+    /// A fragment as a node ships it without a depth test (direct send), if it ships one.
+    fn fragment(
+        ctx: &Ctx,
+        frame: u32,
+        span: &Span<'_>,
+        f: &Fragment,
+        counters: &mut Counters,
+    ) -> Option<Self>;
+
+    /// Which pixels the buffers of this pixel type want spans to hold.
+    fn sampling() -> Sampling;
+
+    /// Row-major screen location.
+    fn loc(&self) -> u32;
+
+    /// Bytes on the wire in a sparse merge: address, record and what it carries.
+    fn wire_bytes(&self) -> u64;
+
+    /// Bytes beyond its full-frame record (a super pixel's Subpixels).
+    fn extra_bytes(&self) -> u64;
+
+    /// Subpixels carried (what a listener depth-tests beyond the pixel itself).
+    fn samples(&self) -> u64;
+
+    /// The pixel as a receiving buffer stores it where it held nothing (`None`: nothing).
+    fn arrive(&self, blocks: &mut Blocks) -> Option<Self>;
+
+    /// Depth-merges `incoming` (same location) into this stored pixel; true when any of its
+    /// samples was nearer.
+    fn merge(&mut self, incoming: &Self, blocks: &mut Blocks) -> bool;
+
+    /// Colour shown, nearest depth, and whether resolving it is charged (a super pixel).
+    fn resolve(&self) -> ([u8; 3], u32, bool);
+}
+
+/// One pixel of an ordinary buffer. `prim` is the host-side tie-break (not shipped).
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct Px {
+    pub loc: u32,
+    pub z: u32,
+    pub prim: u32,
+    pub rgb: [u8; 3],
+}
+
+impl ShippedPixel for Px {
+    type Buffer = SparseBuffer;
+
+    fn buffer(ctx: &Ctx, _frame: u32) -> SparseBuffer {
+        SparseBuffer::new(ctx.viewport)
+    }
+
+    fn collect(buffer: SparseBuffer, ctx: &Ctx, _node: u32) -> Vec<Px> {
+        let width = ctx.viewport.width();
+        buffer
+            .active_sorted()
+            .iter()
+            .map(|p| Px {
+                loc: p.y * width + p.x,
+                z: p.z,
+                prim: p.prim,
+                rgb: p.rgb,
+            })
+            .collect()
+    }
+
+    fn fragment(
+        ctx: &Ctx,
+        _frame: u32,
+        span: &Span<'_>,
+        f: &Fragment,
+        _counters: &mut Counters,
+    ) -> Option<Px> {
+        Some(Px {
+            loc: span.y() * ctx.viewport.width() + f.x,
+            z: f.z,
+            prim: span.prim(),
+            rgb: f.rgb,
+        })
+    }
+
+    fn sampling() -> Sampling {
+        Sampling::Centre
+    }
+
+    fn loc(&self) -> u32 {
+        self.loc
+    }
+
+    fn wire_bytes(&self) -> u64 {
+        ACTIVE_PIXEL_BYTES
+    }
+
+    fn extra_bytes(&self) -> u64 {
+        0
+    }
+
+    fn samples(&self) -> u64 {
+        0
+    }
+
+    fn arrive(&self, _blocks: &mut Blocks) -> Option<Px> {
+        Some(*self)
+    }
+
+    fn merge(&mut self, incoming: &Px, _blocks: &mut Blocks) -> bool {
+        let won = nearer(incoming.z, incoming.prim, self.z, self.prim);
+        if won {
+            *self = *incoming;
+        }
+        won
+    }
+
+    fn resolve(&self) -> ([u8; 3], u32, bool) {
+        (self.rgb, self.z, false)
+    }
+}
+
+/// One pixel of an adaptive buffer at its screen location.
+#[derive(Clone, Debug, PartialEq, Eq)]
+pub struct AaPx {
+    pub loc: u32,
+    pub pixel: AaPixel,
+}
+
+impl ShippedPixel for AaPx {
+    type Buffer = AdaptiveTarget;
+
+    fn buffer(ctx: &Ctx, frame: u32) -> AdaptiveTarget {
+        let config = AdaptiveConfig {
+            pool: ctx.aa.pool,
+            grid: ctx.aa.grid(frame),
+            reclaim_spread: ctx.aa.reclaim_spread(),
+        };
+        AdaptiveTarget::full_screen(ctx.viewport, config, ctx.background)
+    }
+
+    fn collect(buffer: AdaptiveTarget, ctx: &Ctx, node: u32) -> Vec<AaPx> {
+        ctx.aa.rendered(node, buffer.stats());
+        let width = ctx.viewport.width();
+        buffer
+            .export()
+            .into_iter()
+            .map(|(x, y, pixel)| AaPx {
+                loc: y * width + x,
+                pixel,
+            })
+            .collect()
+    }
+
+    fn fragment(
+        ctx: &Ctx,
+        frame: u32,
+        span: &Span<'_>,
+        f: &Fragment,
+        counters: &mut Counters,
+    ) -> Option<AaPx> {
+        let grid = ctx.aa.grid(frame);
+        let loc = span.y() * ctx.viewport.width() + f.x;
+        AaPixel::fragment(span, f.x, f.z, f.rgb, grid, counters).map(|pixel| AaPx { loc, pixel })
+    }
+
+    fn sampling() -> Sampling {
+        Sampling::Conservative
+    }
+
+    fn loc(&self) -> u32 {
+        self.loc
+    }
+
+    fn wire_bytes(&self) -> u64 {
+        // x and y as u16 each, then the record.
+        4 + PIXEL_BYTES + self.pixel.extra_bytes()
+    }
+
+    fn extra_bytes(&self) -> u64 {
+        self.pixel.extra_bytes()
+    }
+
+    fn samples(&self) -> u64 {
+        self.pixel.samples()
+    }
+
+    fn arrive(&self, blocks: &mut Blocks) -> Option<AaPx> {
+        self.pixel.arrive(blocks).map(|pixel| AaPx {
+            loc: self.loc,
+            pixel,
+        })
+    }
+
+    fn merge(&mut self, incoming: &AaPx, blocks: &mut Blocks) -> bool {
+        self.pixel.merge(&incoming.pixel, blocks)
+    }
+
+    fn resolve(&self) -> ([u8; 3], u32, bool) {
+        let (rgb, z) = self.pixel.resolve();
+        (rgb, z, self.pixel.is_super())
+    }
+}
