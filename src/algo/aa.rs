@@ -3,9 +3,10 @@
 //!
 //! Must never build a target or charge anything: a family decides what its nodes render into.
 
-use super::{bad_option as bad, Options, RunError};
+use super::{bad_option as bad, Options, RunConfig, RunError};
+use crate::machine::Op;
 use crate::raster::aa::{AaMethod, Grid};
-use crate::units::Bytes;
+use crate::units::{Bytes, SimTime};
 
 /// The anti-aliasing options of a run.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -63,4 +64,31 @@ pub(crate) fn aa_settings(o: &Options) -> Result<AaSettings, RunError> {
         start,
         reclaim,
     })
+}
+
+/// The operations anti-aliasing charges beyond the aliased renderer's.
+const AA_OPS: [Op; 5] = [
+    Op::CoverageMask,
+    Op::SubpixelTest,
+    Op::SubpixelWrite,
+    Op::ReclaimCheck,
+    Op::ResolvePixel,
+];
+
+/// Refuses an anti-aliased run on a machine that prices none of the anti-aliasing
+/// operations: its samples would cost nothing, and the run would claim accuracy for free.
+pub(crate) fn check_prices(cfg: &RunConfig, aa: &AaSettings) -> Result<(), RunError> {
+    let costs = &cfg.machine.cpu.costs;
+    if aa.method == AaMethod::None || AA_OPS.iter().any(|&op| costs.get(op) > SimTime::ZERO) {
+        return Ok(());
+    }
+    let names: Vec<&str> = AA_OPS.iter().map(|op| op.name()).collect();
+    Err(RunError::Unsupported(format!(
+        "machine '{}' prices none of the anti-aliasing operations, so --set aa={} would cost \
+         no time; add cpu.costs for {} to the machine file (machines/power-challenge.json \
+         states estimates relative to pixel_test)",
+        cfg.machine.name,
+        aa.method.name(),
+        names.join(", ")
+    )))
 }

@@ -38,8 +38,14 @@ pub enum Msg<P> {
         band: u32,
         pixels: Vec<P>,
     },
-    /// PC and ScanlineFlow: rows merged so far (a whole chunk or scanline is charged).
-    Chunk { frame: u32, pixels: Vec<P> },
+    /// PC and ScanlineFlow: rows `y0..y1` merged so far (every pixel of them charged). The
+    /// rows travel with the chunk: chunks of different sizes may overtake each other.
+    Chunk {
+        frame: u32,
+        y0: u32,
+        y1: u32,
+        pixels: Vec<P>,
+    },
     /// PC and ScanlineFlow: an input buffer was freed (a credit for the sender).
     Credit { frame: u32 },
     /// A hand-off between two programs of one node (a semaphore), never on the network.

@@ -36,7 +36,7 @@ mod sparse;
 use std::cell::RefCell;
 use std::rc::Rc;
 
-use super::aa::{aa_settings, AaSettings};
+use super::aa::{aa_settings, check_prices, AaSettings};
 use super::frames::FrameBook;
 use super::primitives::{deal, shares, Deal};
 use super::{bad_option as bad, simulate, RunConfig, RunError, RunResult};
@@ -398,6 +398,7 @@ fn settings(cfg: &RunConfig, variant: Variant) -> Result<Settings, RunError> {
         _ => 1,
     };
     let aa = aa_settings(o)?;
+    check_prices(cfg, &aa)?;
     let side = match aa.method {
         AaMethod::None | AaMethod::Adaptive => 1,
         AaMethod::Supersample { side } => side,

@@ -62,8 +62,13 @@ pub(super) async fn processor<P: ShippedPixel>(
                 let (y0, y1) = extent(c);
                 let pixels = rows.rows(y0, y1).to_vec();
                 let bytes = ctx.chunk_bytes(y1 - y0, &pixels);
-                ctx.send(&node, frame, 1, bytes, Msg::Chunk { frame, pixels })
-                    .await;
+                let msg = Msg::Chunk {
+                    frame,
+                    y0,
+                    y1,
+                    pixels,
+                };
+                ctx.send(&node, frame, 1, bytes, msg).await;
             }
         } else {
             let buffers = Bytes::new(INPUT_BUFFERS as u64 * ctx.rows_bytes(rows_per).get());
@@ -75,14 +80,13 @@ pub(super) async fn processor<P: ShippedPixel>(
                     send_thread(node.clone(), ctx.clone(), frame, chunks, outbox.clone()),
                 );
             }
-            for c in 0..chunks {
+            for _ in 0..chunks {
                 let env = node
                     .recv(Filter::tag(tag(CHUNK, frame)).and_source(me - 1))
                     .await;
-                let Msg::Chunk { pixels, .. } = env.payload else {
+                let Msg::Chunk { y0, y1, pixels, .. } = env.payload else {
                     unreachable!("filtered by tag")
                 };
-                let (y0, y1) = extent(c);
                 let charged = u64::from(y1 - y0) * u64::from(w);
                 let merged = ctx
                     .merge_rows(&node, &pixels, rows.rows(y0, y1), charged)
@@ -98,7 +102,7 @@ pub(super) async fn processor<P: ShippedPixel>(
                 match &mut image {
                     Some(image) => image.extend(merged),
                     None => {
-                        outbox.borrow_mut().push_back(merged);
+                        outbox.borrow_mut().push_back((y0, y1, merged));
                         node.post(me, SimTime::ZERO, Msg::Local { frame });
                     }
                 }
@@ -123,11 +127,9 @@ async fn send_thread<P: ShippedPixel>(
     ctx: Rc<Ctx>,
     frame: u32,
     chunks: u32,
-    outbox: Rc<RefCell<VecDeque<Vec<P>>>>,
+    outbox: Rc<RefCell<VecDeque<(u32, u32, Vec<P>)>>>,
 ) -> Result<(), SimError> {
     let me = node.id();
-    let h = ctx.viewport.height();
-    let rows_per = ctx.settings.chunk_rows.min(h);
     for c in 0..chunks {
         node.recv(Filter::tag(tag(LOCAL, frame)).and_source(me))
             .await;
@@ -135,11 +137,17 @@ async fn send_thread<P: ShippedPixel>(
             node.recv(Filter::tag(tag(CREDIT, frame)).and_source(me + 1))
                 .await;
         }
-        let pixels = outbox.borrow_mut().pop_front().unwrap_or_default();
-        let rows = ((c + 1) * rows_per).min(h) - c * rows_per;
-        let bytes = ctx.chunk_bytes(rows, &pixels);
-        ctx.send(&node, frame, me + 1, bytes, Msg::Chunk { frame, pixels })
-            .await;
+        let Some((y0, y1, pixels)) = outbox.borrow_mut().pop_front() else {
+            unreachable!("a merged chunk is queued before its hand-off")
+        };
+        let bytes = ctx.chunk_bytes(y1 - y0, &pixels);
+        let msg = Msg::Chunk {
+            frame,
+            y0,
+            y1,
+            pixels,
+        };
+        ctx.send(&node, frame, me + 1, bytes, msg).await;
     }
     Ok(())
 }

@@ -131,9 +131,11 @@ pub(super) async fn processor(node: Node<Msg<Px>>, ctx: Rc<Ctx>) -> Result<(), S
                 let env = node
                     .recv(Filter::tag(tag(CHUNK, frame)).and_source(me - 1))
                     .await;
-                let Msg::Chunk { pixels, .. } = env.payload else {
+                let Msg::Chunk { y0, pixels, .. } = env.payload else {
                     unreachable!("filtered by tag")
                 };
+                // Scanlines are all one size, so none overtakes another.
+                debug_assert_eq!(y0, y, "scanlines arrive in order");
                 let merged = ctx.merge_rows(&node, &pixels, &line.pixels, width).await;
                 let credit = Msg::Credit { frame };
                 ctx.send(&node, frame, me - 1, Bytes::new(CONTROL_BYTES), credit)
@@ -151,6 +153,8 @@ pub(super) async fn processor(node: Node<Msg<Px>>, ctx: Rc<Ctx>) -> Result<(), S
                     }
                     let msg = Msg::Chunk {
                         frame,
+                        y0: y,
+                        y1: y + 1,
                         pixels: merged,
                     };
                     ctx.send(&node, frame, me + 1, line_bytes, msg).await;

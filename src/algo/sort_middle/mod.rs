@@ -545,6 +545,7 @@ fn settings(cfg: &RunConfig, variant: Variant, viewport: Viewport) -> Result<Set
         }
     };
     let aa = aa_settings(o)?;
+    super::aa::check_prices(cfg, &aa)?;
     o.finish(cfg.algo.id())?;
     Ok(Settings {
         variant,

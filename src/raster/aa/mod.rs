@@ -52,6 +52,15 @@ impl AaMethod {
     pub const VALID: &'static str =
         "none, adaptive, or supersample:N with N a perfect square from 4 to 256 (e.g. supersample:16)";
 
+    /// The option value naming this method.
+    pub fn name(self) -> String {
+        match self {
+            AaMethod::None => "none".into(),
+            AaMethod::Adaptive => "adaptive".into(),
+            AaMethod::Supersample { side } => format!("supersample:{}", side * side),
+        }
+    }
+
     /// Parses `none`, `adaptive` or `supersample:N`; `None` for anything else (see
     /// [`AaMethod::VALID`]).
     pub fn parse(s: &str) -> Option<AaMethod> {
