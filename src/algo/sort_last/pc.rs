@@ -121,13 +121,16 @@ pub(super) async fn processor<P: ShippedPixel>(
     Ok(())
 }
 
+/// Merged chunks (rows `y0..y1` and their pixels) waiting for the send thread.
+type Outbox<P> = Rc<RefCell<VecDeque<(u32, u32, Vec<P>)>>>;
+
 /// Passes merged chunks to node i+1 as its input buffers free up.
 async fn send_thread<P: ShippedPixel>(
     node: Node<Msg<P>>,
     ctx: Rc<Ctx>,
     frame: u32,
     chunks: u32,
-    outbox: Rc<RefCell<VecDeque<(u32, u32, Vec<P>)>>>,
+    outbox: Outbox<P>,
 ) -> Result<(), SimError> {
     let me = node.id();
     for c in 0..chunks {
