@@ -665,13 +665,6 @@ fn sort_last_runs_refuse_what_the_machine_or_options_cannot_do() {
             "a whole number of scanlines, at least 1",
         ),
         (
-            "machines/pixelflow-pipeline.json",
-            "sort-last/scanline-flow",
-            "4",
-            &["aa=adaptive"],
-            "--set aa=adaptive: expected none or supersample:N with N a perfect square from 4 to 256: sort-last/scanline-flow renders with a scanline z-buffer",
-        ),
-        (
             "machines/snooping-bus.json",
             "sort-last/pixelflow",
             "4",

@@ -27,7 +27,7 @@ fn machine_for(algo: &str) -> (&'static str, &'static [(&'static str, &'static s
     const BIG_T800: &[(&str, &str)] = &[("machine.memory.capacity_per_node", "64MB")];
     match algo {
         "sort-last/df" => ("multicluster-torus.json", BIG_T800),
-        "sort-last/pc" => ("multicluster-pipeline.json", BIG_T800),
+        "sort-last/pc" | "sort-last/scanline-flow" => ("multicluster-pipeline.json", BIG_T800),
         "sort-last/pixelflow" => ("pixelflow-pipeline.json", &[]),
         "sort-last/direct-send" => ("denali-crossbar.json", &[]),
         _ => ("snooping-bus.json", &[]),
@@ -91,9 +91,10 @@ fn differing(a: &Framebuffer, b: &Framebuffer, levels: u8) -> usize {
 }
 
 /// Every (algorithm, options) pair that merges adaptive pixels.
-const RUNS: [(&str, &[(&str, &str)]); 6] = [
+const RUNS: [(&str, &[(&str, &str)]); 7] = [
     ("sort-last/df", &[]),
     ("sort-last/pc", &[]),
+    ("sort-last/scanline-flow", &[]),
     ("sort-last/pixelflow", &[]),
     ("sort-last/direct-send", &[]),
     ("sort-last/direct-send", &[("local-zbuffer", "on")]),

@@ -403,9 +403,6 @@ fn settings(cfg: &RunConfig, variant: Variant) -> Result<Settings, RunError> {
         AaMethod::None | AaMethod::Adaptive => 1,
         AaMethod::Supersample { side } => side,
     };
-    if aa.method == AaMethod::Adaptive && variant == Variant::ScanlineFlow {
-        return Err(bad(o, "aa", SCANLINE_FLOW_AA));
-    }
     o.finish(cfg.algo.id())?;
     Ok(Settings {
         variant,
@@ -416,12 +413,6 @@ fn settings(cfg: &RunConfig, variant: Variant) -> Result<Settings, RunError> {
         aa,
     })
 }
-
-/// What `aa` may be in a ScanlineFlow run.
-const SCANLINE_FLOW_AA: &str = "none or supersample:N with N a perfect square from 4 to 256: \
-     sort-last/scanline-flow renders with a scanline z-buffer, and paper 000's adaptive \
-     buffer (a frame's Pixels sharing one Subpixel pool) is a whole-frame structure; \
-     adaptive supersampling runs in sort-last/df, pc, pixelflow, direct-send and snooping";
 
 /// The grid nodes render and merge on: the screen, or with `supersample:N` a grid sqrt N
 /// times finer in each direction, one sample per grid pixel at the sample positions of
@@ -485,7 +476,7 @@ fn simulate_variant<P: ShippedPixel>(
     Ok(match variant {
         Variant::Df => simulate(cfg, ctx, df::processor::<P>)?,
         Variant::Pc => simulate(cfg, ctx, pc::processor::<P>)?,
-        Variant::ScanlineFlow => simulate(cfg, ctx, scanline_flow::processor)?,
+        Variant::ScanlineFlow => simulate(cfg, ctx, scanline_flow::processor::<P>)?,
         Variant::PixelFlow => simulate(cfg, ctx, pixelflow::processor::<P>)?,
         Variant::DirectSend => simulate(cfg, ctx, direct_send::processor::<P>)?,
         Variant::Snooping => {

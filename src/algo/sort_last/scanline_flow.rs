@@ -22,15 +22,19 @@
 //!
 //! Must never hold full frames on the host: scanlines carry active pixels only.
 
+use std::collections::BTreeMap;
 use std::rc::Rc;
 
 use super::full_frame::{self, tag, Msg, CHUNK, CONTROL_BYTES, CREDIT};
-use super::pixel::Px;
+use super::pixel::ShippedPixel;
 use super::{local, Ctx};
 use crate::algo::charge;
 use crate::engine::{Filter, Node, SimError};
 use crate::machine::{Counts, Op};
-use crate::raster::{render_scanlines_counted, setup_subset, Counters, ScreenTriangle};
+use crate::raster::{
+    draw_screen_triangles, render_scanlines_counted, setup_subset, Counters, Sampling, ScreenRect,
+    ScreenTriangle, Span, Target,
+};
 use crate::units::Bytes;
 
 /// Scanlines that may be in flight into a node (with the one being merged: a triple buffer).
@@ -40,17 +44,27 @@ pub const IN_FLIGHT: u32 = 2;
 pub const BUCKET_BYTES_PER_TRIANGLE: u64 = ScreenTriangle::PAYLOAD_BYTES as u64 + 4;
 
 /// One rendered scanline of this node: what rendering it costs and its active pixels.
-struct Line {
+struct Line<P> {
     work: Counts,
-    pixels: Vec<Px>,
+    pixels: Vec<P>,
 }
 
-/// Renders `tris` scanline by scanline on the host and prices each scanline.
-fn render_lines(ctx: &Ctx, tris: &[ScreenTriangle]) -> (Vec<Line>, Counters) {
+/// Renders `tris` scanline by scanline on the host and prices each scanline: the scanline
+/// renderer's own work per line (clearing it, setting up and walking the active triangle
+/// list, spans) from the scanline pass, and the pixels' work (depth tests and writes, and
+/// with adaptive anti-aliasing coverage masks and subpixel work) from the run's buffer,
+/// counted row by row. The pixels are that buffer's.
+fn render_lines<P: ShippedPixel>(
+    ctx: &Ctx,
+    frame: u32,
+    node: u32,
+    tris: &[ScreenTriangle],
+) -> (Vec<Line<P>>, Counters) {
     let width = ctx.viewport.width();
-    let mut lines = Vec::with_capacity(ctx.viewport.height() as usize);
+    let height = ctx.viewport.height() as usize;
+    let mut structure = Vec::with_capacity(height);
     let mut prev = Counters::default();
-    let total = render_scanlines_counted(tris, ctx.viewport, ctx.background, |line, c| {
+    let total = render_scanlines_counted(tris, ctx.viewport, ctx.background, |_, c| {
         let inserts = c.active_inserts - prev.active_inserts;
         // The list while this scanline is drawn: everything inserted, minus what earlier
         // scanlines removed.
@@ -62,29 +76,58 @@ fn render_lines(ctx: &Ctx, tris: &[ScreenTriangle]) -> (Vec<Line>, Counters) {
                 c.triangles_scanned - prev.triangles_scanned,
             )
             .add(Op::ActiveListOp, length + inserts * length / 2)
-            .add(Op::Span, c.spans - prev.spans)
-            .add(Op::PixelTest, c.pixels_tested - prev.pixels_tested)
-            .add(Op::PixelWrite, c.pixels_written - prev.pixels_written);
-        let y = line.y();
-        let pixels = (0..width)
-            .filter(|&x| line.depths()[x as usize] != u32::MAX)
-            .map(|x| {
-                let i = x as usize;
-                Px {
-                    loc: y * width + x,
-                    z: line.depths()[i],
-                    rgb: line.colors()[i],
-                    prim: line.prims()[i],
-                }
-            })
-            .collect();
-        lines.push(Line { work, pixels });
+            .add(Op::Span, c.spans - prev.spans);
+        structure.push(work);
         prev = *c;
     });
+    let mut target = RowCounted {
+        inner: P::buffer(ctx, frame),
+        rows: vec![Counters::default(); height],
+    };
+    draw_screen_triangles(tris, &mut target);
+    let mut pixels = P::collect(target.inner, ctx, node).into_iter().peekable();
+    let lines = structure
+        .into_iter()
+        .zip(&target.rows)
+        .enumerate()
+        .map(|(y, (mut work, row))| {
+            work += &charge::back_end(row);
+            let end = (y as u32 + 1) * width;
+            let mut line = Vec::new();
+            while let Some(p) = pixels.next_if(|p| p.loc() < end) {
+                line.push(p);
+            }
+            Line { work, pixels: line }
+        })
+        .collect();
     (lines, total)
 }
 
-pub(super) async fn processor(node: Node<Msg<Px>>, ctx: Rc<Ctx>) -> Result<(), SimError> {
+/// A target that also counts what its inner target does, row by row.
+struct RowCounted<T> {
+    inner: T,
+    rows: Vec<Counters>,
+}
+
+impl<T: Target> Target for RowCounted<T> {
+    fn rects(&self) -> &[ScreenRect] {
+        self.inner.rects()
+    }
+    fn sampling(&self) -> Sampling {
+        self.inner.sampling()
+    }
+    fn span(&mut self, rect: usize, span: &Span<'_>, counters: &mut Counters) {
+        let mut c = Counters::default();
+        self.inner.span(rect, span, &mut c);
+        self.rows[span.y() as usize] += c;
+        *counters += c;
+    }
+}
+
+pub(super) async fn processor<P: ShippedPixel>(
+    node: Node<Msg<P>>,
+    ctx: Rc<Ctx>,
+) -> Result<(), SimError> {
     let me = node.id();
     let n = ctx.n;
     let h = ctx.viewport.height();
@@ -106,7 +149,7 @@ pub(super) async fn processor(node: Node<Msg<Px>>, ctx: Rc<Ctx>) -> Result<(), S
         ctx.record(frame, |r| {
             r.triangles_in_view += front.triangles_in - front.culled_outside - front.culled_invalid
         });
-        let (lines, total) = render_lines(&ctx, &tris);
+        let (lines, total) = render_lines::<P>(&ctx, frame, me, &tris);
         let buckets = Bytes::new(total.bucket_inserts * BUCKET_BYTES_PER_TRIANGLE);
         node.alloc("bucket-sorted triangles", buckets)?;
         let mut work = charge::front_end(&front);
@@ -118,7 +161,8 @@ pub(super) async fn processor(node: Node<Msg<Px>>, ctx: Rc<Ctx>) -> Result<(), S
         let line_bytes = ctx.rows_bytes(1);
         let buffers = Bytes::new(3 * line_bytes.get());
         node.alloc("scanline triple buffer", buffers)?;
-        let mut image: Option<Vec<Px>> = (me == n - 1).then(Vec::new);
+        let mut image: Option<Vec<P>> = (me == n - 1).then(Vec::new);
+        let mut early = BTreeMap::new();
         for (y, line) in lines.into_iter().enumerate() {
             let y = y as u32;
             node.compute(&line.work).await;
@@ -128,14 +172,7 @@ pub(super) async fn processor(node: Node<Msg<Px>>, ctx: Rc<Ctx>) -> Result<(), S
             let merged = if me == 0 {
                 line.pixels
             } else {
-                let env = node
-                    .recv(Filter::tag(tag(CHUNK, frame)).and_source(me - 1))
-                    .await;
-                let Msg::Chunk { y0, pixels, .. } = env.payload else {
-                    unreachable!("filtered by tag")
-                };
-                // Scanlines are all one size, so none overtakes another.
-                debug_assert_eq!(y0, y, "scanlines arrive in order");
+                let pixels = scanline(&node, frame, y, &mut early).await;
                 let merged = ctx.merge_rows(&node, &pixels, &line.pixels, width).await;
                 let credit = Msg::Credit { frame };
                 ctx.send(&node, frame, me - 1, Bytes::new(CONTROL_BYTES), credit)
@@ -151,13 +188,14 @@ pub(super) async fn processor(node: Node<Msg<Px>>, ctx: Rc<Ctx>) -> Result<(), S
                         node.recv(Filter::tag(tag(CREDIT, frame)).and_source(me + 1))
                             .await;
                     }
+                    let bytes = ctx.chunk_bytes(1, &merged);
                     let msg = Msg::Chunk {
                         frame,
                         y0: y,
                         y1: y + 1,
                         pixels: merged,
                     };
-                    ctx.send(&node, frame, me + 1, line_bytes, msg).await;
+                    ctx.send(&node, frame, me + 1, bytes, msg).await;
                 }
             }
         }
@@ -172,4 +210,29 @@ pub(super) async fn processor(node: Node<Msg<Px>>, ctx: Rc<Ctx>) -> Result<(), S
         }
     }
     Ok(())
+}
+
+/// Scanline `y` from node i-1. Scanlines carrying super pixels differ in size and may
+/// overtake each other; one that arrives before its turn waits in `early`.
+async fn scanline<P: ShippedPixel>(
+    node: &Node<Msg<P>>,
+    frame: u32,
+    y: u32,
+    early: &mut BTreeMap<u32, Vec<P>>,
+) -> Vec<P> {
+    if let Some(pixels) = early.remove(&y) {
+        return pixels;
+    }
+    loop {
+        let env = node
+            .recv(Filter::tag(tag(CHUNK, frame)).and_source(node.id() - 1))
+            .await;
+        let Msg::Chunk { y0, pixels, .. } = env.payload else {
+            unreachable!("filtered by tag")
+        };
+        if y0 == y {
+            return pixels;
+        }
+        early.insert(y0, pixels);
+    }
 }
