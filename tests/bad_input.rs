@@ -666,6 +666,20 @@ fn sort_last_runs_refuse_what_the_machine_or_options_cannot_do() {
         ),
         (
             "machines/snooping-bus.json",
+            "sort-last/snooping",
+            "4",
+            &[
+                "aa=adaptive",
+                "machine.cpu.costs.coverage_mask=0ns",
+                "machine.cpu.costs.subpixel_test=0ns",
+                "machine.cpu.costs.subpixel_write=0ns",
+                "machine.cpu.costs.reclaim_check=0ns",
+                "machine.cpu.costs.resolve_pixel=0ns",
+            ],
+            "prices none of the anti-aliasing operations, so --set aa=adaptive would cost no time",
+        ),
+        (
+            "machines/snooping-bus.json",
             "sort-last/pixelflow",
             "4",
             &["aa=supersample:4", "aa-start=3"],

@@ -9,9 +9,11 @@
 //!   pixel to the node owning its screen location), `snooping` (broadcast on a bus, listeners
 //!   delete what the broadcast hides).
 //!
-//! The mechanisms they share live beside them: `local` (a node renders its share into an
-//! active-pixel buffer, charged as the machine would be), primitive assignment in
-//! [`crate::algo::primitives`], request-based load balancing in `request`.
+//! The mechanisms they share live beside them: `pixel` (the pixel a merge ships: an ordinary
+//! active pixel, or with `aa=adaptive` a pixel of paper 000's adaptive buffer carrying its
+//! Subpixels), `local` (a node renders its share into that pixel's buffer, charged as the
+//! machine would be), `aa` (each node's Subpixel pool and the frame's grid), primitive
+//! assignment in [`crate::algo::primitives`], request-based load balancing in `request`.
 //!
 //! Full frames are charged, not held: a node's simulated memory holds a 512x512 colour and
 //! z frame, and merges are charged for every pixel they move, but the host keeps only each
