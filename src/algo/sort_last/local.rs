@@ -16,38 +16,65 @@ use crate::raster::{draw_subset, Counters, Target};
 pub const BATCH: usize = 64;
 
 /// Renders `prims` (database indices of `frame`) into `target` one batch at a time, charging
-/// each batch's front and back end. Returns the counts of the whole call.
+/// each batch's front and back end as it is drawn (so a program beside the renderer sees the
+/// target between batches).
 pub(crate) async fn render<M: Payload, T: Target>(
     node: &Node<M>,
     ctx: &Ctx,
     frame: u32,
     prims: &[u32],
     target: &mut T,
-) -> Result<Counters, SimError> {
-    let geometry = ctx.geometry(node, frame)?;
-    let mut total = Counters::default();
+) -> Result<(), SimError> {
     for batch in prims.chunks(BATCH) {
-        let c = draw_subset(
-            &geometry.vertices,
-            &geometry.triangles,
-            batch,
-            ctx.viewport,
-            &ctx.raster,
-            target,
-        );
-        let mut work = charge::front_end(&c);
-        work += &charge::back_end(&c);
-        node.compute(&work).await;
-        total += c;
+        let drawn = draw(node, ctx, frame, batch, target)?;
+        charge_batches(node, ctx, frame, &drawn).await;
     }
-    ctx.record(frame, |r| {
-        r.triangles_in_view += total.triangles_in - total.culled_outside - total.culled_invalid
-    });
-    Ok(total)
+    Ok(())
+}
+
+/// Draws `prims` into `target` on the host, batch by batch, without charging: the counts
+/// of each batch.
+fn draw<M: Payload, T: Target>(
+    node: &Node<M>,
+    ctx: &Ctx,
+    frame: u32,
+    prims: &[u32],
+    target: &mut T,
+) -> Result<Vec<Counters>, SimError> {
+    let geometry = ctx.geometry(node, frame)?;
+    Ok(prims
+        .chunks(BATCH)
+        .map(|batch| {
+            draw_subset(
+                &geometry.vertices,
+                &geometry.triangles,
+                batch,
+                ctx.viewport,
+                &ctx.raster,
+                target,
+            )
+        })
+        .collect())
+}
+
+/// Charges drawn batches one compute each (front and back end), and counts the triangles
+/// they found in view.
+async fn charge_batches<M: Payload>(node: &Node<M>, ctx: &Ctx, frame: u32, batches: &[Counters]) {
+    for c in batches {
+        let mut work = charge::front_end(c);
+        work += &charge::back_end(c);
+        node.compute(&work).await;
+        ctx.record(frame, |r| {
+            r.triangles_in_view += c.triangles_in - c.culled_outside - c.culled_invalid
+        });
+    }
 }
 
 /// Renders this node's static share of `frame` into the run's buffer, records when
-/// rasterization finished, and returns the rendered pixels in raster order.
+/// rasterization finished, and returns the rendered pixels in raster order. Nothing else
+/// looks at the buffer while it is drawn, so the host draws the whole share at once and
+/// drops the buffer before charging the batches: one node's dense buffer is alive at a
+/// time, not every node's.
 pub(crate) async fn render_own_share<P: ShippedPixel, M: Payload>(
     node: &Node<M>,
     ctx: &Ctx,
@@ -55,9 +82,11 @@ pub(crate) async fn render_own_share<P: ShippedPixel, M: Payload>(
 ) -> Result<Vec<P>, SimError> {
     let share = ctx.share(node, frame)?;
     let mut buffer = P::buffer(ctx, frame);
-    render(node, ctx, frame, &share, &mut buffer).await?;
+    let batches = draw(node, ctx, frame, &share, &mut buffer)?;
+    let pixels = P::collect(buffer, ctx, node.id());
+    charge_batches(node, ctx, frame, &batches).await;
     raster_finished(node, ctx, frame);
-    Ok(P::collect(buffer, ctx, node.id()))
+    Ok(pixels)
 }
 
 /// Records when this node finished rasterizing `frame` (paper 001's load imbalance).
