@@ -92,7 +92,7 @@ pub(super) async fn processor<P: ShippedPixel>(
             if ctx.is_last(frame) {
                 ctx.set_image(&node, &image).await;
             }
-            ctx.end_frame(&node, frame)?;
+            ctx.end_aa(&node, frame)?;
             full_frame::end_frame(&node, &ctx, frame).await?;
         } else {
             let bytes = ctx.chunk_bytes(y1 - y0, &merged);
@@ -103,7 +103,7 @@ pub(super) async fn processor<P: ShippedPixel>(
             };
             ctx.send(&node, frame, 0, bytes, msg).await;
             local::free_full_frame(&node, &ctx)?;
-            ctx.end_frame(&node, frame)?;
+            ctx.end_aa(&node, frame)?;
         }
     }
     Ok(())

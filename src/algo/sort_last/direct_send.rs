@@ -108,7 +108,7 @@ pub(crate) async fn processor<P: ShippedPixel>(
             let now = node.now();
             ctx.record(frame, |r| r.start = now);
         }
-        ctx.begin_frame(&node, frame)?;
+        ctx.begin_aa(&node, frame)?;
         let mut part = Part::<P>::new(&ctx, me);
         let part_bytes = ctx.rows_bytes(owned_rows(ctx.viewport.height(), n, me));
         node.alloc("owned rows", part_bytes)?;
@@ -199,7 +199,7 @@ pub(crate) async fn processor<P: ShippedPixel>(
                 .await;
         }
         node.free("owned rows", part_bytes)?;
-        ctx.end_frame(&node, frame)?;
+        ctx.end_aa(&node, frame)?;
     }
     Ok(())
 }

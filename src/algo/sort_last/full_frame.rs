@@ -125,7 +125,7 @@ pub async fn start_frame<P: ShippedPixel>(
         let now = node.now();
         ctx.record(frame, |r| r.start = now);
     }
-    ctx.begin_frame(node, frame)
+    ctx.begin_aa(node, frame)
 }
 
 /// Ends `frame` at the node holding its image: records the end and lets every other node

@@ -279,12 +279,12 @@ impl Ctx {
     }
 
     /// Starts `frame`'s anti-aliasing state on `node` (its Subpixel pool).
-    pub fn begin_frame<M: Payload>(&self, node: &Node<M>, frame: u32) -> Result<(), SimError> {
+    pub fn begin_aa<M: Payload>(&self, node: &Node<M>, frame: u32) -> Result<(), SimError> {
         self.aa.begin(node, frame)
     }
 
     /// Ends `frame` on `node`: records its anti-aliasing statistics, frees its pool.
-    pub fn end_frame<M: Payload>(&self, node: &Node<M>, frame: u32) -> Result<(), SimError> {
+    pub fn end_aa<M: Payload>(&self, node: &Node<M>, frame: u32) -> Result<(), SimError> {
         self.aa.end(node, frame, &self.book, self.n)
     }
 }

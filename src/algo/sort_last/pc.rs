@@ -110,7 +110,7 @@ pub(super) async fn processor<P: ShippedPixel>(
             node.free("input double buffer", buffers)?;
         }
         local::free_full_frame(&node, &ctx)?;
-        ctx.end_frame(&node, frame)?;
+        ctx.end_aa(&node, frame)?;
         if let Some(image) = image {
             if ctx.is_last(frame) {
                 ctx.set_image(&node, &image).await;

@@ -56,7 +56,7 @@ pub(crate) async fn processor<P: ShippedPixel>(
             let now = node.now();
             ctx.record(frame, |r| r.start = now);
         }
-        ctx.begin_frame(&node, frame)?;
+        ctx.begin_aa(&node, frame)?;
         node.phase("render");
         local::clear_full_frame(&node, &ctx).await?;
         let own: Vec<P> = local::render_own_share(&node, &ctx, frame).await?;
@@ -103,7 +103,7 @@ pub(crate) async fn processor<P: ShippedPixel>(
             y0 = y1;
         }
         local::free_full_frame(&node, &ctx)?;
-        ctx.end_frame(&node, frame)?;
+        ctx.end_aa(&node, frame)?;
         if me + 1 == n {
             let now = node.now();
             ctx.record(frame, |r| r.end = now);

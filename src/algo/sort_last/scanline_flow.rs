@@ -201,7 +201,7 @@ pub(super) async fn processor<P: ShippedPixel>(
         }
         node.free("scanline triple buffer", buffers)?;
         node.free("bucket-sorted triangles", buckets)?;
-        ctx.end_frame(&node, frame)?;
+        ctx.end_aa(&node, frame)?;
         if let Some(image) = image {
             if ctx.is_last(frame) {
                 ctx.set_image(&node, &image).await;
