@@ -100,6 +100,11 @@ impl AaState {
         state.render = stats;
     }
 
+    /// Sets the Pixels `node` holds at the end of the frame (when not a full frame).
+    pub fn hold_pixels(&self, node: u32, pixels: u64) {
+        self.nodes.borrow_mut()[node as usize].render.pixels = pixels;
+    }
+
     /// Returns the rendered frame's blocks to the pool (its pixels were shipped away and
     /// the buffer freed).
     pub fn release_render(&self, node: u32) {

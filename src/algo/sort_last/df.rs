@@ -4,7 +4,8 @@
 //! clear my full frame; render my share (request balancing optional)
 //! I own band i of the screen (horizontal bands); ask each of the other N-1 nodes for it
 //! z-merge every reply into my band (every pixel, active or not, is moved and compared)
-//! send my band to the controller (node 0), which copies the bands into the final image
+//! resolve my band's super pixels (anti-aliasing) and send it to the controller (node 0),
+//! which copies the bands into the final image
 //! ```
 //!
 //! A band server on each node answers the other owners' requests once its own frame is
@@ -95,6 +96,8 @@ pub(super) async fn processor<P: ShippedPixel>(
             ctx.end_aa(&node, frame)?;
             full_frame::end_frame(&node, &ctx, frame).await?;
         } else {
+            // The controller shows colours: a band's super pixels are resolved here.
+            let merged = ctx.resolve_rows(&node, merged).await;
             let bytes = ctx.chunk_bytes(y1 - y0, &merged);
             let msg = Msg::Partition {
                 frame,

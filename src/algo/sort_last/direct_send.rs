@@ -149,6 +149,9 @@ pub(crate) async fn processor<P: ShippedPixel>(
         }
         stream.flush(&node, &ctx, frame, &mut part, true).await;
 
+        // What the node holds to the end of the frame: its rows' Pixels.
+        let owned = u64::from(owned_rows(ctx.viewport.height(), n, me)) * u64::from(w);
+        ctx.aa.hold_pixels(me, owned);
         node.phase("merge");
         // This node's own stream was merged as it was produced.
         let mut received = vec![0u32; n as usize];
@@ -171,7 +174,7 @@ pub(crate) async fn processor<P: ShippedPixel>(
         node.phase("gather");
         let height = ctx.viewport.height();
         let width = ctx.viewport.width() as u64;
-        let mine = resolve(&node, &part.pixels(me, height)).await;
+        let mine = resolve(&node, &ctx, part.pixels(me, height)).await;
         if me == 0 {
             let mut all = mine;
             for _ in 1..n {
@@ -204,15 +207,14 @@ pub(crate) async fn processor<P: ShippedPixel>(
     Ok(())
 }
 
-/// An owner's rows as the image shows them: super pixels box-filtered (`resolve_pixel`
-/// each), before they are gathered as colours.
-async fn resolve<P: ShippedPixel>(node: &Node<Msg<P>>, pixels: &[P]) -> Vec<Px> {
-    let mut filtered = 0;
-    let out = pixels
+/// An owner's rows as the image shows them (super pixels resolved, `resolve_pixel` each),
+/// as the colours the gather ships.
+async fn resolve<P: ShippedPixel>(node: &Node<Msg<P>>, ctx: &Ctx, pixels: Vec<P>) -> Vec<Px> {
+    let resolved = ctx.resolve_rows(node, pixels).await;
+    resolved
         .iter()
         .map(|p| {
-            let (rgb, z, super_pixel) = p.resolve();
-            filtered += u64::from(super_pixel);
+            let (rgb, z, _) = p.resolve();
             Px {
                 loc: p.loc(),
                 z,
@@ -220,9 +222,7 @@ async fn resolve<P: ShippedPixel>(node: &Node<Msg<P>>, pixels: &[P]) -> Vec<Px> 
                 rgb,
             }
         })
-        .collect();
-    node.compute(&Counts::of(Op::ResolvePixel, filtered)).await;
-    out
+        .collect()
 }
 
 /// A sender's pixels waiting per owner.

@@ -219,6 +219,18 @@ impl Ctx {
         merged
     }
 
+    /// Resolves the super pixels among `pixels` (`resolve_pixel` each) before they leave
+    /// for a node that only shows them.
+    pub async fn resolve_rows<P: ShippedPixel, M: Payload>(
+        &self,
+        node: &Node<M>,
+        pixels: Vec<P>,
+    ) -> Vec<P> {
+        let filtered = pixels.iter().filter(|p| p.resolve().2).count() as u64;
+        node.compute(&Counts::of(Op::ResolvePixel, filtered)).await;
+        pixels.iter().map(P::resolved).collect()
+    }
+
     /// Depth-merges `pixels` into the dense `image` (slot of each from `slot`), charging
     /// `op` per pixel and the subpixel work super pixels caused. Returns the pixels of
     /// which some sample was nearer than what the image held.

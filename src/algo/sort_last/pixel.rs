@@ -63,6 +63,10 @@ pub(crate) trait ShippedPixel: Clone + Debug + 'static {
 
     /// Colour shown, nearest depth, and whether resolving it is charged (a super pixel).
     fn resolve(&self) -> ([u8; 3], u32, bool);
+
+    /// The pixel with its samples resolved: a super pixel becomes a plain one of its
+    /// box-filtered colour.
+    fn resolved(&self) -> Self;
 }
 
 /// One pixel of an ordinary buffer. `prim` is the host-side tie-break (not shipped).
@@ -145,6 +149,10 @@ impl ShippedPixel for Px {
     fn resolve(&self) -> ([u8; 3], u32, bool) {
         (self.rgb, self.z, false)
     }
+
+    fn resolved(&self) -> Px {
+        *self
+    }
 }
 
 /// One pixel of an adaptive buffer at its screen location.
@@ -226,5 +234,12 @@ impl ShippedPixel for AaPx {
     fn resolve(&self) -> ([u8; 3], u32, bool) {
         let (rgb, z) = self.pixel.resolve();
         (rgb, z, self.pixel.is_super())
+    }
+
+    fn resolved(&self) -> AaPx {
+        AaPx {
+            loc: self.loc,
+            pixel: self.pixel.resolved(),
+        }
     }
 }

@@ -325,6 +325,15 @@ impl AaPixel {
         won
     }
 
+    /// The pixel as one sample: a super pixel's box-filtered colour at its nearest depth
+    /// (a flat plane); a plain pixel as it is.
+    pub fn resolved(&self) -> AaPixel {
+        match self {
+            AaPixel::Super(_) => self.sampled_once().unwrap_or_else(|| self.clone()),
+            _ => self.clone(),
+        }
+    }
+
     /// A stored plain pixel's n x n samples, depths from its plane (as `promote` does).
     fn expand(&self, grid: Grid) -> Vec<Sample> {
         let AaPixel::Plain {
