@@ -2,9 +2,12 @@
 //! samples, so every image equals the sequential render on the same sample grid resolved by
 //! the box filter, and the traffic of the merges grows with the samples they move.
 
+mod common;
+
 use std::collections::BTreeMap;
-use std::path::Path;
 use std::sync::Arc;
+
+use common::root;
 
 use sortsim::algo::{reference, run, RunError, RunResult};
 use sortsim::raster::aa::downsample;
@@ -12,51 +15,18 @@ use sortsim::raster::{draw_mesh, Framebuffer, Viewport};
 use sortsim::scene::Scene;
 use sortsim::spec::run::RunSpec;
 
-fn root() -> &'static Path {
-    Path::new(env!("CARGO_MANIFEST_DIR"))
-}
-
-/// The machine each algorithm was built for; the MultiCluster's T800s get 64 MB so that a
-/// frame of samples fits (see `t800_memory_cannot_hold_a_frame_of_samples`).
-fn machine_for(algo: &str) -> (&'static str, &'static [(&'static str, &'static str)]) {
-    const BIG_T800: &[(&str, &str)] = &[("machine.memory.capacity_per_node", "64MB")];
-    match algo {
-        "sort-last/df" => ("multicluster-torus.json", BIG_T800),
-        "sort-last/pc" | "sort-last/scanline-flow" => ("multicluster-pipeline.json", BIG_T800),
-        "sort-last/pixelflow" => ("pixelflow-pipeline.json", &[]),
-        "sort-last/direct-send" => ("denali-crossbar.json", &[]),
-        _ => ("snooping-bus.json", &[]),
-    }
-}
-
 fn simulate(
     scene: &Arc<Scene>,
-    scene_name: &str,
     algo: &str,
     procs: u32,
     aa: Option<&str>,
     extra: &[(&str, &str)],
 ) -> Result<RunResult, RunError> {
-    let (machine, machine_set) = machine_for(algo);
-    let mut set: BTreeMap<String, String> = machine_set
-        .iter()
-        .chain(extra)
-        .map(|(k, v)| (k.to_string(), v.to_string()))
-        .collect();
+    let mut set = extra.to_vec();
     if let Some(aa) = aa {
-        set.insert("aa".into(), aa.into());
+        set.push(("aa", aa));
     }
-    let spec = RunSpec {
-        machine: root().join("machines").join(machine),
-        scene: root().join("scenes").join(scene_name),
-        algo: algo.into(),
-        procs,
-        frames: None,
-        seed: 1,
-        set,
-    };
-    let cfg = spec.resolve(Some(scene.clone())).expect("valid run");
-    run(&cfg)
+    common::run_sort_last(scene, algo, procs, None, &set)
 }
 
 /// The sequential render of frame 0 on a grid `side` times finer, resolved.
@@ -97,7 +67,7 @@ fn every_sort_last_algorithm_merges_samples_into_the_supersampled_image() {
     );
     for algo in ALGOS {
         for procs in [1, 4] {
-            let r = simulate(&scene, name, algo, procs, Some("supersample:4"), &[])
+            let r = simulate(&scene, algo, procs, Some("supersample:4"), &[])
                 .unwrap_or_else(|e| panic!("{algo} n={procs}: {e}"));
             assert_eq!(r.image.width(), expected.width(), "{algo}: resolved size");
             assert_eq!(
@@ -114,7 +84,7 @@ fn merge_traffic_grows_with_the_samples_moved() {
     let name = "p003-cube.json";
     let scene = Arc::new(Scene::load(&root().join("scenes").join(name)).unwrap());
     let bytes = |algo: &str, aa: Option<&str>, extra: &[(&str, &str)]| -> u64 {
-        let r = simulate(&scene, name, algo, 4, aa, extra).unwrap();
+        let r = simulate(&scene, algo, 4, aa, extra).unwrap();
         r.frames.iter().map(|f| f.bytes.get()).sum()
     };
     // PixelFlow streams whole frames: every sample of every frame, so exactly N times the

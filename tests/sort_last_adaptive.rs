@@ -3,35 +3,19 @@
 //! so images follow the sequential adaptive render, traffic grows with the super pixels
 //! moved, and the nodes' fixed pools bound what a frame may supersample.
 
-use std::collections::BTreeMap;
-use std::path::Path;
+mod common;
+
 use std::sync::Arc;
 
+use common::root;
 use sortsim::algo::{reference, run, RunError, RunResult};
 use sortsim::raster::aa::{AdaptiveConfig, AdaptiveTarget, Grid, PIXEL_BYTES, SUBPIXEL_BYTES};
 use sortsim::raster::{draw_mesh, Framebuffer};
 use sortsim::scene::Scene;
 use sortsim::spec::run::RunSpec;
 
-fn root() -> &'static Path {
-    Path::new(env!("CARGO_MANIFEST_DIR"))
-}
-
 fn scene(name: &str) -> Arc<Scene> {
     Arc::new(Scene::load(&root().join("scenes").join(name)).unwrap())
-}
-
-/// The machine each algorithm was built for; the MultiCluster's T800s get 64 MB so that a
-/// frame with its Subpixel pool fits (see `a_t800_holds_the_pixels_only_with_a_small_pool`).
-fn machine_for(algo: &str) -> (&'static str, &'static [(&'static str, &'static str)]) {
-    const BIG_T800: &[(&str, &str)] = &[("machine.memory.capacity_per_node", "64MB")];
-    match algo {
-        "sort-last/df" => ("multicluster-torus.json", BIG_T800),
-        "sort-last/pc" | "sort-last/scanline-flow" => ("multicluster-pipeline.json", BIG_T800),
-        "sort-last/pixelflow" => ("pixelflow-pipeline.json", &[]),
-        "sort-last/direct-send" => ("denali-crossbar.json", &[]),
-        _ => ("snooping-bus.json", &[]),
-    }
 }
 
 fn simulate(
@@ -41,22 +25,7 @@ fn simulate(
     frames: Option<&str>,
     set: &[(&str, &str)],
 ) -> Result<RunResult, RunError> {
-    let (machine, machine_set) = machine_for(algo);
-    let set: BTreeMap<String, String> = machine_set
-        .iter()
-        .chain(set)
-        .map(|(k, v)| (k.to_string(), v.to_string()))
-        .collect();
-    let spec = RunSpec {
-        machine: root().join("machines").join(machine),
-        scene: scene.file().to_path_buf(),
-        algo: algo.into(),
-        procs,
-        frames: frames.map(String::from),
-        seed: 1,
-        set,
-    };
-    run(&spec.resolve(Some(scene.clone())).expect("valid run"))
+    common::run_sort_last(scene, algo, procs, frames, set)
 }
 
 /// Frame `frame` rendered sequentially into one adaptive buffer (4x4, default pool,

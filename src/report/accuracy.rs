@@ -9,7 +9,6 @@
 //! Must never run a simulation, and never put a wall time or host measurement into
 //! accuracy.json.
 
-use std::collections::BTreeMap;
 use std::fmt::Write as _;
 use std::path::{Path, PathBuf};
 
@@ -17,6 +16,7 @@ use serde::Serialize;
 
 use super::cost::Cost;
 use super::plot::{line_chart, ChartOptions, PlotError, Series};
+use super::run::RunHeader;
 use super::{to_json, write_atomic};
 use crate::accuracy::{base_options, FidelityResult, ModeResult, RunMeasure, Study};
 use crate::raster::{encode_png, Framebuffer};
@@ -24,15 +24,10 @@ use crate::raster::{encode_png, Framebuffer};
 /// accuracy.json.
 #[derive(Serialize, Debug, Clone, PartialEq)]
 pub struct AccuracySummary {
-    pub machine: String,
-    pub scene: String,
-    pub algo: &'static str,
-    pub procs: u32,
-    pub frames: Vec<u32>,
-    pub seed: u64,
-    /// The machine's own network fidelity (what the modes ran at).
-    pub fidelity: &'static str,
-    pub options: BTreeMap<String, String>,
+    /// The study's run spec (its fidelity is what the modes ran at; `aa` is left out of
+    /// its options, the modes set it).
+    #[serde(flatten)]
+    pub run: RunHeader,
     pub reference: ReferenceSummary,
     pub modes: Vec<ModeSummary>,
     pub fidelities: Vec<FidelitySummary>,
@@ -139,14 +134,7 @@ impl AccuracySummary {
     pub fn new(study: &Study) -> AccuracySummary {
         let b = &study.base;
         AccuracySummary {
-            machine: b.machine.name.clone(),
-            scene: b.scene.file().display().to_string(),
-            algo: b.algo.id(),
-            procs: b.machine.nodes,
-            frames: b.frames.clone().collect(),
-            seed: b.seed,
-            fidelity: b.machine.network.fidelity.name(),
-            options: base_options(study),
+            run: RunHeader::new(b, base_options(study)),
             reference: ReferenceSummary {
                 frame: study.reference_frame,
                 width: study.reference.width(),
@@ -190,16 +178,13 @@ pub fn markdown(s: &AccuracySummary, cost: &AccuracyCost) -> String {
     let _ = writeln!(
         out,
         "# What accuracy costs: {} on {} ({} processors)\n",
-        s.algo, s.machine, s.procs
+        s.run.algo, s.run.machine, s.run.procs
     );
     let _ = writeln!(
         out,
-        "scene `{}`, frames {:?}, seed {}, network fidelity `{}`; images compared on frame {} \
-against a {}-samples-per-pixel box-filtered reference (rendered in {:.2} s wall)\n",
-        s.scene,
-        s.frames,
-        s.seed,
-        s.fidelity,
+        "{}; images compared on frame {} against a {}-samples-per-pixel box-filtered \
+reference (rendered in {:.2} s wall)\n",
+        s.run.context(),
         s.reference.frame,
         s.reference.samples_per_pixel,
         cost.reference.wall_s
@@ -319,7 +304,7 @@ fn charts(dir: &Path, s: &AccuracySummary, cost: &AccuracyCost) -> Result<(), Re
         log_x: false,
         y_from_zero: true,
     };
-    let title = |what: &str| format!("{what} ({}, {} procs)", s.machine, s.procs);
+    let title = |what: &str| format!("{what} ({}, {} procs)", s.run.machine, s.run.procs);
     let y = "image error (MAE, levels)";
     line_chart(
         &dir.join("error-vs-frame-time"),

@@ -12,17 +12,50 @@ use serde::Serialize;
 use super::summary::Summary;
 use crate::algo::{FrameRecord, RunConfig, RunResult};
 
-/// summary.json of a run.
+/// What a run was: the fields every report of one run spec opens with (summary.json,
+/// accuracy.json).
 #[derive(Serialize, Debug, Clone, PartialEq)]
-pub struct RunSummary {
+pub struct RunHeader {
     pub machine: String,
     pub scene: String,
     pub algo: &'static str,
     pub procs: u32,
     pub frames: Vec<u32>,
     pub seed: u64,
+    /// The machine's network fidelity.
     pub fidelity: &'static str,
     pub options: BTreeMap<String, String>,
+}
+
+impl RunHeader {
+    /// The header of `cfg`, reporting `options` as its options.
+    pub fn new(cfg: &RunConfig, options: BTreeMap<String, String>) -> RunHeader {
+        RunHeader {
+            machine: cfg.machine.name.clone(),
+            scene: cfg.scene.file().display().to_string(),
+            algo: cfg.algo.id(),
+            procs: cfg.machine.nodes,
+            frames: cfg.frames.clone().collect(),
+            seed: cfg.seed,
+            fidelity: cfg.machine.network.fidelity.name(),
+            options,
+        }
+    }
+
+    /// The run's context for a markdown report: scene, frames, seed, fidelity.
+    pub fn context(&self) -> String {
+        format!(
+            "scene `{}`, frames {:?}, seed {}, network fidelity `{}`",
+            self.scene, self.frames, self.seed, self.fidelity
+        )
+    }
+}
+
+/// summary.json of a run.
+#[derive(Serialize, Debug, Clone, PartialEq)]
+pub struct RunSummary {
+    #[serde(flatten)]
+    pub run: RunHeader,
     pub mean_frame_s: f64,
     pub mean_triangles_per_s: f64,
     pub mean_load_imbalance_pct: f64,
@@ -113,19 +146,9 @@ fn mean(values: impl Iterator<Item = f64>) -> f64 {
 impl RunSummary {
     pub fn new(cfg: &RunConfig, result: &RunResult) -> RunSummary {
         let per_frame: Vec<FrameSummary> = result.frames.iter().map(frame_summary).collect();
+        let options = cfg.options.pairs().map(|(k, v)| (k.clone(), v.clone()));
         RunSummary {
-            machine: cfg.machine.name.clone(),
-            scene: cfg.scene.file().display().to_string(),
-            algo: cfg.algo.id(),
-            procs: cfg.machine.nodes,
-            frames: per_frame.iter().map(|f| f.frame).collect(),
-            seed: cfg.seed,
-            fidelity: cfg.machine.network.fidelity.name(),
-            options: cfg
-                .options
-                .pairs()
-                .map(|(k, v)| (k.clone(), v.clone()))
-                .collect(),
+            run: RunHeader::new(cfg, options.collect()),
             mean_frame_s: mean(per_frame.iter().map(|f| f.time_s)),
             // The papers average triangles/s over the frames (paper 002, Performance).
             mean_triangles_per_s: mean(per_frame.iter().map(|f| f.triangles_per_s)),
@@ -140,18 +163,15 @@ impl RunSummary {
     /// summary.md: per-frame table, then per-node time by phase and traffic.
     pub fn markdown(&self) -> String {
         let mut s = String::new();
+        let run = &self.run;
         let _ = writeln!(
             s,
             "# {} on {} ({} processors)\n",
-            self.algo, self.machine, self.procs
+            run.algo, run.machine, run.procs
         );
-        let _ = writeln!(
-            s,
-            "scene `{}`, frames {:?}, seed {}, network fidelity `{}`",
-            self.scene, self.frames, self.seed, self.fidelity
-        );
-        if !self.options.is_empty() {
-            let opts: Vec<String> = self
+        let _ = writeln!(s, "{}", run.context());
+        if !run.options.is_empty() {
+            let opts: Vec<String> = run
                 .options
                 .iter()
                 .map(|(k, v)| format!("{k}={v}"))

@@ -2,11 +2,16 @@
 //! same validation the CLI uses.
 #![allow(dead_code)]
 
+use std::collections::BTreeMap;
 use std::path::Path;
+use std::sync::Arc;
 
+use sortsim::algo::{run, RunError, RunResult};
 use sortsim::machine::MachineConfig;
+use sortsim::scene::Scene;
 use sortsim::spec::machine::{validate, MachineSpec};
 use sortsim::spec::parse_json;
+use sortsim::spec::run::RunSpec;
 
 /// A machine from spec text (validated exactly as a file would be).
 pub fn machine(json: &str) -> MachineConfig {
@@ -26,4 +31,49 @@ pub fn ring(nodes: u32, send_overhead: &str, recv_overhead: &str, overlap: bool)
             "network": {{"topology": "ring", "link_bandwidth": "1MB/s", "hop_latency": "1us",
                          "switching": "wormhole", "packet_size": "1KiB", "fidelity": "ideal"}}}}"#
     ))
+}
+
+/// The repository root (machines/, scenes/).
+pub fn root() -> &'static Path {
+    Path::new(env!("CARGO_MANIFEST_DIR"))
+}
+
+/// The machine each sort-last algorithm was built for, with the overrides its tests need:
+/// the MultiCluster's T800s get 64 MB so that a frame of samples, or of Pixels with a
+/// Subpixel pool, fits (4 MB does not; the tests that say so use the file as it is).
+pub fn sort_last_machine(algo: &str) -> (&'static str, &'static [(&'static str, &'static str)]) {
+    const BIG_T800: &[(&str, &str)] = &[("machine.memory.capacity_per_node", "64MB")];
+    match algo {
+        "sort-last/df" => ("multicluster-torus.json", BIG_T800),
+        "sort-last/pc" | "sort-last/scanline-flow" => ("multicluster-pipeline.json", BIG_T800),
+        "sort-last/pixelflow" => ("pixelflow-pipeline.json", &[]),
+        "sort-last/direct-send" => ("denali-crossbar.json", &[]),
+        _ => ("snooping-bus.json", &[]),
+    }
+}
+
+/// A sort-last run of `scene` on its algorithm's machine, with `set` options (seed 1).
+pub fn run_sort_last(
+    scene: &Arc<Scene>,
+    algo: &str,
+    procs: u32,
+    frames: Option<&str>,
+    set: &[(&str, &str)],
+) -> Result<RunResult, RunError> {
+    let (machine, machine_set) = sort_last_machine(algo);
+    let set: BTreeMap<String, String> = machine_set
+        .iter()
+        .chain(set)
+        .map(|(k, v)| (k.to_string(), v.to_string()))
+        .collect();
+    let spec = RunSpec {
+        machine: root().join("machines").join(machine),
+        scene: scene.file().to_path_buf(),
+        algo: algo.into(),
+        procs,
+        frames: frames.map(String::from),
+        seed: 1,
+        set,
+    };
+    run(&spec.resolve(Some(scene.clone())).expect("valid run"))
 }

@@ -90,11 +90,8 @@ pub(super) async fn processor<P: ShippedPixel>(
                 image.extend(pixels);
             }
             local::free_full_frame(&node, &ctx)?;
-            if ctx.is_last(frame) {
-                ctx.set_image(&node, &image).await;
-            }
             ctx.end_aa(&node, frame)?;
-            full_frame::end_frame(&node, &ctx, frame).await?;
+            full_frame::end_frame(&node, &ctx, frame, &image).await?;
         } else {
             // The controller shows colours: a band's super pixels are resolved here.
             let merged = ctx.resolve_rows(&node, merged).await;

@@ -128,13 +128,37 @@ pub async fn start_frame<P: ShippedPixel>(
     ctx.begin_aa(node, frame)
 }
 
-/// Ends `frame` at the node holding its image: records the end and lets every other node
-/// start the next frame. (The holder itself starts the next frame when this returns.)
+/// Sends rows `y0..y1` (`pixels` active in them) to `dst`, sized as the full rows.
+pub async fn send_chunk<P: ShippedPixel>(
+    node: &Node<Msg<P>>,
+    ctx: &Ctx,
+    frame: u32,
+    dst: u32,
+    (y0, y1): (u32, u32),
+    pixels: Vec<P>,
+) {
+    let bytes = ctx.chunk_bytes(y1 - y0, &pixels);
+    let msg = Msg::Chunk {
+        frame,
+        y0,
+        y1,
+        pixels,
+    };
+    ctx.send(node, frame, dst, bytes, msg).await;
+}
+
+/// Ends `frame` at the node holding its image (`image`, the merged pixels): hands the
+/// image over after the run's last frame, records the end and lets every other node start
+/// the next frame. (The holder itself starts the next frame when this returns.)
 pub async fn end_frame<P: ShippedPixel>(
     node: &Node<Msg<P>>,
     ctx: &Ctx,
     frame: u32,
+    image: &[P],
 ) -> Result<(), SimError> {
+    if ctx.is_last(frame) {
+        ctx.set_image(node, image).await;
+    }
     let now = node.now();
     ctx.record(frame, |r| r.end = now);
     if !ctx.is_last(frame) {

@@ -226,14 +226,13 @@ impl Ctx {
         node: &Node<M>,
         pixels: Vec<P>,
     ) -> Vec<P> {
-        let filtered = pixels.iter().filter(|p| p.resolve().2).count() as u64;
+        let filtered = pixels.iter().filter(|p| p.samples() > 0).count() as u64;
         node.compute(&Counts::of(Op::ResolvePixel, filtered)).await;
         pixels.iter().map(P::resolved).collect()
     }
 
     /// Depth-merges `pixels` into the dense `image` (slot of each from `slot`), charging
-    /// `op` per pixel and the subpixel work super pixels caused. Returns the pixels of
-    /// which some sample was nearer than what the image held.
+    /// `op` per pixel and the subpixel work super pixels caused.
     pub async fn merge_into<P: ShippedPixel, M: Payload>(
         &self,
         node: &Node<M>,
@@ -241,19 +240,16 @@ impl Ctx {
         slot: impl Fn(u32) -> usize,
         pixels: &[P],
         op: Op,
-    ) -> Vec<P> {
-        let (nearer, work) = self.aa.with_blocks(node.id(), |blocks| {
-            let nearer: Vec<P> = pixels
-                .iter()
-                .filter(|p| image.merge(slot(p.loc()), p, blocks))
-                .cloned()
-                .collect();
-            (nearer, blocks.take_work())
+    ) {
+        let work = self.aa.with_blocks(node.id(), |blocks| {
+            for p in pixels {
+                image.merge(slot(p.loc()), p, blocks);
+            }
+            blocks.take_work()
         });
         let mut counts = Counts::of(op, pixels.len() as u64);
         counts += &super::charge::back_end(&work);
         node.compute(&counts).await;
-        nearer
     }
 
     /// The static share of this node in `frame`: database indices, ascending. With request

@@ -61,14 +61,7 @@ pub(super) async fn processor<P: ShippedPixel>(
                 }
                 let (y0, y1) = extent(c);
                 let pixels = rows.rows(y0, y1).to_vec();
-                let bytes = ctx.chunk_bytes(y1 - y0, &pixels);
-                let msg = Msg::Chunk {
-                    frame,
-                    y0,
-                    y1,
-                    pixels,
-                };
-                ctx.send(&node, frame, 1, bytes, msg).await;
+                full_frame::send_chunk(&node, &ctx, frame, 1, (y0, y1), pixels).await;
             }
         } else {
             let buffers = Bytes::new(INPUT_BUFFERS as u64 * ctx.rows_bytes(rows_per).get());
@@ -112,10 +105,7 @@ pub(super) async fn processor<P: ShippedPixel>(
         local::free_full_frame(&node, &ctx)?;
         ctx.end_aa(&node, frame)?;
         if let Some(image) = image {
-            if ctx.is_last(frame) {
-                ctx.set_image(&node, &image).await;
-            }
-            full_frame::end_frame(&node, &ctx, frame).await?;
+            full_frame::end_frame(&node, &ctx, frame, &image).await?;
         }
     }
     Ok(())
@@ -143,14 +133,7 @@ async fn send_thread<P: ShippedPixel>(
         let Some((y0, y1, pixels)) = outbox.borrow_mut().pop_front() else {
             unreachable!("a merged chunk is queued before its hand-off")
         };
-        let bytes = ctx.chunk_bytes(y1 - y0, &pixels);
-        let msg = Msg::Chunk {
-            frame,
-            y0,
-            y1,
-            pixels,
-        };
-        ctx.send(&node, frame, me + 1, bytes, msg).await;
+        full_frame::send_chunk(&node, &ctx, frame, me + 1, (y0, y1), pixels).await;
     }
     Ok(())
 }

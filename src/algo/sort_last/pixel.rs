@@ -14,7 +14,7 @@
 use std::fmt::Debug;
 
 use super::Ctx;
-use crate::raster::aa::{AaPixel, AdaptiveConfig, AdaptiveTarget, Blocks, PIXEL_BYTES};
+use crate::raster::aa::{AaPixel, AdaptiveConfig, AdaptiveTarget, Blocks, Grid, PIXEL_BYTES};
 use crate::raster::scan::{Fragment, Sampling, Span};
 use crate::raster::target::nearer;
 use crate::raster::{Counters, SparseBuffer, Target, ACTIVE_PIXEL_BYTES};
@@ -30,10 +30,11 @@ pub(crate) trait ShippedPixel: Clone + Debug + 'static {
     /// A rendered buffer's pixels in raster order; the node's pool state is noted in `ctx`.
     fn collect(buffer: Self::Buffer, ctx: &Ctx, node: u32) -> Vec<Self>;
 
-    /// A fragment as a node ships it without a depth test (direct send), if it ships one.
+    /// A fragment as a node ships it without a depth test (direct send), if it ships one
+    /// (`grid`: the frame's subpixel resolution).
     fn fragment(
         ctx: &Ctx,
-        frame: u32,
+        grid: Grid,
         span: &Span<'_>,
         f: &Fragment,
         counters: &mut Counters,
@@ -101,7 +102,7 @@ impl ShippedPixel for Px {
 
     fn fragment(
         ctx: &Ctx,
-        _frame: u32,
+        _grid: Grid,
         span: &Span<'_>,
         f: &Fragment,
         _counters: &mut Counters,
@@ -189,12 +190,11 @@ impl ShippedPixel for AaPx {
 
     fn fragment(
         ctx: &Ctx,
-        frame: u32,
+        grid: Grid,
         span: &Span<'_>,
         f: &Fragment,
         counters: &mut Counters,
     ) -> Option<AaPx> {
-        let grid = ctx.aa.grid(frame);
         let loc = span.y() * ctx.viewport.width() + f.x;
         AaPixel::fragment(span, f.x, f.z, f.rgb, grid, counters).map(|pixel| AaPx { loc, pixel })
     }

@@ -188,14 +188,7 @@ pub(super) async fn processor<P: ShippedPixel>(
                         node.recv(Filter::tag(tag(CREDIT, frame)).and_source(me + 1))
                             .await;
                     }
-                    let bytes = ctx.chunk_bytes(1, &merged);
-                    let msg = Msg::Chunk {
-                        frame,
-                        y0: y,
-                        y1: y + 1,
-                        pixels: merged,
-                    };
-                    ctx.send(&node, frame, me + 1, bytes, msg).await;
+                    full_frame::send_chunk(&node, &ctx, frame, me + 1, (y, y + 1), merged).await;
                 }
             }
         }
@@ -203,10 +196,7 @@ pub(super) async fn processor<P: ShippedPixel>(
         node.free("bucket-sorted triangles", buckets)?;
         ctx.end_aa(&node, frame)?;
         if let Some(image) = image {
-            if ctx.is_last(frame) {
-                ctx.set_image(&node, &image).await;
-            }
-            full_frame::end_frame(&node, &ctx, frame).await?;
+            full_frame::end_frame(&node, &ctx, frame, &image).await?;
         }
     }
     Ok(())

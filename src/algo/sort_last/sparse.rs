@@ -9,7 +9,7 @@
 //! it reproduces the sequential buffer's image.
 
 use super::pixel::ShippedPixel;
-use crate::raster::aa::Blocks;
+use crate::raster::aa::{Blocks, Grid};
 use crate::raster::{Counters, Framebuffer, ScreenRect, Span, Target, Viewport};
 
 /// Pixels per message when a merge batches pixels (11 KiB of active pixels).
@@ -109,7 +109,8 @@ pub fn framebuffer<P: ShippedPixel>(
 /// depth tests: the caller charges the bucketing.
 pub struct BucketTarget<'c, P> {
     ctx: &'c super::Ctx,
-    frame: u32,
+    /// The frame's subpixel resolution (what a partial fragment's mask is looked up in).
+    grid: Grid,
     rects: [ScreenRect; 1],
     pub buckets: Vec<Vec<P>>,
     /// Fragments bucketed so far.
@@ -120,7 +121,7 @@ impl<'c, P: ShippedPixel> BucketTarget<'c, P> {
     pub fn new(ctx: &'c super::Ctx, frame: u32) -> BucketTarget<'c, P> {
         BucketTarget {
             ctx,
-            frame,
+            grid: ctx.aa.grid(frame),
             rects: [ctx.viewport.rect()],
             buckets: vec![Vec::new(); ctx.n as usize],
             fragments: 0,
@@ -138,7 +139,7 @@ impl<P: ShippedPixel> Target for BucketTarget<'_, P> {
     fn span(&mut self, _rect: usize, span: &Span<'_>, counters: &mut Counters) {
         let bucket = &mut self.buckets[(span.y() % self.ctx.n) as usize];
         for f in span.fragments() {
-            if let Some(p) = P::fragment(self.ctx, self.frame, span, &f, counters) {
+            if let Some(p) = P::fragment(self.ctx, self.grid, span, &f, counters) {
                 bucket.push(p);
                 self.fragments += 1;
             }
@@ -150,7 +151,6 @@ impl<P: ShippedPixel> Target for BucketTarget<'_, P> {
 mod tests {
     use super::super::pixel::Px;
     use super::*;
-    use crate::raster::aa::Grid;
     use crate::units::Bytes;
 
     fn px(loc: u32, z: u32, prim: u32) -> Px {
