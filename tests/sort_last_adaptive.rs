@@ -7,7 +7,7 @@ mod common;
 
 use std::sync::Arc;
 
-use common::root;
+use common::{root, run_sort_last};
 use sortsim::algo::{reference, run, RunError, RunResult};
 use sortsim::raster::aa::{AdaptiveConfig, AdaptiveTarget, Grid, PIXEL_BYTES, SUBPIXEL_BYTES};
 use sortsim::raster::{draw_mesh, Framebuffer};
@@ -16,16 +16,6 @@ use sortsim::spec::run::RunSpec;
 
 fn scene(name: &str) -> Arc<Scene> {
     Arc::new(Scene::load(&root().join("scenes").join(name)).unwrap())
-}
-
-fn simulate(
-    scene: &Arc<Scene>,
-    algo: &str,
-    procs: u32,
-    frames: Option<&str>,
-    set: &[(&str, &str)],
-) -> Result<RunResult, RunError> {
-    common::run_sort_last(scene, algo, procs, frames, set)
 }
 
 /// Frame `frame` rendered sequentially into one adaptive buffer (4x4, default pool,
@@ -92,7 +82,7 @@ fn merged_adaptive_images_follow_the_sequential_adaptive_render() {
             for procs in [1, 3, 8] {
                 let mut set = vec![("aa", "adaptive"), ("aa-reclaim", "off")];
                 set.extend_from_slice(opts);
-                let r = simulate(&scene, algo, procs, Some("0"), &set).unwrap();
+                let r = run_sort_last(&scene, algo, procs, Some("0"), &set).unwrap();
                 let what = format!("{name} {algo} {opts:?} n={procs}");
                 let overflowed: u64 = r.frames[0].aa.iter().map(|a| a.overflowed_pixels).sum();
                 assert_eq!(overflowed, 0, "{what}: blocks to spare");
@@ -117,7 +107,7 @@ fn pixelflow_traffic_is_every_pixel_record_plus_every_super_pixels_samples() {
     let teapot = scene("spd-teapot.json");
     for procs in [1, 4] {
         let set = [("aa", "adaptive"), ("aa-reclaim", "off")];
-        let r = simulate(&teapot, "sort-last/pixelflow", procs, Some("0"), &set).unwrap();
+        let r = run_sort_last(&teapot, "sort-last/pixelflow", procs, Some("0"), &set).unwrap();
         let f = &r.frames[0];
         let expected: u64 =
             f.aa.iter()
@@ -138,7 +128,7 @@ fn traffic_and_time_grow_with_anti_aliasing() {
         let run = |aa: &str| {
             let mut set = vec![("aa", aa)];
             set.extend_from_slice(opts);
-            let r = simulate(&teapot, algo, 4, Some("0"), &set).unwrap();
+            let r = run_sort_last(&teapot, algo, 4, Some("0"), &set).unwrap();
             (r.frames[0].bytes.get(), r.frames[0].end - r.frames[0].start)
         };
         let (none, adaptive, sixteen) = (run("none"), run("adaptive"), run("supersample:16"));
@@ -164,7 +154,7 @@ fn traffic_and_time_grow_with_anti_aliasing() {
 fn every_node_renders_a_frame_at_one_grid_and_a_small_pool_adapts_it() {
     let tetra = scene("p000-tetra-500.json");
     let set = [("aa", "adaptive"), ("aa-pool", "1MB")];
-    let r = simulate(&tetra, "sort-last/pixelflow", 4, Some("0..3"), &set).unwrap();
+    let r = run_sort_last(&tetra, "sort-last/pixelflow", 4, Some("0..3"), &set).unwrap();
     let grids: Vec<Vec<u32>> = r
         .frames
         .iter()
@@ -196,8 +186,8 @@ fn a_pool_of_zero_bytes_gives_the_aliased_image() {
     for (algo, opts) in RUNS {
         let mut set = vec![("aa", "adaptive"), ("aa-pool", "0B")];
         set.extend_from_slice(opts);
-        let adaptive = simulate(&teapot, algo, 4, Some("0"), &set).unwrap();
-        let aliased = simulate(&teapot, algo, 4, Some("0"), opts).unwrap();
+        let adaptive = run_sort_last(&teapot, algo, 4, Some("0"), &set).unwrap();
+        let aliased = run_sort_last(&teapot, algo, 4, Some("0"), opts).unwrap();
         assert_eq!(
             adaptive.image.colors(),
             aliased.image.colors(),
