@@ -8,7 +8,7 @@ mod common;
 use std::sync::Arc;
 
 use common::{root, run_sort_last};
-use sortsim::algo::{reference, run, RunError, RunResult};
+use sortsim::algo::{reference, run};
 use sortsim::raster::aa::{AdaptiveConfig, AdaptiveTarget, Grid, PIXEL_BYTES, SUBPIXEL_BYTES};
 use sortsim::raster::{draw_mesh, Framebuffer};
 use sortsim::scene::Scene;
