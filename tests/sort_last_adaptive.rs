@@ -283,3 +283,24 @@ fn adaptive_sort_last_reports_are_byte_identical() {
         let _ = std::fs::remove_dir_all(out(k));
     }
 }
+
+/// The frame buffer's holder resolves every frame it shows, not only the run's last: frame
+/// 0 takes as long when a frame follows it as when it ends the run (the frame ends once
+/// its image is resolved; the next one starts after).
+#[test]
+fn every_frame_shown_is_resolved() {
+    let tetra = scene("p000-tetra-500.json");
+    for (algo, aa) in [
+        ("sort-last/pc", "adaptive"),
+        ("sort-last/pc", "supersample:4"),
+        ("sort-last/pixelflow", "adaptive"),
+        ("sort-last/snooping", "adaptive"),
+    ] {
+        let set = [("aa", aa)];
+        let time0 = |frames: &str| {
+            let r = run_sort_last(&tetra, algo, 4, Some(frames), &set).unwrap();
+            r.frames[0].end - r.frames[0].start
+        };
+        assert_eq!(time0("0..2"), time0("0"), "{algo} {aa}");
+    }
+}

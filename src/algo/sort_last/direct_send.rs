@@ -187,11 +187,9 @@ pub(crate) async fn processor<P: ShippedPixel>(
                     .await;
                 all.extend_from_slice(&pixels);
             }
+            ctx.show(&node, frame, &all).await;
             let now = node.now();
             ctx.record(frame, |r| r.end = now);
-            if ctx.is_last(frame) {
-                ctx.set_image(&node, &all).await;
-            }
         } else {
             let rows = owned_rows(height, n, me) as u64;
             let msg = Msg::Part {
@@ -214,7 +212,7 @@ async fn resolve<P: ShippedPixel>(node: &Node<Msg<P>>, ctx: &Ctx, pixels: Vec<P>
     resolved
         .iter()
         .map(|p| {
-            let (rgb, z, _) = p.resolve();
+            let (rgb, z) = p.resolve();
             Px {
                 loc: p.loc(),
                 z,

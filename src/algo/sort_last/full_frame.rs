@@ -147,18 +147,16 @@ pub async fn send_chunk<P: ShippedPixel>(
     ctx.send(node, frame, dst, bytes, msg).await;
 }
 
-/// Ends `frame` at the node holding its image (`image`, the merged pixels): hands the
-/// image over after the run's last frame, records the end and lets every other node start
-/// the next frame. (The holder itself starts the next frame when this returns.)
+/// Ends `frame` at the node holding its image (`image`, the merged pixels): shows it
+/// (resolving anti-aliased pixels), records the end and lets every other node start the
+/// next frame. (The holder itself starts the next frame when this returns.)
 pub async fn end_frame<P: ShippedPixel>(
     node: &Node<Msg<P>>,
     ctx: &Ctx,
     frame: u32,
     image: &[P],
 ) -> Result<(), SimError> {
-    if ctx.is_last(frame) {
-        ctx.set_image(node, image).await;
-    }
+    ctx.show(node, frame, image).await;
     let now = node.now();
     ctx.record(frame, |r| r.end = now);
     if !ctx.is_last(frame) {

@@ -269,21 +269,31 @@ impl Ctx {
         Ok(shares[node.id() as usize].clone())
     }
 
-    /// Hands over the final image from the merged pixels of the run's last frame, charging
-    /// the holder for resolving: super pixels' box filters, or with `supersample:N` every
-    /// pixel's samples.
-    pub async fn set_image<P: ShippedPixel, M: Payload>(&self, node: &Node<M>, pixels: &[P]) {
-        let (image, filtered) = sparse::framebuffer(self.viewport, self.background, pixels);
+    /// Shows `frame`'s merged pixels on the node holding the frame buffer: charges
+    /// resolving them every frame (super pixels' box filters, or with `supersample:N` every
+    /// pixel's samples), and keeps the image after the run's last frame.
+    pub async fn show<P: ShippedPixel, M: Payload>(
+        &self,
+        node: &Node<M>,
+        frame: u32,
+        pixels: &[P],
+    ) {
         let side = self.settings.side;
-        let image = if side > 1 {
-            let pixels = self.viewport.pixels() as u64 / u64::from(side * side);
-            node.compute(&Counts::of(Op::ResolvePixel, pixels)).await;
-            downsample(&image, side)
+        let resolved = if side > 1 {
+            self.viewport.pixels() as u64 / u64::from(side * side)
         } else {
-            node.compute(&Counts::of(Op::ResolvePixel, filtered)).await;
-            image
+            pixels.iter().filter(|p| p.samples() > 0).count() as u64
         };
-        *self.image.borrow_mut() = Some(image);
+        node.compute(&Counts::of(Op::ResolvePixel, resolved)).await;
+        if self.is_last(frame) {
+            let image = sparse::framebuffer(self.viewport, self.background, pixels);
+            let image = if side > 1 {
+                downsample(&image, side)
+            } else {
+                image
+            };
+            *self.image.borrow_mut() = Some(image);
+        }
     }
 
     /// Starts `frame`'s anti-aliasing state on `node` (its Subpixel pool).

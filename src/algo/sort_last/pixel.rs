@@ -62,8 +62,8 @@ pub(crate) trait ShippedPixel: Clone + Debug + 'static {
     /// samples was nearer.
     fn merge(&mut self, incoming: &Self, blocks: &mut Blocks) -> bool;
 
-    /// Colour shown, nearest depth, and whether resolving it is charged (a super pixel).
-    fn resolve(&self) -> ([u8; 3], u32, bool);
+    /// Colour shown and nearest depth (a super pixel's box-filtered colour).
+    fn resolve(&self) -> ([u8; 3], u32);
 
     /// The pixel with its samples resolved: a super pixel becomes a plain one of its
     /// box-filtered colour.
@@ -147,8 +147,8 @@ impl ShippedPixel for Px {
         won
     }
 
-    fn resolve(&self) -> ([u8; 3], u32, bool) {
-        (self.rgb, self.z, false)
+    fn resolve(&self) -> ([u8; 3], u32) {
+        (self.rgb, self.z)
     }
 
     fn resolved(&self) -> Px {
@@ -231,9 +231,8 @@ impl ShippedPixel for AaPx {
         self.pixel.merge(&incoming.pixel, blocks)
     }
 
-    fn resolve(&self) -> ([u8; 3], u32, bool) {
-        let (rgb, z) = self.pixel.resolve();
-        (rgb, z, self.pixel.is_super())
+    fn resolve(&self) -> ([u8; 3], u32) {
+        self.pixel.resolve()
     }
 
     fn resolved(&self) -> AaPx {

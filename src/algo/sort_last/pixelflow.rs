@@ -96,20 +96,16 @@ pub(crate) async fn processor<P: ShippedPixel>(
                     r.bytes += bytes;
                     r.messages += 1;
                 });
-                if ctx.is_last(frame) {
-                    output.extend_from_slice(&merged);
-                }
+                output.extend_from_slice(&merged);
             }
             y0 = y1;
         }
         local::free_full_frame(&node, &ctx)?;
         ctx.end_aa(&node, frame)?;
         if me + 1 == n {
+            ctx.show(&node, frame, &output).await;
             let now = node.now();
             ctx.record(frame, |r| r.end = now);
-            if ctx.is_last(frame) {
-                ctx.set_image(&node, &output).await;
-            }
         }
     }
     Ok(())

@@ -175,12 +175,10 @@ pub(crate) async fn processor<P: ShippedPixel>(
         local::free_full_frame(&node, &ctx)?;
         ctx.end_aa(&node, frame)?;
         if me == 0 {
+            let pixels = shared.take(&ctx, frame);
+            ctx.show(&node, frame, &pixels).await;
             let now = node.now();
             ctx.record(frame, |r| r.end = now);
-            let pixels = shared.take(&ctx, frame);
-            if ctx.is_last(frame) {
-                ctx.set_image(&node, &pixels).await;
-            }
         }
     }
     Ok(())

@@ -79,29 +79,26 @@ impl<P: ShippedPixel> Image<P> {
     }
 }
 
-/// The image raster-ordered (or any-order) pixels show on a screen cleared to `background`,
-/// and how many of them are super pixels (each resolved by a box filter).
+/// The image raster-ordered (or any-order) pixels show on a screen cleared to `background`.
 pub fn framebuffer<P: ShippedPixel>(
     viewport: Viewport,
     background: [u8; 3],
     pixels: &[P],
-) -> (Framebuffer, u64) {
+) -> Framebuffer {
     let w = viewport.width() as usize;
     let mut color = vec![background; viewport.pixels()];
     let mut depth = vec![u32::MAX; viewport.pixels()];
-    let mut resolved = 0;
     for p in pixels {
-        let (rgb, z, filtered) = p.resolve();
+        let (rgb, z) = p.resolve();
         color[p.loc() as usize] = rgb;
         depth[p.loc() as usize] = z;
-        resolved += u64::from(filtered);
     }
     let mut fb = Framebuffer::with_clear(viewport, background);
     for y in 0..viewport.height() {
         let o = y as usize * w;
         fb.set_row(y, &color[o..o + w], &depth[o..o + w]);
     }
-    (fb, resolved)
+    fb
 }
 
 /// Buckets every fragment, before any depth test, by the node owning its row (row y belongs

@@ -211,15 +211,20 @@ impl AaPixel {
                 once.map(|p| p.stored())
             }
             AaPixel::Super(_) | AaPixel::Partial { .. } => {
-                let mut held = vec![blocks.cleared(); blocks.grid.samples() as usize];
-                if blocks.take() {
-                    blocks.work.aa_subpixel_writes += held.len() as u64;
-                    self.cover(&mut held, blocks);
-                    Some(AaPixel::Super(Rc::new(held)))
-                } else {
+                if !blocks.take() {
                     blocks.overflowed += 1;
-                    self.sampled_once().map(|p| p.stored())
+                    return self.sampled_once().map(|p| p.stored());
                 }
+                let n = u64::from(blocks.grid.samples());
+                blocks.work.aa_subpixel_writes += n;
+                if let AaPixel::Super(_) = self {
+                    // Copied into the new block as it is.
+                    return Some(self.clone());
+                }
+                // Promoted from a cleared pixel, then the covered samples depth-tested.
+                let mut held = vec![blocks.cleared(); n as usize];
+                self.cover(&mut held, blocks);
+                Some(AaPixel::Super(Rc::new(held)))
             }
         }
     }
