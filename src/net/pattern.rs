@@ -3,7 +3,7 @@
 //!
 //! Owns pattern validation (errors name the field, `messages[3].dst`, and the valid range),
 //! the report with units in its key names, and the generators used by tests and benches
-//! (all-to-all, hot spot, transpose, seeded random pairs).
+//! (all-to-all, hot spot, transpose, seeded random pairs, seeded staggered random traffic).
 //!
 //! Must never reorder messages in the report (input order), never use a HashMap, and never
 //! take randomness from anywhere but the given seed.
@@ -225,6 +225,37 @@ pub fn random_pairs(nodes: u32, k: u32, bytes: Bytes, seed: u64) -> Pattern {
             messages.push(PatternMessage::new(src, dst, bytes, SimTime::ZERO));
         }
     }
+    Pattern { messages }
+}
+
+/// `count` messages between random distinct nodes, each of a size drawn from `sizes`, with
+/// start instants drawn uniformly from `[0, spread)` (whole nanoseconds), all from one
+/// ChaCha8 stream seeded by `seed`: traffic that keeps flows starting and ending while others
+/// run. Panics if `nodes < 2` or `sizes` is empty.
+pub fn random_staggered(
+    nodes: u32,
+    count: usize,
+    sizes: &[Bytes],
+    spread: SimTime,
+    seed: u64,
+) -> Pattern {
+    use rand::Rng;
+    assert!(
+        nodes >= 2 && !sizes.is_empty(),
+        "random_staggered needs 2 nodes and a size"
+    );
+    let mut rng = ChaCha8Rng::seed_from_u64(seed);
+    let spread_ns = (spread.ps() / 1000).max(1);
+    let messages = (0..count)
+        .map(|_| {
+            let src = rng.gen_range(0..nodes);
+            let other = rng.gen_range(0..nodes - 1);
+            let dst = if other >= src { other + 1 } else { other };
+            let bytes = sizes[rng.gen_range(0..sizes.len())];
+            let start = SimTime::from_ns(rng.gen_range(0..spread_ns));
+            PatternMessage::new(src, dst, bytes, start)
+        })
+        .collect();
     Pattern { messages }
 }
 

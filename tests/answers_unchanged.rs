@@ -1,0 +1,255 @@
+//! Simulated answers that a change to the simulator's speed must not move: summary.json and
+//! the image of a few runs of every algorithm family at every network fidelity, and netsim
+//! reports of contended patterns, each hashed (FNV-1a 64) and compared with the hash the
+//! code gave before the flow model, routing and engine were made faster.
+//!
+//! A mismatch means a simulated picosecond, byte or pixel changed. If a change is meant to
+//! move answers (a model fix, not a speed-up), the new hashes are printed for the commit
+//! that says why.
+
+mod common;
+
+use std::collections::BTreeMap;
+use std::path::PathBuf;
+
+use sortsim::algo::run;
+use sortsim::net::pattern::{all_to_all, hot_spot, random_staggered, run_pattern, Pattern};
+use sortsim::net::{Fidelity, NetworkConfig, TopologyKind};
+use sortsim::report::run::RunSummary;
+use sortsim::report::to_json;
+use sortsim::spec::run::RunSpec;
+use sortsim::trace::format::fnv1a64;
+use sortsim::units::{Bytes, SimTime};
+
+const FIDELITIES: [&str; 4] = ["ideal", "hops", "flow", "packet"];
+
+/// (case, hash of summary.json, hash of the image), recorded before the speed-up.
+const RUNS: &[(&str, u64, u64)] = &[
+    ("sort-middle/ellsworth delta.json plb-head-standin.json n=64 frames=0..2 two-step=on ideal", 0x2a7adc13ad7f0c32, 0x8c3aa80857f938f7),
+    ("sort-middle/ellsworth delta.json plb-head-standin.json n=64 frames=0..2 two-step=on hops", 0xaa89916dbf95ce6d, 0x8c3aa80857f938f7),
+    ("sort-middle/ellsworth delta.json plb-head-standin.json n=64 frames=0..2 two-step=on flow", 0x48de79091e153677, 0x8c3aa80857f938f7),
+    ("sort-middle/ellsworth delta.json plb-head-standin.json n=64 frames=0..2 two-step=on packet", 0x245c7ea7aedab9d4, 0x8c3aa80857f938f7),
+    ("sort-middle/ellsworth delta.json polio-standin.json n=512 frames=0 ideal", 0xe2013d8f98de109a, 0x0681af2dce78a65e),
+    ("sort-middle/ellsworth delta.json polio-standin.json n=512 frames=0 hops", 0xb40eed829215c8d5, 0x0681af2dce78a65e),
+    ("sort-middle/ellsworth delta.json polio-standin.json n=512 frames=0 flow", 0x5948d6c1bf88bda3, 0x0681af2dce78a65e),
+    ("sort-middle/ellsworth delta.json polio-standin.json n=512 frames=0 packet", 0x512a161fa0f5729d, 0x0681af2dce78a65e),
+    ("sort-middle/static power-challenge.json p000-tetra-500.json n=8 frames=0..2 ideal", 0x4f040b937c49881d, 0x0346fc8a424f6732),
+    ("sort-middle/static power-challenge.json p000-tetra-500.json n=8 frames=0..2 hops", 0xfa0f43f2fbdc0194, 0x0346fc8a424f6732),
+    ("sort-middle/static power-challenge.json p000-tetra-500.json n=8 frames=0..2 flow", 0x3c0f2336f6c42ec3, 0x0346fc8a424f6732),
+    ("sort-middle/static power-challenge.json p000-tetra-500.json n=8 frames=0..2 packet", 0x17bd031c10595e7b, 0x0346fc8a424f6732),
+    ("sort-last/df multicluster-torus.json spd-teapot.json n=16 frames=0 assign=request ideal", 0x7ba1859e5e32604f, 0xf308eb1ba10fe0d3),
+    ("sort-last/df multicluster-torus.json spd-teapot.json n=16 frames=0 assign=request hops", 0xdaa8d57d8fcc6140, 0xf308eb1ba10fe0d3),
+    ("sort-last/df multicluster-torus.json spd-teapot.json n=16 frames=0 assign=request flow", 0x79b9a0c6443d3c16, 0xf308eb1ba10fe0d3),
+    ("sort-last/df multicluster-torus.json spd-teapot.json n=16 frames=0 assign=request packet", 0x9756da99635135f3, 0xf308eb1ba10fe0d3),
+    ("sort-last/pc multicluster-pipeline.json spd-teapot.json n=8 frames=0 ideal", 0xba4f6796378837de, 0xf308eb1ba10fe0d3),
+    ("sort-last/pc multicluster-pipeline.json spd-teapot.json n=8 frames=0 hops", 0xcf69d0b8ae38d0dd, 0xf308eb1ba10fe0d3),
+    ("sort-last/pc multicluster-pipeline.json spd-teapot.json n=8 frames=0 flow", 0x4b331d3fc4dd64c0, 0xf308eb1ba10fe0d3),
+    ("sort-last/pc multicluster-pipeline.json spd-teapot.json n=8 frames=0 packet", 0xda9f0f910542985e, 0xf308eb1ba10fe0d3),
+    ("sort-last/direct-send denali-crossbar.json p003-cube.json n=16 frames=0 local-zbuffer=on ideal", 0xbdb0c9faec85c228, 0xcc93046f41923d57),
+    ("sort-last/direct-send denali-crossbar.json p003-cube.json n=16 frames=0 local-zbuffer=on hops", 0xf5c0a6e3262477b9, 0xcc93046f41923d57),
+    ("sort-last/direct-send denali-crossbar.json p003-cube.json n=16 frames=0 local-zbuffer=on flow", 0xa329bdb13bd63cf1, 0xcc93046f41923d57),
+    ("sort-last/direct-send denali-crossbar.json p003-cube.json n=16 frames=0 local-zbuffer=on packet", 0xb65b359b792a0bb2, 0xcc93046f41923d57),
+    ("sort-last/snooping snooping-bus.json p003-cube.json n=16 frames=0 assign=random ideal", 0xeb86b48b8f12422a, 0xcc93046f41923d57),
+    ("sort-last/snooping snooping-bus.json p003-cube.json n=16 frames=0 assign=random hops", 0xdf7d526cac37babb, 0xcc93046f41923d57),
+    ("sort-last/snooping snooping-bus.json p003-cube.json n=16 frames=0 assign=random flow", 0x71fdb3bef67e28be, 0xcc93046f41923d57),
+    ("sort-last/snooping snooping-bus.json p003-cube.json n=16 frames=0 assign=random packet", 0x24c1adee5e736c86, 0xcc93046f41923d57),
+];
+
+/// (case, hash of the netsim report), recorded before the speed-up.
+const PATTERNS: &[(&str, u64)] = &[
+    ("torus 16x32, 4096 staggered, flow", 0xfefedad2f36d95ba),
+    ("mesh 16x32, 4096 staggered, flow", 0x32f075b4ce0d1d38),
+    ("torus 4x4, all-to-all 64KiB, flow", 0x3bcbceee61ce98a3),
+    ("mesh 8x8, hot spot 4KiB, flow", 0xca6639a17a590a2c),
+    ("torus 16x32, 4096 staggered, packet", 0x669673c4460ec0e8),
+    ("mesh 16x32, 4096 staggered, packet", 0x498271c47f49fa39),
+    ("torus 4x4, all-to-all 64KiB, packet", 0x6a0e8a7331f4ae95),
+    ("mesh 8x8, hot spot 4KiB, packet", 0x86c39444152de75e),
+];
+
+struct Case {
+    name: String,
+    spec: RunSpec,
+}
+
+fn case(
+    machine: &str,
+    scene: &str,
+    algo: &str,
+    procs: u32,
+    frames: &str,
+    set: &[(&str, &str)],
+) -> Vec<Case> {
+    FIDELITIES
+        .iter()
+        .map(|fidelity| {
+            let mut options: BTreeMap<String, String> = set
+                .iter()
+                .map(|(k, v)| (k.to_string(), v.to_string()))
+                .collect();
+            options.insert("machine.network.fidelity".into(), fidelity.to_string());
+            let label: String = set.iter().map(|(k, v)| format!(" {k}={v}")).collect();
+            Case {
+                name: format!(
+                    "{algo} {machine} {scene} n={procs} frames={frames}{label} {fidelity}"
+                ),
+                spec: RunSpec {
+                    machine: PathBuf::from("machines").join(machine),
+                    scene: PathBuf::from("scenes").join(scene),
+                    algo: algo.into(),
+                    procs,
+                    frames: Some(frames.into()),
+                    seed: 1,
+                    set: options,
+                },
+            }
+        })
+        .collect()
+}
+
+fn run_cases() -> Vec<Case> {
+    [
+        case(
+            "delta.json",
+            "plb-head-standin.json",
+            "sort-middle/ellsworth",
+            64,
+            "0..2",
+            &[("two-step", "on")],
+        ),
+        case(
+            "delta.json",
+            "polio-standin.json",
+            "sort-middle/ellsworth",
+            512,
+            "0",
+            &[],
+        ),
+        case(
+            "power-challenge.json",
+            "p000-tetra-500.json",
+            "sort-middle/static",
+            8,
+            "0..2",
+            &[],
+        ),
+        case(
+            "multicluster-torus.json",
+            "spd-teapot.json",
+            "sort-last/df",
+            16,
+            "0",
+            &[("assign", "request")],
+        ),
+        case(
+            "multicluster-pipeline.json",
+            "spd-teapot.json",
+            "sort-last/pc",
+            8,
+            "0",
+            &[],
+        ),
+        case(
+            "denali-crossbar.json",
+            "p003-cube.json",
+            "sort-last/direct-send",
+            16,
+            "0",
+            &[("local-zbuffer", "on")],
+        ),
+        case(
+            "snooping-bus.json",
+            "p003-cube.json",
+            "sort-last/snooping",
+            16,
+            "0",
+            &[("assign", "random")],
+        ),
+    ]
+    .into_iter()
+    .flatten()
+    .collect()
+}
+
+/// The Delta's links and switches, wired as `topology` with `dims`.
+fn delta_network(topology: TopologyKind, dims: &[u32], fidelity: Fidelity) -> NetworkConfig {
+    let machine = common::machine(
+        &std::fs::read_to_string(common::root().join("machines/delta.json")).unwrap(),
+    );
+    NetworkConfig {
+        topology,
+        dims: dims.to_vec(),
+        fidelity,
+        ..machine.network
+    }
+}
+
+fn pattern_cases() -> Vec<(String, NetworkConfig, Pattern)> {
+    let sizes = [Bytes::new(4096), Bytes::new(65536)];
+    let staggered = random_staggered(512, 4096, &sizes, SimTime::from_ms(8), 7);
+    let mut cases = Vec::new();
+    for fidelity in [Fidelity::Flow, Fidelity::Packet] {
+        let name = fidelity.name();
+        cases.push((
+            format!("torus 16x32, 4096 staggered, {name}"),
+            delta_network(TopologyKind::Torus, &[16, 32], fidelity),
+            staggered.clone(),
+        ));
+        cases.push((
+            format!("mesh 16x32, 4096 staggered, {name}"),
+            delta_network(TopologyKind::Mesh, &[16, 32], fidelity),
+            staggered.clone(),
+        ));
+        cases.push((
+            format!("torus 4x4, all-to-all 64KiB, {name}"),
+            delta_network(TopologyKind::Torus, &[4, 4], fidelity),
+            all_to_all(16, Bytes::new(65536)),
+        ));
+        cases.push((
+            format!("mesh 8x8, hot spot 4KiB, {name}"),
+            delta_network(TopologyKind::Mesh, &[8, 8], fidelity),
+            hot_spot(64, 27, Bytes::new(4096)),
+        ));
+    }
+    cases
+}
+
+#[test]
+fn runs_give_the_answers_recorded_before_the_speed_up() {
+    let mut actual = Vec::new();
+    for c in run_cases() {
+        let cfg = c
+            .spec
+            .resolve(None)
+            .unwrap_or_else(|e| panic!("{}: {e}", c.name));
+        let result = run(&cfg).unwrap_or_else(|e| panic!("{}: {e}", c.name));
+        let summary = to_json(&RunSummary::new(&cfg, &result));
+        actual.push((c.name, fnv1a64(summary.as_bytes()), result.image.hash()));
+    }
+    let expected: Vec<(String, u64, u64)> = RUNS
+        .iter()
+        .map(|(n, s, i)| (n.to_string(), *s, *i))
+        .collect();
+    if actual != expected {
+        for (name, s, i) in &actual {
+            println!("    ({name:?}, {s:#018x}, {i:#018x}),");
+        }
+        panic!("simulated answers changed (actual hashes printed above)");
+    }
+}
+
+#[test]
+fn netsim_patterns_give_the_answers_recorded_before_the_speed_up() {
+    let mut actual = Vec::new();
+    for (name, cfg, pattern) in pattern_cases() {
+        let report = run_pattern(&cfg, &pattern).unwrap_or_else(|e| panic!("{name}: {e}"));
+        actual.push((name, fnv1a64(to_json(&report).as_bytes())));
+    }
+    let expected: Vec<(String, u64)> = PATTERNS.iter().map(|(n, h)| (n.to_string(), *h)).collect();
+    if actual != expected {
+        for (name, h) in &actual {
+            println!("    ({name:?}, {h:#018x}),");
+        }
+        panic!("simulated answers changed (actual hashes printed above)");
+    }
+}
