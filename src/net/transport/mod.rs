@@ -8,6 +8,7 @@
 
 mod contention_free;
 mod flow;
+mod maxmin;
 mod packet;
 
 use super::timing::Timing;
