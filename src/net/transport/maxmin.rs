@@ -25,7 +25,8 @@
 //! the flows' routes and the link capacity (not on the order flows were added).
 
 use std::cmp::Reverse;
-use std::collections::BinaryHeap;
+
+use dary_heap::QuaternaryHeap;
 
 use crate::net::LinkId;
 
@@ -78,17 +79,21 @@ struct Flow {
 struct Sweep {
     epoch: u64,
     flows: Vec<SweepFlow>,
-    /// Epoch in which each link turned dirty, and its new key once evaluated.
-    link_epoch: Vec<u64>,
-    link_key: Vec<Key>,
+    links: Vec<SweepLink>,
     dirty: Vec<LinkId>,
     settled: Vec<u32>,
-    /// Min-heap of `(key << 1 | kind, id)`: kind 0 evaluates link `id` (the key is a lower
-    /// bound of its real one), kind 1 is the old key of unsettled flow `id`. At one key, a
-    /// link is evaluated before a flow's old key counts as passed.
-    heap: BinaryHeap<Reverse<(u128, u32)>>,
-    /// The key of the last link that fixed flows or of the last flow key passed.
+    /// Flows unsettled when a link turned dirty, in runs (`SweepLink::unsettled`).
+    unsettled: Vec<u32>,
+    /// Dirty links to evaluate at `now` before the sweep moves on.
+    pending: Vec<LinkId>,
+    /// Min-heap of `key << 1 | kind`: kind 0 is a dirty link's pop as last evaluated (live
+    /// while it equals the link's `pop`), kind 1 passes the old key of a dirty link whose
+    /// flows were unsettled. At one key, a pop comes before a pass.
+    heap: QuaternaryHeap<Reverse<u128>>,
+    /// The key of the last link that fixed flows or of the last old key passed.
     now: Key,
+    /// (old key, old rate) of the untouched flows a link will see fixed as the sweep rises.
+    ahead: Vec<(Key, u64)>,
 }
 
 #[derive(Clone, Copy, Default)]
@@ -99,8 +104,20 @@ struct SweepFlow {
     key: Key,
 }
 
-const EVALUATE: u128 = 0;
-const PASSED: u128 = 1;
+#[derive(Clone, Copy, Default)]
+struct SweepLink {
+    epoch: u64,
+    /// Where the link pops, as last evaluated; `NONE` if it fixes nothing as things stand.
+    pop: Key,
+    /// It fixed its flows; nothing can change it any more in this solve.
+    popped: bool,
+    pending: bool,
+    /// `unsettled[start..end]`: the flows it had fixed last time.
+    unsettled: (u32, u32),
+}
+
+const POP: u128 = 0;
+const PASS: u128 = 1;
 
 impl MaxMin {
     /// `links` links of `capacity` bits per second each.
@@ -117,8 +134,7 @@ impl MaxMin {
             touched: Vec::new(),
             added: Vec::new(),
             sweep: Sweep {
-                link_epoch: vec![0; links],
-                link_key: vec![NONE; links],
+                links: vec![SweepLink::default(); links],
                 ..Sweep::default()
             },
         }
@@ -190,6 +206,7 @@ impl MaxMin {
         s.now = 0;
         s.dirty.clear();
         s.settled.clear();
+        s.unsettled.clear();
         s.heap.clear();
         for &slot in &self.added {
             s.flows[slot as usize] = SweepFlow {
@@ -206,48 +223,84 @@ impl MaxMin {
         }
         self.touched = touched;
         self.touched.clear();
-        while let Some(Reverse((entry, id))) = self.sweep.heap.pop() {
+        self.evaluate_pending();
+        while let Some(Reverse(entry)) = self.sweep.heap.pop() {
             let at = entry >> 1;
-            if entry & 1 == EVALUATE {
-                self.evaluate(id, at);
+            let link = link_of(at);
+            if entry & 1 == POP {
+                let sl = &self.sweep.links[link as usize];
+                if sl.pop == at && !sl.popped {
+                    self.pop(link, at);
+                }
             } else {
-                self.pass_flow_key(id, at);
+                self.pass_old_key(link, at);
             }
+            self.evaluate_pending();
         }
         self.commit(changed);
     }
 
     /// Makes `link` part of the sweep (once): it will be evaluated, and the flows it fixed
-    /// last time are unsettled until it fixes them again.
+    /// last time are unsettled until something fixes them again.
     fn mark_dirty(&mut self, link: LinkId) {
-        let s = &mut self.sweep;
         let l = link as usize;
-        if s.link_epoch[l] == s.epoch {
+        let epoch = self.sweep.epoch;
+        if self.sweep.links[l].epoch == epoch {
             return;
         }
+        let old = self.links[l].key;
         debug_assert!(
-            self.links[l].key >= s.now,
+            old >= self.sweep.now,
             "link {link} turned dirty after its old key had passed"
         );
-        s.link_epoch[l] = s.epoch;
-        s.link_key[l] = NONE;
-        s.dirty.push(link);
-        // Every link not yet fixing has a real key above `now`, so (share of now, link) is a
-        // lower bound of it.
-        let bound = key(share_of(s.now), link);
-        s.heap.push(Reverse((bound << 1 | EVALUATE, link)));
-        for &slot in &self.links[l].flows {
-            let sf = &mut s.flows[slot as usize];
+        let start = self.sweep.unsettled.len() as u32;
+        for i in 0..self.links[l].flows.len() {
+            let slot = self.links[l].flows[i];
             let f = &self.flows[slot as usize];
-            if sf.epoch != s.epoch && link_of(f.key) == link && f.key != NONE {
+            let sf = &mut self.sweep.flows[slot as usize];
+            if sf.epoch != epoch && f.key == old {
                 *sf = SweepFlow {
-                    epoch: s.epoch,
+                    epoch,
                     settled: false,
                     rate: f.rate,
                     key: f.key,
                 };
-                s.heap.push(Reverse((f.key << 1 | PASSED, slot)));
+                self.sweep.unsettled.push(slot);
+                self.touch_route(slot);
             }
+        }
+        let end = self.sweep.unsettled.len() as u32;
+        self.sweep.links[l] = SweepLink {
+            epoch,
+            pop: NONE,
+            popped: false,
+            pending: true,
+            unsettled: (start, end),
+        };
+        self.sweep.dirty.push(link);
+        self.sweep.pending.push(link);
+        if end > start {
+            self.sweep.heap.push(Reverse(old << 1 | PASS));
+        }
+    }
+
+    /// Flow `slot` changed state in this sweep: the dirty links it crosses that have not
+    /// fixed their flows must be evaluated again.
+    fn touch_route(&mut self, slot: u32) {
+        let epoch = self.sweep.epoch;
+        for &l in &self.flows[slot as usize].route {
+            let sl = &mut self.sweep.links[l as usize];
+            if sl.epoch == epoch && !sl.popped && !sl.pending {
+                sl.pending = true;
+                self.sweep.pending.push(l);
+            }
+        }
+    }
+
+    fn evaluate_pending(&mut self) {
+        while let Some(link) = self.sweep.pending.pop() {
+            self.sweep.links[link as usize].pending = false;
+            self.evaluate(link);
         }
     }
 
@@ -262,35 +315,66 @@ impl MaxMin {
         (f.key < at).then_some(f.rate)
     }
 
-    /// Evaluates dirty `link` at lower bound `bound`: fixes its flows if its real key is the
-    /// bound, otherwise pushes it back at its real key.
-    fn evaluate(&mut self, link: LinkId, bound: Key) {
-        let at = bound.max(self.sweep.now);
+    /// Finds where dirty `link` pops as things stand at `now`: its share from the flows fixed
+    /// so far, raised as the untouched flows on it reach their old keys. Anything that later
+    /// changes a flow on it evaluates it again, so the pop it records is exact when reached.
+    fn evaluate(&mut self, link: LinkId) {
+        let now = self.sweep.now;
+        let mut ahead = std::mem::take(&mut self.sweep.ahead);
+        ahead.clear();
         let mut left = self.capacity;
         let mut unfixed = 0u64;
         for &slot in &self.links[link as usize].flows {
-            match self.fixed_rate(slot, at) {
-                Some(rate) => left = left.saturating_sub(rate),
-                None => unfixed += 1,
+            let sf = &self.sweep.flows[slot as usize];
+            if sf.epoch == self.sweep.epoch {
+                if sf.settled {
+                    left = left.saturating_sub(sf.rate);
+                } else {
+                    unfixed += 1;
+                }
+                continue;
+            }
+            let f = &self.flows[slot as usize];
+            if f.key < now {
+                left = left.saturating_sub(f.rate);
+            } else {
+                unfixed += 1;
+                ahead.push((f.key, f.rate));
             }
         }
-        if unfixed == 0 {
-            return;
+        ahead.sort_unstable();
+        let mut pop = NONE;
+        let mut next = ahead.iter();
+        while unfixed > 0 {
+            let candidate = key(left / unfixed, link);
+            match next.next() {
+                Some(&(k, rate)) if k < candidate => {
+                    left = left.saturating_sub(rate);
+                    unfixed -= 1;
+                }
+                _ => {
+                    pop = candidate;
+                    break;
+                }
+            }
         }
-        let share = left / unfixed;
-        let real = key(share, link);
-        debug_assert!(real >= at, "link {link}'s share fell below the sweep");
-        if real > at {
-            self.sweep.heap.push(Reverse((real << 1 | EVALUATE, link)));
-            return;
+        self.sweep.ahead = ahead;
+        debug_assert!(pop >= now, "link {link}'s pop fell below the sweep");
+        self.sweep.links[link as usize].pop = pop;
+        if pop != NONE {
+            self.sweep.heap.push(Reverse(pop << 1 | POP));
         }
-        self.sweep.now = real;
-        self.sweep.link_key[link as usize] = real;
-        let rate = share.max(1);
+    }
+
+    /// Dirty `link` fixes every flow still unfixed on it at its key `at`.
+    fn pop(&mut self, link: LinkId, at: Key) {
+        self.sweep.now = at;
+        self.sweep.links[link as usize].popped = true;
+        let rate = share_of(at).max(1);
         for i in 0..self.links[link as usize].flows.len() {
             let slot = self.links[link as usize].flows[i];
             if self.fixed_rate(slot, at).is_none() {
-                self.settle(slot, rate, real);
+                self.settle(slot, rate, at);
             }
         }
     }
@@ -313,6 +397,7 @@ impl MaxMin {
             key: at,
         };
         s.settled.push(slot);
+        self.touch_route(slot);
         if old_key == NONE || (old_rate == rate && old_key == at) {
             // An added flow's links are all dirty already.
             return;
@@ -323,23 +408,29 @@ impl MaxMin {
         }
     }
 
-    /// The sweep passes the old key of flow `slot`: if nothing fixed it yet, every link it
-    /// crosses counted it as fixed from here on, and must be evaluated.
-    fn pass_flow_key(&mut self, slot: u32, at: Key) {
+    /// The sweep passes dirty `link`'s old key: every flow it fixed last time that nothing
+    /// has fixed yet was counted as fixed from here on by the links it crosses, which must
+    /// be evaluated.
+    fn pass_old_key(&mut self, link: LinkId, at: Key) {
         self.sweep.now = self.sweep.now.max(at);
-        if self.sweep.flows[slot as usize].settled {
-            return;
-        }
-        for i in 0..self.flows[slot as usize].route.len() {
-            let l = self.flows[slot as usize].route[i];
-            self.mark_dirty(l);
+        let (start, end) = self.sweep.links[link as usize].unsettled;
+        for i in start..end {
+            let slot = self.sweep.unsettled[i as usize];
+            if self.sweep.flows[slot as usize].settled {
+                continue;
+            }
+            for j in 0..self.flows[slot as usize].route.len() {
+                let l = self.flows[slot as usize].route[j];
+                self.mark_dirty(l);
+            }
         }
     }
 
     fn commit(&mut self, changed: &mut Vec<(u32, u64)>) {
         let s = &mut self.sweep;
         for &l in &s.dirty {
-            self.links[l as usize].key = s.link_key[l as usize];
+            let sl = &s.links[l as usize];
+            self.links[l as usize].key = if sl.popped { sl.pop } else { NONE };
         }
         for &slot in &s.settled {
             let sf = s.flows[slot as usize];
