@@ -8,7 +8,8 @@
 //!
 //! Layout: `topology/` says which links a message crosses (one file per topology behind the
 //! [`topology::Topology`] trait); `transport/` says when it arrives (one file per fidelity
-//! level); `timing.rs` holds the one contention-free formula every level agrees with;
+//! level); `timing.rs` holds the one contention-free formula every level agrees with; `routes.rs`
+//! keeps each (source, destination) pair's route once computed;
 //! `pattern.rs` drives a network from a list of messages without the engine.
 //!
 //! Contract with the caller (the engine, or [`pattern::run_pattern`]):
@@ -28,6 +29,7 @@
 pub mod fidelity;
 mod occupancy;
 pub mod pattern;
+mod routes;
 pub mod timing;
 pub mod topology;
 pub mod transport;
@@ -247,7 +249,7 @@ pub struct Network {
     timing: Timing,
     bytes: Vec<Bytes>,
     messages: Vec<u64>,
-    route_buf: Vec<LinkId>,
+    routes: routes::Routes,
     /// Per-message link occupancy, when a timeline is recorded.
     occupancy: Option<occupancy::Occupancy>,
 }
@@ -263,6 +265,7 @@ impl Network {
             ));
         }
         let topology = topology::build(cfg.topology, &cfg.dims)?;
+        let nodes = topology.nodes();
         let timing = Timing {
             bandwidth: cfg.link_bandwidth,
             hop_latency: cfg.hop_latency,
@@ -277,7 +280,7 @@ impl Network {
             timing,
             bytes: vec![Bytes::ZERO; links],
             messages: vec![0; links],
-            route_buf: Vec::new(),
+            routes: routes::Routes::new(nodes),
             occupancy: None,
         })
     }
@@ -375,9 +378,6 @@ impl Network {
         dst: Dest,
         bytes: Bytes,
     ) -> Option<SimTime> {
-        if let Err(e) = self.check_message(src, dst) {
-            panic!("Network::inject of message {msg}: {e}");
-        }
         if let Some(pending) = self.next_event_time() {
             // Skipping an `advance` would lose a rate change or a queue hand-over.
             assert!(
@@ -385,27 +385,38 @@ impl Network {
                 "Network::inject at {now} before advancing to the pending event at {pending}"
             );
         }
-        if dst == Dest::Node(src) {
+        if dst == Dest::Node(src) && src < self.nodes() {
             return Some(now);
         }
-        let mut route = std::mem::take(&mut self.route_buf);
-        route.clear();
-        match dst {
-            Dest::Broadcast => route.extend(self.topology.broadcast_link()),
-            Dest::Node(d) => {
-                self.topology.route_into(src, d, &mut route);
+        let broadcast = match dst {
+            Dest::Broadcast => self.topology.broadcast_link(),
+            Dest::Node(_) => None,
+        };
+        let route: &[LinkId] = match (dst, &broadcast) {
+            (Dest::Broadcast, Some(link)) => std::slice::from_ref(link),
+            (Dest::Node(d), _) if src < self.nodes() && d < self.nodes() => {
+                match self.routes.get(self.topology.as_ref(), src, d) {
+                    Some(route) => route,
+                    None => panic!(
+                        "Network::inject of message {msg}: {}",
+                        self.check_message(src, dst).unwrap_err()
+                    ),
+                }
             }
-        }
-        for &l in &route {
+            _ => panic!(
+                "Network::inject of message {msg}: {}",
+                self.check_message(src, dst).unwrap_err()
+            ),
+        };
+        for &l in route {
             self.bytes[l as usize] += bytes;
             self.messages[l as usize] += 1;
         }
         let hops = route.len() as u32 / self.topology.links_per_hop();
-        let arrival = self.transport.inject(now, msg, &route, hops, bytes);
+        let arrival = self.transport.inject(now, msg, route, hops, bytes);
         if let Some(o) = &mut self.occupancy {
-            o.injected(msg, now, &route, arrival);
+            o.injected(msg, now, route, arrival);
         }
-        self.route_buf = route;
         arrival
     }
 
