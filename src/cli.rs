@@ -335,6 +335,24 @@ pub enum BenchCommand {
         #[arg(long, value_enum)]
         fidelity: Vec<FidelityArg>,
     },
+    /// How the simulator's cost grows: the whole Delta over a viewing sequence, one frame
+    /// against drawing it sequentially, staggered torus traffic at hops and flow, PHOLD, and
+    /// wall time against messages, processors and triangles, each beside its target.
+    #[command(
+        after_help = "Example:\n  sortsim bench scale --quick -o reports/bench-scale\n  sortsim bench scale --frames 110"
+    )]
+    Scale {
+        /// 3 frames, up to 16,384 messages and PHOLD up to 16,384 in flight (a few minutes)
+        /// instead of 110 frames, 65,536 messages and a million in flight.
+        #[arg(long)]
+        quick: bool,
+        /// Frames of the headline polio run (overrides the 110 or the 3 of --quick).
+        #[arg(long, value_parser = clap::value_parser!(u32).range(1..=110))]
+        frames: Option<u32>,
+        /// Where scale.json, scale.txt and the plots go.
+        #[arg(short, long, value_name = "DIR", default_value = "reports/bench-scale")]
+        out: PathBuf,
+    },
     /// Trace replay (paper 003) of one recorded frame for many n, against one pass over the
     /// fragments in the same run.
     #[command(

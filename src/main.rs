@@ -101,6 +101,9 @@ fn main() -> ExitCode {
             frame,
             fidelity,
         })) => bench_overhead(&machine, &scene, procs, frame, &fidelity),
+        Some(Command::Bench(BenchCommand::Scale { quick, frames, out })) => {
+            bench_scale(quick, frames, &out)
+        }
         Some(Command::Bench(BenchCommand::Replay {
             scene,
             frame,
@@ -461,6 +464,27 @@ fn fidelity(f: FidelityArg) -> Fidelity {
         FidelityArg::Flow => Fidelity::Flow,
         FidelityArg::Packet => Fidelity::Packet,
     }
+}
+
+fn bench_scale(quick: bool, frames: Option<u32>, out: &Path) -> Result<(), Failure> {
+    use sortsim::bench::scale::{plots, scale, table, ScaleConfig};
+    let root = Path::new(env!("CARGO_MANIFEST_DIR"));
+    let mut cfg = if quick {
+        ScaleConfig::quick(root)
+    } else {
+        ScaleConfig::full(root)
+    };
+    if let Some(f) = frames {
+        cfg.frames = f;
+    }
+    let report =
+        scale(&cfg, &mut |step| eprintln!("measuring: {step}")).map_err(Failure::Internal)?;
+    let text = table(&report);
+    write_file(out, "scale.json", &to_json(&report))?;
+    write_file(out, "scale.txt", &text)?;
+    plots(&report, out).map_err(|e| Failure::Internal(e.to_string()))?;
+    print!("{text}");
+    Ok(())
 }
 
 fn bench_replay(

@@ -1,9 +1,11 @@
 //! Benchmarks reachable from the command line (`sortsim bench ...`): PHOLD on the engine,
 //! measured against a bare binary-heap PHOLD loop in the same run; trace replay (paper 003)
-//! against one pass over the fragments.
+//! against one pass over the fragments; and how the simulator's cost grows (`scale.rs`).
 //!
 //! Owns workload definitions and wall-clock measurement. Wall-clock time is read here and in
 //! `report::cost` only, never inside a simulation.
+
+pub mod scale;
 
 use std::cmp::Reverse;
 use std::collections::BinaryHeap;

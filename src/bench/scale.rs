@@ -1,0 +1,464 @@
+//! `sortsim bench scale`: how the simulator's own cost grows with the size of what it
+//! simulates, measured in one process, each figure printed beside its target.
+//!
+//! Figures: a whole viewing sequence of the polio stand-in on 512 Delta nodes; one polio frame
+//! simulated against drawing it sequentially; staggered traffic on a 16x32 torus at `hops`
+//! and `flow`; PHOLD against its bare-heap loop; and three growth curves (wall time against
+//! messages, processors and triangles).
+//!
+//! Owns the workload definitions and the wall-clock measurements of this benchmark. Must
+//! never assert a time (targets are printed, not tested) and never let a wall time reach a
+//! simulated result.
+
+use std::path::{Path, PathBuf};
+use std::sync::Arc;
+use std::time::Instant;
+
+use serde::Serialize;
+
+use super::{overhead, phold_report, PholdConfig};
+use crate::net::pattern::{random_staggered, run_pattern};
+use crate::net::{Fidelity, NetworkConfig, TopologyKind};
+use crate::report::cost::peak_host_memory;
+use crate::scene::Scene;
+use crate::spec::run::RunSpec;
+use crate::units::{Bytes, SimTime};
+
+/// What to measure; the defaults are the targets' own sizes.
+#[derive(Clone, Debug)]
+pub struct ScaleConfig {
+    /// The repository root (machines/, scenes/).
+    pub root: PathBuf,
+    /// Frames of the polio sequence for the headline run (the seeds' 80 to 110).
+    pub frames: u32,
+    /// Message counts of the torus figures and the messages curve.
+    pub messages: Vec<usize>,
+    /// Processor counts of the processors curve.
+    pub procs: Vec<u32>,
+    /// PHOLD events in flight (LPs x 16).
+    pub phold: Vec<u64>,
+}
+
+impl ScaleConfig {
+    pub fn full(root: &Path) -> ScaleConfig {
+        ScaleConfig {
+            root: root.to_path_buf(),
+            frames: 110,
+            messages: vec![1024, 4096, 16384, 65536],
+            procs: vec![16, 32, 64, 128, 256, 512],
+            phold: vec![1024, 16384, 1 << 20],
+        }
+    }
+
+    /// A few minutes in all: 3 frames, up to 16,384 messages, PHOLD up to 16,384 in flight.
+    pub fn quick(root: &Path) -> ScaleConfig {
+        ScaleConfig {
+            frames: 3,
+            messages: vec![1024, 4096, 16384],
+            phold: vec![1024, 16384],
+            ..ScaleConfig::full(root)
+        }
+    }
+}
+
+/// One measured figure with its target.
+#[derive(Clone, Debug, Serialize)]
+pub struct Figure {
+    pub name: String,
+    pub measured: f64,
+    pub unit: &'static str,
+    /// The target, as "<= 60" or ">= 0.8" in `unit`.
+    pub target: String,
+    pub met: bool,
+    pub detail: String,
+}
+
+/// A point of a growth curve: wall seconds at one size, per fidelity.
+#[derive(Clone, Debug, Serialize)]
+pub struct CurvePoint {
+    pub x: f64,
+    pub label: String,
+    pub fidelity: &'static str,
+    pub wall_s: f64,
+    pub events: u64,
+}
+
+#[derive(Clone, Debug, Serialize)]
+pub struct ScaleReport {
+    pub figures: Vec<Figure>,
+    pub wall_against_messages: Vec<CurvePoint>,
+    pub wall_against_procs: Vec<CurvePoint>,
+    pub wall_against_triangles: Vec<CurvePoint>,
+}
+
+const CURVE_FIDELITIES: [Fidelity; 2] = [Fidelity::Hops, Fidelity::Flow];
+/// The scenes of the triangles curve, smallest first.
+const TRIANGLE_SCENES: [&str; 4] = [
+    "plb-head-standin.json",
+    "terrain-standin.json",
+    "ct-head-standin.json",
+    "polio-standin.json",
+];
+/// One message starts every 2 us on average across the machine (each node about every 1 ms):
+/// 278 kbit on average over 12 links on average, about six times what the torus's 2,048 links
+/// carry, so flows pile up and every start and end changes many rates (the hard case for
+/// `flow`).
+const STAGGER_PER_MESSAGE: SimTime = SimTime::from_us(2);
+
+/// Runs every figure and curve of `cfg`, reporting progress on `progress`.
+pub fn scale(cfg: &ScaleConfig, progress: &mut dyn FnMut(&str)) -> Result<ScaleReport, String> {
+    let machine = cfg.root.join("machines/delta.json");
+    let polio = Arc::new(load(&cfg.root, "polio-standin.json")?);
+    let mut figures = Vec::new();
+
+    progress(&format!(
+        "polio stand-in, {} frames, 512 nodes, flow",
+        cfg.frames
+    ));
+    let (wall, events) = run_wall(
+        &machine,
+        &polio,
+        "sort-middle/ellsworth",
+        512,
+        cfg.frames,
+        Fidelity::Flow,
+    )?;
+    let memory = peak_host_memory().unwrap_or(0) as f64 / 1e9;
+    figures.push(figure(
+        &format!("polio, {} frames, 512 Delta nodes, flow: wall", cfg.frames),
+        wall,
+        "s",
+        Target::AtMost(60.0 * cfg.frames as f64 / 110.0),
+        format!("{events} events (target 60 s for 110 frames, scaled to the frames run)"),
+    ));
+    figures.push(figure(
+        "same run: peak host memory",
+        memory,
+        "GB",
+        Target::AtMost(2.0),
+        "VmHWM of this process, which ran nothing bigger before".into(),
+    ));
+
+    for (fidelity, limit) in [(Fidelity::Hops, 2.0), (Fidelity::Flow, 3.0)] {
+        progress(&format!("one polio frame, 512 nodes, {}", fidelity.name()));
+        let set = [(
+            "machine.network.fidelity".to_string(),
+            fidelity.name().to_string(),
+        )];
+        let r = overhead(&machine, polio.clone(), 512, 1, set.into_iter().collect())?;
+        figures.push(figure(
+            &format!(
+                "one polio frame on 512 nodes at {}: simulate / render",
+                fidelity.name()
+            ),
+            r.ratio,
+            "x",
+            Target::AtMost(limit),
+            format!(
+                "simulate {:.3} s, render sequentially {:.3} s",
+                r.simulate_wall_s, r.render_wall_s
+            ),
+        ));
+    }
+
+    let mut messages_curve = Vec::new();
+    for &count in &cfg.messages {
+        for fidelity in CURVE_FIDELITIES {
+            progress(&format!(
+                "{count} staggered messages, 16x32 torus, {}",
+                fidelity.name()
+            ));
+            let wall = torus_wall(&machine, count, fidelity)?;
+            messages_curve.push(CurvePoint {
+                x: count as f64,
+                label: format!("{count} messages"),
+                fidelity: fidelity.name(),
+                wall_s: wall,
+                events: count as u64,
+            });
+        }
+    }
+    let wall_at = |count: usize, f: Fidelity| {
+        messages_curve
+            .iter()
+            .find(|p| p.x == count as f64 && p.fidelity == f.name())
+            .map(|p| p.wall_s)
+    };
+    if let (Some(hops), Some(flow)) = (
+        wall_at(16384, Fidelity::Hops),
+        wall_at(16384, Fidelity::Flow),
+    ) {
+        figures.push(figure(
+            "16,384 staggered messages, 16x32 torus: flow / hops",
+            flow / hops.max(1e-9),
+            "x",
+            Target::AtMost(5.0),
+            format!("flow {flow:.3} s, hops {hops:.3} s"),
+        ));
+    }
+    if let Some(flow) = wall_at(65536, Fidelity::Flow) {
+        figures.push(figure(
+            "65,536 staggered messages, 16x32 torus, flow: wall",
+            flow,
+            "s",
+            Target::AtMost(10.0),
+            String::new(),
+        ));
+    }
+
+    for &in_flight in &cfg.phold {
+        progress(&format!("PHOLD, {in_flight} events in flight"));
+        let phold = PholdConfig {
+            lps: (in_flight / 16).max(1) as u32,
+            events_per_lp: in_flight.min(16) as u32,
+            remote: 0.9,
+            mean: SimTime::from_us(1),
+            lookahead: SimTime::from_ns(100),
+            end: SimTime::from_us(1000 * 16384 / in_flight.max(16384)),
+            seed: 1,
+        };
+        let (summary, cost) = phold_report(&phold).map_err(|e| e.to_string())?;
+        if !summary.baseline_agrees {
+            return Err("PHOLD: the engine and the bare heap processed different events".into());
+        }
+        figures.push(figure(
+            &format!("PHOLD, {in_flight} in flight: engine / bare heap event rate"),
+            cost.ratio_to_baseline,
+            "x",
+            Target::AtLeast(if in_flight >= 1 << 20 { 1.0 } else { 0.8 }),
+            format!("{} events", summary.events),
+        ));
+    }
+
+    let mut procs_curve = Vec::new();
+    for &procs in &cfg.procs {
+        for fidelity in CURVE_FIDELITIES {
+            progress(&format!(
+                "one polio frame, {procs} nodes, {}",
+                fidelity.name()
+            ));
+            let (wall, events) = run_wall(
+                &machine,
+                &polio,
+                "sort-middle/ellsworth",
+                procs,
+                1,
+                fidelity,
+            )?;
+            procs_curve.push(CurvePoint {
+                x: procs as f64,
+                label: format!("{procs} processors"),
+                fidelity: fidelity.name(),
+                wall_s: wall,
+                events,
+            });
+        }
+    }
+
+    let mut triangles_curve = Vec::new();
+    for name in TRIANGLE_SCENES {
+        let scene = Arc::new(load(&cfg.root, name)?);
+        for fidelity in CURVE_FIDELITIES {
+            progress(&format!(
+                "one frame of {name}, 512 nodes, {}",
+                fidelity.name()
+            ));
+            let (wall, events) =
+                run_wall(&machine, &scene, "sort-middle/ellsworth", 512, 1, fidelity)?;
+            triangles_curve.push(CurvePoint {
+                x: scene.triangle_count() as f64,
+                label: name.trim_end_matches(".json").to_string(),
+                fidelity: fidelity.name(),
+                wall_s: wall,
+                events,
+            });
+        }
+    }
+
+    Ok(ScaleReport {
+        figures,
+        wall_against_messages: messages_curve,
+        wall_against_procs: procs_curve,
+        wall_against_triangles: triangles_curve,
+    })
+}
+
+enum Target {
+    AtMost(f64),
+    AtLeast(f64),
+}
+
+fn figure(name: &str, measured: f64, unit: &'static str, target: Target, detail: String) -> Figure {
+    let (target, met) = match target {
+        Target::AtMost(t) => (format!("<= {}", trim(t)), measured <= t),
+        Target::AtLeast(t) => (format!(">= {}", trim(t)), measured >= t),
+    };
+    Figure {
+        name: name.to_string(),
+        measured,
+        unit,
+        target,
+        met,
+        detail,
+    }
+}
+
+fn trim(v: f64) -> String {
+    let s = format!("{v:.2}");
+    s.trim_end_matches('0').trim_end_matches('.').to_string()
+}
+
+fn load(root: &Path, name: &str) -> Result<Scene, String> {
+    Scene::load(&root.join("scenes").join(name)).map_err(|e| e.to_string())
+}
+
+/// Wall seconds and events of a run of `frames` frames (from frame 0).
+fn run_wall(
+    machine: &Path,
+    scene: &Arc<Scene>,
+    algo: &str,
+    procs: u32,
+    frames: u32,
+    fidelity: Fidelity,
+) -> Result<(f64, u64), String> {
+    let spec = RunSpec {
+        machine: machine.to_path_buf(),
+        scene: scene.file().to_path_buf(),
+        algo: algo.into(),
+        procs,
+        frames: Some(format!("0..{}", frames.min(scene.frame_count()))),
+        seed: 1,
+        set: [(
+            "machine.network.fidelity".to_string(),
+            fidelity.name().to_string(),
+        )]
+        .into_iter()
+        .collect(),
+    };
+    let cfg = spec
+        .resolve(Some(scene.clone()))
+        .map_err(|e| e.to_string())?;
+    let start = Instant::now();
+    let result = crate::algo::run(&cfg).map_err(|e| e.to_string())?;
+    Ok((start.elapsed().as_secs_f64(), result.stats.events))
+}
+
+/// Wall seconds of `count` staggered messages (4 KiB or 64 KiB, random pairs) on the Delta's
+/// links wired as a 16x32 torus.
+fn torus_wall(machine: &Path, count: usize, fidelity: Fidelity) -> Result<f64, String> {
+    let delta = crate::spec::machine::load_machine(machine).map_err(|e| e.to_string())?;
+    let network = NetworkConfig {
+        topology: TopologyKind::Torus,
+        dims: vec![16, 32],
+        fidelity,
+        ..delta.network
+    };
+    let sizes = [Bytes::new(4096), Bytes::new(65536)];
+    let spread = STAGGER_PER_MESSAGE.times(count as u64);
+    let pattern = random_staggered(512, count, &sizes, spread, 1);
+    let start = Instant::now();
+    run_pattern(&network, &pattern).map_err(|e| e.to_string())?;
+    Ok(start.elapsed().as_secs_f64())
+}
+
+/// The report as a table: one line per figure, then the curves.
+pub fn table(report: &ScaleReport) -> String {
+    let mut s = format!(
+        "{:<72} {:>12} {:>10}  {}\n",
+        "figure", "measured", "target", "met"
+    );
+    for f in &report.figures {
+        s += &format!(
+            "{:<72} {:>10.3} {:<2}{:>9}  {}\n",
+            f.name,
+            f.measured,
+            f.unit,
+            f.target,
+            if f.met { "yes" } else { "NO" }
+        );
+        if !f.detail.is_empty() {
+            s += &format!("    {}\n", f.detail);
+        }
+    }
+    for (title, curve) in [
+        (
+            "wall against messages (16x32 torus)",
+            &report.wall_against_messages,
+        ),
+        (
+            "wall against processors (one polio frame)",
+            &report.wall_against_procs,
+        ),
+        (
+            "wall against triangles (one frame, 512 nodes)",
+            &report.wall_against_triangles,
+        ),
+    ] {
+        s += &format!(
+            "\n{title}\n{:<28} {:>10} {:>12} {:>10}\n",
+            "", "fidelity", "events", "wall_s"
+        );
+        for p in curve {
+            s += &format!(
+                "{:<28} {:>10} {:>12} {:>10.3}\n",
+                p.label, p.fidelity, p.events, p.wall_s
+            );
+        }
+    }
+    s
+}
+
+/// The three growth charts, one line per fidelity, written under `dir`.
+pub fn plots(report: &ScaleReport, dir: &Path) -> Result<(), String> {
+    use crate::report::plot::{line_chart, ChartOptions, Series};
+    for (stem, title, x_label, curve) in [
+        (
+            "wall-vs-messages",
+            "Wall time against messages (16x32 torus)",
+            "messages",
+            &report.wall_against_messages,
+        ),
+        (
+            "wall-vs-procs",
+            "Wall time against processors (one polio frame)",
+            "processors",
+            &report.wall_against_procs,
+        ),
+        (
+            "wall-vs-triangles",
+            "Wall time against triangles (one frame, 512 nodes)",
+            "triangles",
+            &report.wall_against_triangles,
+        ),
+    ] {
+        let series: Vec<Series> = CURVE_FIDELITIES
+            .iter()
+            .map(|f| {
+                let points = curve
+                    .iter()
+                    .filter(|p| p.fidelity == f.name())
+                    .map(|p| (p.x, p.wall_s))
+                    .collect();
+                Series::new(f.name(), points)
+            })
+            .filter(|s| !s.points.is_empty())
+            .collect();
+        if series.is_empty() {
+            continue;
+        }
+        let options = ChartOptions {
+            log_x: true,
+            y_from_zero: true,
+        };
+        line_chart(
+            &dir.join(stem),
+            title,
+            x_label,
+            "wall (s)",
+            &series,
+            options,
+        )
+        .map_err(|e| e.to_string())?;
+    }
+    Ok(())
+}
