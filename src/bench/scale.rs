@@ -462,3 +462,56 @@ pub fn plots(report: &ScaleReport, dir: &Path) -> Result<(), String> {
     }
     Ok(())
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn a_figure_is_met_only_on_its_side_of_the_target() {
+        let at_most = |v| figure("f", v, "s", Target::AtMost(60.0), String::new());
+        assert!(at_most(60.0).met);
+        assert!(!at_most(60.001).met);
+        assert_eq!(at_most(1.0).target, "<= 60");
+        let at_least = |v| figure("f", v, "x", Target::AtLeast(0.8), String::new());
+        assert!(at_least(0.8).met);
+        assert!(!at_least(0.79).met);
+        assert_eq!(at_least(1.0).target, ">= 0.8");
+    }
+
+    #[test]
+    fn the_table_lists_every_figure_and_curve_point_with_its_verdict() {
+        let report = ScaleReport {
+            figures: vec![
+                figure(
+                    "fast enough",
+                    1.0,
+                    "s",
+                    Target::AtMost(2.0),
+                    "detail".into(),
+                ),
+                figure("too slow", 3.0, "x", Target::AtMost(2.0), String::new()),
+            ],
+            wall_against_messages: vec![CurvePoint {
+                x: 1024.0,
+                label: "1024 messages".into(),
+                fidelity: "flow",
+                wall_s: 0.5,
+                events: 1024,
+            }],
+            wall_against_procs: Vec::new(),
+            wall_against_triangles: Vec::new(),
+        };
+        let text = table(&report);
+        let line = |name: &str| {
+            text.lines()
+                .find(|l| l.starts_with(name))
+                .unwrap()
+                .to_string()
+        };
+        assert!(line("fast enough").ends_with("yes"));
+        assert!(line("too slow").ends_with("NO"));
+        assert!(text.contains("    detail\n"));
+        assert!(line("1024 messages").contains("flow"));
+    }
+}
