@@ -13,10 +13,13 @@ const UNKNOWN: (u32, u32) = (u32::MAX, 0);
 /// The topology has no route (a pipeline run backwards).
 const NO_ROUTE: (u32, u32) = (u32::MAX, 1);
 
+/// Per destination: `(start, len)` in `Routes::links`, or a marker above.
+type Row = Box<[(u32, u32)]>;
+
 #[derive(Default)]
 pub struct Routes {
-    /// Per source, per destination: `(start, len)` in `links`, or a marker above.
-    rows: Vec<Option<Box<[(u32, u32)]>>>,
+    /// Per source, allocated when it first sends.
+    rows: Vec<Option<Row>>,
     links: Vec<LinkId>,
 }
 

@@ -481,14 +481,11 @@ pub fn reference_rates(capacity: u64, links: usize, routes: &[Vec<LinkId>]) -> V
     let mut left = vec![capacity; links];
     let mut unfixed: Vec<u64> = on_link.iter().map(|f| f.len() as u64).collect();
     let mut rate: Vec<Option<u64>> = vec![None; routes.len()];
-    loop {
-        let Some((share, l)) = (0..links)
-            .filter(|&l| unfixed[l] > 0)
-            .map(|l| (left[l] / unfixed[l], l))
-            .min()
-        else {
-            break;
-        };
+    while let Some((share, l)) = (0..links)
+        .filter(|&l| unfixed[l] > 0)
+        .map(|l| (left[l] / unfixed[l], l))
+        .min()
+    {
         for &i in &on_link[l] {
             if rate[i].is_some() {
                 continue;
