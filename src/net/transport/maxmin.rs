@@ -254,7 +254,13 @@ impl MaxMin {
             "link {link} turned dirty after its old key had passed"
         );
         let start = self.sweep.unsettled.len() as u32;
-        for i in 0..self.links[l].flows.len() {
+        // A link that fixed nothing last time is nobody's bottleneck.
+        let fixed_some = if old == NONE {
+            0
+        } else {
+            self.links[l].flows.len()
+        };
+        for i in 0..fixed_some {
             let slot = self.links[l].flows[i];
             let f = &self.flows[slot as usize];
             let sf = &mut self.sweep.flows[slot as usize];
