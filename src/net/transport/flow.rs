@@ -10,7 +10,7 @@
 //!   changes; a completion is at `now + ceil(remaining / rate)`, rounded once;
 //! - a flow's delivery is its fluid end plus `Timing::fixed_part` (route latency and the
 //!   store-and-forward pipeline term), so a lone message matches the formula exactly;
-//! - flows completing at one instant finish in message order.
+//! - flows completing at one instant finish in order of their `MsgId` (the id the caller gave).
 //!
 //! Starts and ends at one instant are batched into one solve (`next_event_time` asks for an
 //! `advance` at the start instant); only flows whose rate changed get a new completion.
@@ -43,6 +43,8 @@ pub struct Flow {
     dirty_since: Option<SimTime>,
     /// Reused by every solve: (flow slot, old rate) of the flows whose rate changed.
     changed: Vec<(u32, u64)>,
+    /// Reused for the route of a flow that ends.
+    route: Vec<LinkId>,
     /// Test switch: every solve from scratch (the reference for the incremental one).
     #[cfg(test)]
     from_scratch: bool,
@@ -81,6 +83,7 @@ impl Flow {
             deliveries: BinaryHeap::new(),
             dirty_since: None,
             changed: Vec::new(),
+            route: Vec::new(),
             #[cfg(test)]
             from_scratch: false,
         }
@@ -254,7 +257,7 @@ impl Transport for Flow {
 
     fn advance(&mut self, now: SimTime, delivered: &mut Vec<Delivered>) {
         self.clock = self.clock.max(now);
-        let mut route = Vec::new();
+        let mut route = std::mem::take(&mut self.route);
         while let Some(&Reverse((at, _, slot, _))) = self.completions.peek() {
             if at > now {
                 break;
@@ -265,6 +268,7 @@ impl Transport for Flow {
             self.finish_flow(at, slot, &route);
             self.drop_stale_completions();
         }
+        self.route = route;
         if self.dirty_since.take().is_some() {
             self.solve(now);
             self.drop_stale_completions();
