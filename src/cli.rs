@@ -89,6 +89,14 @@ pub enum Command {
     /// Pixel traces and the trace-driven merge-traffic simulation (paper 003).
     #[command(subcommand)]
     Trace(TraceCommand),
+    /// Print a shell completion script for sortsim.
+    #[command(
+        after_help = "Example:\n  sortsim completions bash > ~/.local/share/bash-completion/completions/sortsim\n  sortsim completions zsh > ~/.zfunc/_sortsim"
+    )]
+    Completions {
+        /// The shell to complete in.
+        shell: clap_complete::Shell,
+    },
 }
 
 #[derive(Subcommand, Debug)]

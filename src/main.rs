@@ -112,6 +112,12 @@ fn main() -> ExitCode {
             seed,
         })) => bench_replay(&scene, frame, &procs, &assign, seed),
         Some(Command::Utilization(args)) => utilization(&args),
+        Some(Command::Completions { shell }) => {
+            use clap::CommandFactory;
+            let mut command = Cli::command();
+            clap_complete::generate(shell, &mut command, "sortsim", &mut std::io::stdout());
+            Ok(())
+        }
         Some(Command::Trace(cmd)) => trace_command(&cmd),
         Some(Command::Sweep(args)) => sweep(&args),
     };

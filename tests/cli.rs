@@ -130,3 +130,40 @@ fn compare_prints_one_row_per_fidelity() {
         .collect();
     assert_eq!(rows, ["ideal", "hops", "flow", "packet"], "{stdout}");
 }
+
+#[test]
+fn completion_scripts_name_every_command_for_each_shell() {
+    for (shell, marker) in [
+        ("bash", "_sortsim()"),
+        ("zsh", "#compdef sortsim"),
+        ("fish", "complete -c sortsim"),
+    ] {
+        let out = sortsim(&["completions", shell]);
+        let script = String::from_utf8(out.stdout).expect("a completion script is text");
+        assert!(script.contains(marker), "{shell}: no {marker:?}");
+        for command in [
+            "netsim",
+            "sweep",
+            "accuracy",
+            "utilization",
+            "replay",
+            "scale",
+        ] {
+            assert!(script.contains(command), "{shell}: {command} not completed");
+        }
+    }
+}
+
+#[test]
+fn an_unknown_shell_is_refused_with_the_valid_ones() {
+    let out = Command::new(env!("CARGO_BIN_EXE_sortsim"))
+        .args(["completions", "tcsh"])
+        .output()
+        .expect("sortsim runs");
+    assert_eq!(out.status.code(), Some(2));
+    let stderr = String::from_utf8_lossy(&out.stderr);
+    assert!(
+        stderr.contains("tcsh") && stderr.contains("bash") && stderr.contains("fish"),
+        "{stderr}"
+    );
+}
