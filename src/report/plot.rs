@@ -154,6 +154,11 @@ impl LineChart<'_> {
         let (plot, legend) = root.split_horizontally(PLOT_W);
         let lines = self.transformed();
         let (xr, yr) = (self.x_range(&lines), self.y_range(&lines));
+        let x_desc = if self.options.log_x {
+            format!("{} (log scale, base 2)", self.x_label)
+        } else {
+            self.x_label.to_string()
+        };
         let mut chart = ChartBuilder::on(&plot)
             .caption(self.title, (FONT_NAME, 20))
             .margin(12)
@@ -171,7 +176,7 @@ impl LineChart<'_> {
         };
         chart
             .configure_mesh()
-            .x_desc(self.x_label)
+            .x_desc(x_desc)
             .y_desc(self.y_label)
             .x_labels(x_ticks.clamp(2, 24))
             .y_labels(8)
@@ -364,25 +369,49 @@ fn x_tick(v: f64, log_x: bool) -> String {
     format_number(k.exp2())
 }
 
-/// Short tick labels: integers as integers, large and tiny magnitudes in e-notation, at most
-/// three significant decimals otherwise.
+/// Short tick labels with SI prefixes: 2.5 M rather than 2500000, 200 µ rather than 0.0002;
+/// between 0.001 and 10,000 plain numbers (integers as integers, at most three decimals).
 pub fn format_number(v: f64) -> String {
+    const LARGE: [(f64, &str); 5] = [(1e15, "P"), (1e12, "T"), (1e9, "G"), (1e6, "M"), (1e3, "k")];
+    const SMALL: [(f64, &str); 4] = [(1e-3, "m"), (1e-6, "µ"), (1e-9, "n"), (1e-12, "p")];
     let a = v.abs();
-    if v == 0.0 {
-        return "0".to_string();
+    if v == 0.0 || !v.is_finite() {
+        return if v == 0.0 { "0".into() } else { format!("{v}") };
     }
-    if !(1e-3..1e7).contains(&a) {
-        let s = format!("{v:.2e}");
-        // "1.50e6" -> "1.5e6", "2.00e-4" -> "2e-4"
-        let (mantissa, exp) = s.split_once('e').unwrap_or((&s, "0"));
-        let mantissa = mantissa.trim_end_matches('0').trim_end_matches('.');
-        return format!("{mantissa}e{exp}");
+    if a >= 1e4 {
+        let (scale, prefix) = LARGE
+            .iter()
+            .find(|(s, _)| a >= *s)
+            .expect("a >= 1e4 >= 1e3");
+        return format!("{} {prefix}", three_significant(v / scale));
+    }
+    if a < 1e-3 {
+        let (scale, prefix) = SMALL
+            .iter()
+            .find(|(s, _)| a >= *s)
+            .unwrap_or(&SMALL[SMALL.len() - 1]);
+        return format!("{} {prefix}", three_significant(v / scale));
     }
     if (v - v.round()).abs() < 1e-9 {
         return format!("{}", v.round() as i64);
     }
     let s = format!("{v:.3}");
     s.trim_end_matches('0').trim_end_matches('.').to_string()
+}
+
+/// At most three significant digits, trailing zeros dropped: 2.5, 65.5, 512.
+fn three_significant(v: f64) -> String {
+    let decimals = match v.abs() {
+        a if a >= 100.0 => 0,
+        a if a >= 10.0 => 1,
+        _ => 2,
+    };
+    let s = format!("{v:.decimals$}");
+    if s.contains('.') {
+        s.trim_end_matches('0').trim_end_matches('.').to_string()
+    } else {
+        s
+    }
 }
 
 #[cfg(test)]
@@ -395,8 +424,12 @@ mod tests {
         assert_eq!(format_number(512.0), "512");
         assert_eq!(format_number(2.5), "2.5");
         assert_eq!(format_number(0.12345), "0.123");
-        assert_eq!(format_number(15_000_000.0), "1.5e7");
-        assert_eq!(format_number(-0.0002), "-2e-4");
+        assert_eq!(format_number(15_000_000.0), "15 M");
+        assert_eq!(format_number(2_500_000.0), "2.5 M");
+        assert_eq!(format_number(65_536.0), "65.5 k");
+        assert_eq!(format_number(9_999.0), "9999");
+        assert_eq!(format_number(-0.0002), "-200 µ");
+        assert_eq!(format_number(3.2e-7), "320 n");
     }
 
     #[test]
