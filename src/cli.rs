@@ -89,6 +89,14 @@ pub enum Command {
     /// Pixel traces and the trace-driven merge-traffic simulation (paper 003).
     #[command(subcommand)]
     Trace(TraceCommand),
+    /// Print the JSON Schema of a spec kind (the files under schemas/ are these).
+    #[command(
+        after_help = "Example:\n  sortsim schema machine > machine.schema.json\n\nIn VS Code, map the schemas to files with `json.schemas` in settings.json, e.g.\n  {\"fileMatch\": [\"machines/*.json\"], \"url\": \"./schemas/machine.schema.json\"}"
+    )]
+    Schema {
+        #[arg(value_parser = ["machine", "scene", "run", "sweep", "pattern"])]
+        kind: String,
+    },
     /// Print a shell completion script for sortsim.
     #[command(
         after_help = "Example:\n  sortsim completions bash > ~/.local/share/bash-completion/completions/sortsim\n  sortsim completions zsh > ~/.zfunc/_sortsim"

@@ -112,6 +112,13 @@ fn main() -> ExitCode {
             seed,
         })) => bench_replay(&scene, frame, &procs, &assign, seed),
         Some(Command::Utilization(args)) => utilization(&args),
+        Some(Command::Schema { kind }) => match sortsim::spec::schema::schema_json(&kind) {
+            Some(text) => {
+                print!("{text}");
+                Ok(())
+            }
+            None => Err(Failure::BadInput(format!("{kind}: unknown spec kind"))),
+        },
         Some(Command::Completions { shell }) => {
             use clap::CommandFactory;
             let mut command = Cli::command();

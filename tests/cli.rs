@@ -167,3 +167,23 @@ fn an_unknown_shell_is_refused_with_the_valid_ones() {
         "{stderr}"
     );
 }
+
+#[test]
+fn schema_prints_each_shipped_schema_and_refuses_an_unknown_kind() {
+    let out = sortsim(&["schema", "machine"]);
+    let shipped = std::fs::read(
+        std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("schemas/machine.schema.json"),
+    )
+    .unwrap();
+    assert_eq!(out.stdout, shipped);
+    let out = Command::new(env!("CARGO_BIN_EXE_sortsim"))
+        .args(["schema", "shader"])
+        .output()
+        .expect("sortsim runs");
+    assert_eq!(out.status.code(), Some(2));
+    let stderr = String::from_utf8_lossy(&out.stderr);
+    assert!(
+        stderr.contains("shader") && stderr.contains("pattern"),
+        "{stderr}"
+    );
+}

@@ -16,7 +16,7 @@ use super::{Delivered, Dest, MsgId, NetError, Network, NetworkConfig, NodeId};
 use crate::units::{Bytes, SimTime};
 
 /// One message of a pattern file.
-#[derive(Clone, Debug, PartialEq, Eq, Deserialize, Serialize)]
+#[derive(Clone, Debug, PartialEq, Eq, Deserialize, Serialize, schemars::JsonSchema)]
 #[serde(deny_unknown_fields)]
 pub struct PatternMessage {
     pub src: u32,
@@ -33,7 +33,7 @@ pub struct PatternMessage {
 }
 
 /// A pattern file: `{"messages": [{"src": 0, "dst": 3, "bytes": "4KiB", "start": "0us"}]}`.
-#[derive(Clone, Debug, Default, PartialEq, Eq, Deserialize, Serialize)]
+#[derive(Clone, Debug, Default, PartialEq, Eq, Deserialize, Serialize, schemars::JsonSchema)]
 #[serde(deny_unknown_fields)]
 pub struct Pattern {
     pub messages: Vec<PatternMessage>,

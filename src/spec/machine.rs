@@ -13,7 +13,7 @@ use crate::machine::{CostTable, CpuConfig, MachineConfig, Op};
 use crate::net::{Fidelity, Network, NetworkConfig, Switching, TopologyKind};
 use crate::units::{Bandwidth, Bytes, SimTime};
 
-#[derive(Deserialize, Debug)]
+#[derive(Deserialize, Debug, schemars::JsonSchema)]
 #[serde(deny_unknown_fields)]
 pub struct MachineSpec {
     pub name: String,
@@ -24,7 +24,7 @@ pub struct MachineSpec {
     pub network: NetworkSpec,
 }
 
-#[derive(Deserialize, Debug)]
+#[derive(Deserialize, Debug, schemars::JsonSchema)]
 #[serde(deny_unknown_fields)]
 pub struct CpuSpec {
     /// Time per operation, by operation name (see `Op`).
@@ -39,13 +39,13 @@ pub struct CpuSpec {
     pub overlap: bool,
 }
 
-#[derive(Deserialize, Debug)]
+#[derive(Deserialize, Debug, schemars::JsonSchema)]
 #[serde(deny_unknown_fields)]
 pub struct MemorySpec {
     pub capacity_per_node: Bytes,
 }
 
-#[derive(Deserialize, Debug)]
+#[derive(Deserialize, Debug, schemars::JsonSchema)]
 #[serde(deny_unknown_fields)]
 pub struct NetworkSpec {
     pub topology: TopologySpec,
@@ -63,7 +63,7 @@ pub struct NetworkSpec {
     pub reconfigurable: bool,
 }
 
-#[derive(Deserialize, Debug, Clone, Copy)]
+#[derive(Deserialize, Debug, Clone, Copy, schemars::JsonSchema)]
 #[serde(rename_all = "kebab-case")]
 pub enum TopologySpec {
     Ring,
@@ -75,14 +75,14 @@ pub enum TopologySpec {
     Crossbar,
 }
 
-#[derive(Deserialize, Debug, Clone, Copy)]
+#[derive(Deserialize, Debug, Clone, Copy, schemars::JsonSchema)]
 #[serde(rename_all = "kebab-case")]
 pub enum SwitchingSpec {
     StoreAndForward,
     Wormhole,
 }
 
-#[derive(Deserialize, Debug, Clone, Copy, PartialEq, Eq)]
+#[derive(Deserialize, Debug, Clone, Copy, PartialEq, Eq, schemars::JsonSchema)]
 #[serde(rename_all = "kebab-case")]
 pub enum FidelitySpec {
     Ideal,

@@ -10,6 +10,7 @@ pub mod machine;
 mod quantity;
 pub mod run;
 pub mod scene;
+pub mod schema;
 
 use std::path::{Path, PathBuf};
 

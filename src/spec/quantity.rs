@@ -1,6 +1,9 @@
 //! Serde glue for quantities: specs write `"17MB/s"`, `"60us"`, `"4KiB"`; this file turns
 //! those strings into `Bandwidth`, `SimTime` and `Bytes` through `units`' exact parsers.
 //!
+//! Their JSON Schema (a string matching the unit grammar) lives here too, beside the parser
+//! it describes.
+//!
 //! Must never parse a number itself: all unit arithmetic lives in `units`.
 
 use std::fmt;
@@ -53,5 +56,50 @@ impl<'de> Deserialize<'de> for Bytes {
 impl<'de> Deserialize<'de> for Bandwidth {
     fn deserialize<D: Deserializer<'de>>(d: D) -> Result<Self, D::Error> {
         d.deserialize_str(FromUnitString(PhantomData, "bandwidth"))
+    }
+}
+
+/// The schema of a quantity string: a number, optional spaces, then one of `units`.
+fn unit_schema(description: &str, units: &str, example: &str) -> schemars::Schema {
+    schemars::json_schema!({
+        "type": "string",
+        "description": description,
+        "pattern": format!("^ *[0-9]*\\.?[0-9]+ *({units}) *$"),
+        "examples": [example],
+    })
+}
+
+impl schemars::JsonSchema for SimTime {
+    fn schema_name() -> std::borrow::Cow<'static, str> {
+        "Time".into()
+    }
+    fn json_schema(_: &mut schemars::SchemaGenerator) -> schemars::Schema {
+        unit_schema("A time with its unit.", "ps|ns|us|µs|ms|s", "60us")
+    }
+}
+
+impl schemars::JsonSchema for Bytes {
+    fn schema_name() -> std::borrow::Cow<'static, str> {
+        "Size".into()
+    }
+    fn json_schema(_: &mut schemars::SchemaGenerator) -> schemars::Schema {
+        unit_schema(
+            "A size with its unit (KB = 1000 B, KiB = 1024 B).",
+            "B|KB|kB|MB|GB|KiB|MiB|GiB",
+            "4KiB",
+        )
+    }
+}
+
+impl schemars::JsonSchema for Bandwidth {
+    fn schema_name() -> std::borrow::Cow<'static, str> {
+        "Bandwidth".into()
+    }
+    fn json_schema(_: &mut schemars::SchemaGenerator) -> schemars::Schema {
+        unit_schema(
+            "A bandwidth with its unit (bytes or bits per second).",
+            "bit/s|bps|kbit/s|Kbit/s|Mbit/s|Gbit/s|B/s|KB/s|kB/s|MB/s|GB/s|KiB/s|MiB/s|GiB/s",
+            "17MB/s",
+        )
     }
 }

@@ -18,7 +18,7 @@ use crate::algo::{AlgorithmId, Options, RunConfig};
 use crate::scene::{Scene, SceneError};
 
 /// One run, as a person writes it.
-#[derive(Clone, Debug, Deserialize, Serialize, PartialEq)]
+#[derive(Clone, Debug, Deserialize, Serialize, PartialEq, schemars::JsonSchema)]
 #[serde(deny_unknown_fields)]
 pub struct RunSpec {
     pub machine: PathBuf,

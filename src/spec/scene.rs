@@ -23,7 +23,7 @@ use serde::Deserialize;
 use super::{load_json, SpecError};
 
 /// A whole scene file.
-#[derive(Deserialize, Debug, Clone)]
+#[derive(Deserialize, Debug, Clone, schemars::JsonSchema)]
 #[serde(deny_unknown_fields)]
 pub struct SceneSpec {
     /// Optional human description (which paper, which figure).
@@ -62,7 +62,7 @@ fn yes() -> bool {
 
 /// Where the eye is. `screen` means the geometry is already in pixels (x right, y down,
 /// depth z in [0, 1]), as in paper 001's input files.
-#[derive(Deserialize, Debug, Clone)]
+#[derive(Deserialize, Debug, Clone, schemars::JsonSchema)]
 #[serde(tag = "kind", rename_all = "kebab-case", deny_unknown_fields)]
 pub enum CameraSpec {
     Perspective {
@@ -83,7 +83,7 @@ fn y_up() -> [f32; 3] {
 }
 
 /// How the camera moves over the frames.
-#[derive(Deserialize, Debug, Clone, Default)]
+#[derive(Deserialize, Debug, Clone, Default, schemars::JsonSchema)]
 #[serde(tag = "kind", rename_all = "kebab-case", deny_unknown_fields)]
 pub enum AnimationSpec {
     /// The camera stays where `camera` puts it.
@@ -100,7 +100,7 @@ pub enum AnimationSpec {
 }
 
 /// One recorded viewing position.
-#[derive(Deserialize, Debug, Clone)]
+#[derive(Deserialize, Debug, Clone, schemars::JsonSchema)]
 #[serde(deny_unknown_fields)]
 pub struct ViewSpec {
     pub eye: [f32; 3],
@@ -110,7 +110,7 @@ pub struct ViewSpec {
 }
 
 /// Per-vertex colour computation.
-#[derive(Deserialize, Debug, Clone, Default)]
+#[derive(Deserialize, Debug, Clone, Default, schemars::JsonSchema)]
 #[serde(tag = "kind", rename_all = "kebab-case", deny_unknown_fields)]
 pub enum ShadingSpec {
     /// Each vertex keeps its colour (object colour or OBJ vertex colour).
@@ -135,7 +135,7 @@ fn diffuse() -> f32 {
 }
 
 /// One object: a generator or an OBJ file, placed by a transform, optionally moving.
-#[derive(Deserialize, Debug, Clone)]
+#[derive(Deserialize, Debug, Clone, schemars::JsonSchema)]
 #[serde(deny_unknown_fields)]
 pub struct ObjectSpec {
     #[serde(default)]
@@ -161,7 +161,7 @@ fn grey() -> [f32; 3] {
 }
 
 /// Static placement: scale, then rotate (x, then y, then z, degrees), then translate.
-#[derive(Deserialize, Debug, Clone)]
+#[derive(Deserialize, Debug, Clone, schemars::JsonSchema)]
 #[serde(deny_unknown_fields)]
 pub struct TransformSpec {
     #[serde(default = "unit_scale")]
@@ -187,7 +187,7 @@ impl Default for TransformSpec {
 }
 
 /// How an object moves from frame to frame.
-#[derive(Deserialize, Debug, Clone, Default)]
+#[derive(Deserialize, Debug, Clone, Default, schemars::JsonSchema)]
 #[serde(tag = "kind", rename_all = "kebab-case", deny_unknown_fields)]
 pub enum MotionSpec {
     #[default]
@@ -205,7 +205,7 @@ pub enum MotionSpec {
 }
 
 /// The procedural generators, one per file under `scene/gen/`.
-#[derive(Deserialize, Debug, Clone)]
+#[derive(Deserialize, Debug, Clone, schemars::JsonSchema)]
 #[serde(tag = "kind", rename_all = "kebab-case", deny_unknown_fields)]
 pub enum GeneratorSpec {
     /// SPD `tetra`: Sierpinski tetrahedron, 4^size_factor tetrahedra, 4^(size_factor+1) triangles.

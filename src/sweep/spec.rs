@@ -19,8 +19,9 @@ use crate::spec::{load_json, parse_json, SpecError};
 
 /// A sweep as a person writes it. `machines`, `scenes`, `algos`, `seeds` are accepted as
 /// spellings of the same keys.
-#[derive(Clone, Debug, Deserialize, PartialEq)]
+#[derive(Clone, Debug, Deserialize, PartialEq, schemars::JsonSchema)]
 #[serde(deny_unknown_fields)]
+#[schemars(transform = plural_spellings)]
 pub struct SweepSpec {
     /// Free text for people: what the sweep reproduces and how long it takes.
     #[serde(default)]
@@ -49,8 +50,40 @@ pub struct SweepSpec {
     pub speedup_scene: Option<PathBuf>,
 }
 
+/// The keys a sweep may also spell in the plural (serde aliases), and whether one of the two
+/// spellings is required.
+const PLURALS: [(&str, &str, bool); 4] = [
+    ("machine", "machines", true),
+    ("scene", "scenes", true),
+    ("algo", "algos", true),
+    ("seed", "seeds", false),
+];
+
+/// Adds the plural spellings to the sweep's schema: the same value under either key, and a
+/// required key satisfied by either (the derive knows nothing of serde aliases).
+fn plural_spellings(schema: &mut schemars::Schema) {
+    let Some(object) = schema.as_object_mut() else {
+        return;
+    };
+    let mut either = Vec::new();
+    for (one, many, required) in PLURALS {
+        if let Some(properties) = object.get_mut("properties").and_then(|p| p.as_object_mut()) {
+            if let Some(value) = properties.get(one).cloned() {
+                properties.insert(many.to_string(), value);
+            }
+        }
+        if required {
+            if let Some(list) = object.get_mut("required").and_then(|r| r.as_array_mut()) {
+                list.retain(|k| k != one);
+            }
+            either.push(serde_json::json!({"oneOf": [{"required": [one]}, {"required": [many]}]}));
+        }
+    }
+    object.insert("allOf".to_string(), serde_json::Value::Array(either));
+}
+
 /// One value or a list of them; a single value is a list of one.
-#[derive(Clone, Debug, Deserialize, PartialEq)]
+#[derive(Clone, Debug, Deserialize, PartialEq, schemars::JsonSchema)]
 #[serde(untagged, expecting = "a value or a list of values")]
 pub enum OneOrMany<T> {
     One(T),
@@ -58,7 +91,7 @@ pub enum OneOrMany<T> {
 }
 
 /// An option value: written as a string, a number or a boolean, used as its text.
-#[derive(Clone, Debug, Deserialize, PartialEq)]
+#[derive(Clone, Debug, Deserialize, PartialEq, schemars::JsonSchema)]
 #[serde(untagged, expecting = "a string, a number or a boolean")]
 pub enum Scalar {
     Text(String),
