@@ -125,13 +125,11 @@ fn invalid_messages_name_their_field_and_the_valid_range() {
 #[test]
 fn broadcast_on_a_bus_reaches_everyone_in_one_transmission() {
     let bus = cfg(TopologyKind::Bus, &[5], Fidelity::Packet);
-    let p = Pattern {
-        messages: vec![PatternMessage::broadcast(
-            1,
-            Bytes::new(2000),
-            SimTime::ZERO,
-        )],
-    };
+    let p = Pattern::new(vec![PatternMessage::broadcast(
+        1,
+        Bytes::new(2000),
+        SimTime::ZERO,
+    )]);
     let r = run_pattern(&bus, &p).unwrap();
     assert_eq!(r.messages[0].dst, None);
     assert_eq!((r.links[0].messages, r.links[0].bytes), (1, 2000));

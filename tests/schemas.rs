@@ -1,5 +1,6 @@
 //! The JSON Schemas under schemas/: each equals what `sortsim schema KIND` generates from the
-//! spec types, and every bundled spec validates against its kind's schema.
+//! spec types, and every bundled spec names (`$schema`) and validates against its kind's
+//! schema.
 
 use std::path::Path;
 
@@ -50,6 +51,15 @@ fn every_bundled_spec_validates_against_its_schema() {
         for file in specs(dir) {
             let text = std::fs::read_to_string(&file).unwrap();
             let spec: serde_json::Value = serde_json::from_str(&text).unwrap();
+            let expected = Path::new(if dir.contains('/') { "../.." } else { ".." })
+                .join("schemas")
+                .join(file_name(kind));
+            assert_eq!(
+                spec.get("$schema").and_then(|s| s.as_str()),
+                expected.to_str(),
+                "{} names its schema for editors",
+                file.display()
+            );
             let errors: Vec<String> = validator
                 .iter_errors(&spec)
                 .map(|e| format!("{} at {}", e, e.instance_path()))

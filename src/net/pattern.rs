@@ -36,6 +36,9 @@ pub struct PatternMessage {
 #[derive(Clone, Debug, Default, PartialEq, Eq, Deserialize, Serialize, schemars::JsonSchema)]
 #[serde(deny_unknown_fields)]
 pub struct Pattern {
+    /// The JSON Schema this file follows, for editors (`schemas/`); sortsim ignores it.
+    #[serde(rename = "$schema", default, skip_serializing)]
+    pub schema: Option<String>,
     pub messages: Vec<PatternMessage>,
 }
 
@@ -79,6 +82,15 @@ pub struct LinkReport {
     pub busy_ps: u64,
     pub busy_s: f64,
     pub peak_queue: u32,
+}
+
+impl Pattern {
+    pub fn new(messages: Vec<PatternMessage>) -> Pattern {
+        Pattern {
+            schema: None,
+            messages,
+        }
+    }
 }
 
 impl PatternMessage {
@@ -185,7 +197,7 @@ pub fn all_to_all(nodes: u32, bytes: Bytes) -> Pattern {
         .flat_map(|s| (0..nodes).filter(move |&d| d != s).map(move |d| (s, d)))
         .map(|(s, d)| PatternMessage::new(s, d, bytes, SimTime::ZERO))
         .collect();
-    Pattern { messages }
+    Pattern::new(messages)
 }
 
 /// Every node but `dst` sends `bytes` to `dst`, all at time 0.
@@ -194,7 +206,7 @@ pub fn hot_spot(nodes: u32, dst: NodeId, bytes: Bytes) -> Pattern {
         .filter(|&s| s != dst)
         .map(|s| PatternMessage::new(s, dst, bytes, SimTime::ZERO))
         .collect();
-    Pattern { messages }
+    Pattern::new(messages)
 }
 
 /// Matrix transpose on a 2D grid `[w, h]`: node `x + w*y` sends to node `y + h*x` (nodes on
@@ -208,7 +220,7 @@ pub fn transpose(dims: &[u32], bytes: Bytes) -> Pattern {
         .filter(|(s, d)| s != d)
         .map(|(s, d)| PatternMessage::new(s, d, bytes, SimTime::ZERO))
         .collect();
-    Pattern { messages }
+    Pattern::new(messages)
 }
 
 /// Every node sends `bytes` to `k` distinct other nodes chosen with a ChaCha8 stream seeded
@@ -225,7 +237,7 @@ pub fn random_pairs(nodes: u32, k: u32, bytes: Bytes, seed: u64) -> Pattern {
             messages.push(PatternMessage::new(src, dst, bytes, SimTime::ZERO));
         }
     }
-    Pattern { messages }
+    Pattern::new(messages)
 }
 
 /// `count` messages between random distinct nodes, each of a size drawn from `sizes`, with
@@ -256,7 +268,7 @@ pub fn random_staggered(
             PatternMessage::new(src, dst, bytes, start)
         })
         .collect();
-    Pattern { messages }
+    Pattern::new(messages)
 }
 
 fn zero_time() -> String {

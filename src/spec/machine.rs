@@ -16,6 +16,9 @@ use crate::units::{Bandwidth, Bytes, SimTime};
 #[derive(Deserialize, Debug, schemars::JsonSchema)]
 #[serde(deny_unknown_fields)]
 pub struct MachineSpec {
+    /// The JSON Schema this file follows, for editors (`schemas/`); sortsim ignores it.
+    #[serde(rename = "$schema", default, skip_serializing)]
+    pub schema: Option<String>,
     pub name: String,
     pub source: String,
     pub nodes: u32,

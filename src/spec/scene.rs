@@ -26,6 +26,9 @@ use super::{load_json, SpecError};
 #[derive(Deserialize, Debug, Clone, schemars::JsonSchema)]
 #[serde(deny_unknown_fields)]
 pub struct SceneSpec {
+    /// The JSON Schema this file follows, for editors (`schemas/`); sortsim ignores it.
+    #[serde(rename = "$schema", default, skip_serializing)]
+    pub schema: Option<String>,
     /// Optional human description (which paper, which figure).
     #[serde(default)]
     pub description: String,

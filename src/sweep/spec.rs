@@ -23,6 +23,9 @@ use crate::spec::{load_json, parse_json, SpecError};
 #[serde(deny_unknown_fields)]
 #[schemars(transform = plural_spellings)]
 pub struct SweepSpec {
+    /// The JSON Schema this file follows, for editors (`schemas/`); sortsim ignores it.
+    #[serde(rename = "$schema", default, skip_serializing)]
+    pub schema: Option<String>,
     /// Free text for people: what the sweep reproduces and how long it takes.
     #[serde(default)]
     pub note: Option<String>,
