@@ -193,6 +193,7 @@ fn netsim(args: &NetsimArgs) -> Result<(), Failure> {
 
 fn run(args: &RunArgs) -> Result<(), Failure> {
     let spec = RunSpec {
+        schema: None,
         machine: args.machine.clone(),
         scene: args.scene.clone(),
         algo: args.algo.clone(),
@@ -264,6 +265,7 @@ fn accuracy(args: &AccuracyArgs) -> Result<(), Failure> {
     }
     let cfg = StudyConfig {
         run: RunSpec {
+            schema: None,
             machine: args.machine.clone(),
             scene: args.scene.clone(),
             algo: args.algo.clone(),

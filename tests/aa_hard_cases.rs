@@ -200,6 +200,7 @@ fn scene(name: &str) -> Arc<Scene> {
 
 fn simulate(scene: &Arc<Scene>, procs: u32, frames: &str, set: &[(&str, String)]) -> RunResult {
     let spec = RunSpec {
+        schema: None,
         machine: root().join("machines/power-challenge.json"),
         scene: scene.file().to_path_buf(),
         algo: "sort-middle/static".into(),
@@ -292,6 +293,7 @@ fn summaries_show_anti_aliasing_only_when_on_and_deterministically() {
     let b = scene("p000-letter-b.json");
     let summarize = |set: &[(&str, &str)]| {
         let spec = RunSpec {
+            schema: None,
             machine: root().join("machines/power-challenge.json"),
             scene: b.file().to_path_buf(),
             algo: "sort-middle/static".into(),

@@ -302,6 +302,7 @@ fn simulate(
     set: &[(&str, &str)],
 ) -> RunResult {
     let spec = RunSpec {
+        schema: None,
         machine: root().join("machines").join(machine),
         scene: scene.file().to_path_buf(),
         algo: algo.into(),

@@ -174,6 +174,7 @@ fn study_with(
 ) -> sortsim::accuracy::Study {
     let cfg = StudyConfig {
         run: RunSpec {
+            schema: None,
             machine: root().join(machine),
             scene: root().join("scenes/screen-demo.json"),
             algo: "sort-middle/static".into(),

@@ -94,6 +94,7 @@ fn case(
                     "{algo} {machine} {scene} n={procs} frames={frames}{label} {fidelity}"
                 ),
                 spec: RunSpec {
+                    schema: None,
                     machine: PathBuf::from("machines").join(machine),
                     scene: PathBuf::from("scenes").join(scene),
                     algo: algo.into(),

@@ -187,3 +187,22 @@ fn schema_prints_each_shipped_schema_and_refuses_an_unknown_kind() {
         "{stderr}"
     );
 }
+
+#[test]
+fn a_run_spec_may_name_its_schema() {
+    let dir = temp_dir("run-schema");
+    std::fs::create_dir_all(&dir).unwrap();
+    let root = env!("CARGO_MANIFEST_DIR");
+    let file = dir.join("run.json");
+    std::fs::write(
+        &file,
+        format!(
+            r#"{{"$schema": "{root}/schemas/run.schema.json", "machine": "{root}/machines/power-challenge.json",
+                "scene": "{root}/scenes/p000-tetra-500.json", "algo": "sort-middle/static", "procs": 4}}"#
+        ),
+    )
+    .unwrap();
+    let out = sortsim(&["check", file.to_str().unwrap()]);
+    assert!(String::from_utf8_lossy(&out.stdout).starts_with("OK"));
+    std::fs::remove_dir_all(&dir).unwrap();
+}

@@ -26,6 +26,7 @@ fn spec(algo: &str, procs: u32, scene: &str, set: &[(&str, &str)]) -> RunSpec {
         set.insert("machine.network.dims".into(), format!("[{procs},1]"));
     }
     RunSpec {
+        schema: None,
         machine: root.join("machines").join(machine),
         scene: root.join("scenes").join(scene),
         algo: algo.into(),

@@ -37,6 +37,7 @@ fn simulate(
         "multicluster-pipeline.json"
     };
     let s = RunSpec {
+        schema: None,
         machine: root.join("machines").join(machine),
         scene: root.join("scenes").join(name),
         algo: algo.into(),

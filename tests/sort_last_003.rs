@@ -42,6 +42,7 @@ fn simulate(
     set: &[(&str, &str)],
 ) -> RunResult {
     let spec = RunSpec {
+        schema: None,
         machine: root().join("machines").join(machine_for(algo)),
         scene: root().join("scenes").join(scene_name),
         algo: algo.into(),
@@ -104,6 +105,7 @@ fn many_processors_and_frames_keep_the_image() {
     }
     let s = scene("p000-tetra-500.json");
     let spec = |algo: &str| RunSpec {
+        schema: None,
         machine: root().join("machines").join(machine_for(algo)),
         scene: root().join("scenes/p000-tetra-500.json"),
         algo: algo.into(),

@@ -62,6 +62,7 @@ fn simulate_scene(
         _ => "snooping-bus.json",
     };
     let spec = RunSpec {
+        schema: None,
         machine: root().join("machines").join(machine),
         scene: file.to_path_buf(),
         algo: algo.into(),

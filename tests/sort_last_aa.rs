@@ -111,6 +111,7 @@ fn t800_memory_cannot_hold_a_frame_of_samples() {
     let name = "spd-teapot.json";
     let scene = Arc::new(Scene::load(&root().join("scenes").join(name)).unwrap());
     let spec = RunSpec {
+        schema: None,
         machine: root().join("machines/multicluster-pipeline.json"),
         scene: root().join("scenes").join(name),
         algo: "sort-last/pc".into(),

@@ -205,6 +205,7 @@ fn a_pool_of_zero_bytes_gives_the_aliased_image() {
 fn a_t800_holds_the_pixels_only_with_a_small_pool() {
     let teapot = scene("spd-teapot.json");
     let spec = |set: &[(&str, &str)]| RunSpec {
+        schema: None,
         machine: root().join("machines/multicluster-pipeline.json"),
         scene: teapot.file().to_path_buf(),
         algo: "sort-last/pc".into(),

@@ -13,6 +13,7 @@ use sortsim::spec::run::RunSpec;
 fn spec(machine: &str, scene: &str, algo: &str, procs: u32, set: &[(&str, &str)]) -> RunSpec {
     let root = Path::new(env!("CARGO_MANIFEST_DIR"));
     RunSpec {
+        schema: None,
         machine: root.join("machines").join(machine),
         scene: root.join("scenes").join(scene),
         algo: algo.into(),

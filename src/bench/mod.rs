@@ -305,6 +305,7 @@ pub fn overhead(
     let render_wall = t0.elapsed().as_secs_f64();
     drop((image, geometry));
     let spec = RunSpec {
+        schema: None,
         machine: machine.to_path_buf(),
         scene: scene.file().to_path_buf(),
         algo: "sort-middle/ellsworth".into(),

@@ -330,6 +330,7 @@ fn run_wall(
     fidelity: Fidelity,
 ) -> Result<(f64, u64), String> {
     let spec = RunSpec {
+        schema: None,
         machine: machine.to_path_buf(),
         scene: scene.file().to_path_buf(),
         algo: algo.into(),

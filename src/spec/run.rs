@@ -21,6 +21,9 @@ use crate::scene::{Scene, SceneError};
 #[derive(Clone, Debug, Deserialize, Serialize, PartialEq, schemars::JsonSchema)]
 #[serde(deny_unknown_fields)]
 pub struct RunSpec {
+    /// The JSON Schema this file follows, for editors (`schemas/`); sortsim ignores it.
+    #[serde(rename = "$schema", default, skip_serializing)]
+    pub schema: Option<String>,
     pub machine: PathBuf,
     pub scene: PathBuf,
     pub algo: String,

@@ -392,6 +392,7 @@ fn point(file: &Path, spec: &SweepSpec, dims: &[Dim], values: Vec<String>, liste
         }
     }
     let run = RunSpec {
+        schema: None,
         machine: relative_to(file, Path::new(&value("machine"))),
         scene: relative_to(file, Path::new(&value("scene"))),
         algo: value("algo"),

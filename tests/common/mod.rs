@@ -67,6 +67,7 @@ pub fn run_sort_last(
         .map(|(k, v)| (k.to_string(), v.to_string()))
         .collect();
     let spec = RunSpec {
+        schema: None,
         machine: root().join("machines").join(machine),
         scene: scene.file().to_path_buf(),
         algo: algo.into(),
