@@ -38,6 +38,17 @@ impl From<sortsim::spec::check::CheckError> for Failure {
     }
 }
 
+/// A report that could not be written is the user's folder's fault; a chart that could not be
+/// drawn is a bug.
+impl From<sortsim::report::plot::PlotError> for Failure {
+    fn from(e: sortsim::report::plot::PlotError) -> Failure {
+        match e {
+            sortsim::report::plot::PlotError::Io { .. } => Failure::BadInput(e.to_string()),
+            _ => Failure::Internal(e.to_string()),
+        }
+    }
+}
+
 impl From<SpecError> for Failure {
     fn from(e: SpecError) -> Failure {
         Failure::BadInput(e.to_string())
@@ -693,96 +704,16 @@ fn utilization(args: &cli::UtilizationArgs) -> Result<(), Failure> {
         )
     );
     if let Some(dir) = &args.out {
-        write_file(dir, "utilization.csv", &outcome.csv())?;
-        let json = outcome.json(
-            &args.scene.display().to_string(),
-            &machine_path.display().to_string(),
+        let (scene, machine) = (
+            args.scene.display().to_string(),
+            machine_path.display().to_string(),
         );
-        write_file(dir, "utilization.json", &to_json(&json))?;
-        utilization_plots(dir, &outcome, &modes, figure5)?;
+        let files = (scene.as_str(), machine.as_str());
+        sortsim::report::utilization::write(dir, &outcome, &modes, figure5, files)?;
         println!("written to {}", dir.display());
     }
     println!("simulated in {wall:.1} s wall");
     Ok(())
-}
-
-/// The Figure 4 and Figure 5 charts (SVG and PNG), and their points as CSV.
-fn utilization_plots(
-    dir: &Path,
-    outcome: &sortsim::algo::sort_middle::utilization::Outcome,
-    modes: &[sortsim::algo::sort_middle::utilization::CountsMode],
-    figure5: sortsim::algo::sort_middle::utilization::CountsMode,
-) -> Result<(), Failure> {
-    use sortsim::report::plot::{line_chart, ChartOptions, PlotError, Series};
-    let mut fig4 = String::from("counts,granularity,procs,utilization_pct\n");
-    let mut fig5 = String::from("procs,granularity,relative_time\n");
-    let mut utilization: Vec<Series> = Vec::new();
-    let mut relative: std::collections::BTreeMap<u32, Vec<(f64, f64)>> =
-        std::collections::BTreeMap::new();
-    let mut grans: Vec<u32> = outcome.cells.iter().map(|c| c.granularity).collect();
-    grans.sort_unstable();
-    grans.dedup();
-    for &mode in modes {
-        for &g in &grans {
-            let points: Vec<(f64, f64)> = outcome
-                .cells
-                .iter()
-                .filter(|c| c.counts == mode && c.granularity == g)
-                .map(|c| (c.procs as f64, 100.0 * c.utilization))
-                .collect();
-            for (n, u) in &points {
-                fig4.push_str(&format!("{},{g},{n},{u:.4}\n", mode.name()));
-            }
-            utilization.push(Series::new(format!("g={g} {}", mode.name()), points));
-        }
-    }
-    for c in outcome.cells.iter().filter(|c| c.counts == figure5) {
-        fig5.push_str(&format!(
-            "{},{},{:.5}\n",
-            c.procs, c.granularity, c.relative_time
-        ));
-        relative
-            .entry(c.procs)
-            .or_default()
-            .push((c.granularity as f64, c.relative_time));
-    }
-    let relative: Vec<Series> = relative
-        .into_iter()
-        .map(|(n, points)| Series::new(format!("N={n}"), points))
-        .collect();
-    write_file(dir, "figure4.csv", &fig4)?;
-    write_file(dir, "figure5.csv", &fig5)?;
-    let failed = |e: PlotError| match e {
-        PlotError::Io { .. } => Failure::BadInput(e.to_string()),
-        _ => Failure::Internal(e.to_string()),
-    };
-    line_chart(
-        &dir.join("figure4-utilization"),
-        "Expected rasterization utilization (paper 002, Fig. 4)",
-        "processors N",
-        "utilization (%)",
-        &utilization,
-        ChartOptions {
-            log_x: true,
-            y_from_zero: true,
-        },
-    )
-    .map_err(failed)?;
-    line_chart(
-        &dir.join("figure5-relative-time"),
-        &format!(
-            "Relative execution time, {} counts (paper 002, Fig. 5)",
-            figure5.name()
-        ),
-        "granularity ratio (regions per processor)",
-        "time / mean time for the same N",
-        &relative,
-        ChartOptions {
-            log_x: false,
-            y_from_zero: false,
-        },
-    )
-    .map_err(failed)
 }
 
 /// `sortsim trace record|replay` (paper 003's pixel traces).
@@ -855,45 +786,10 @@ fn trace_replay(args: &cli::TraceReplayArgs) -> Result<(), Failure> {
     println!("{}", args.trace.display());
     print!("{}", report.table());
     if let Some(dir) = &args.out {
-        write_file(dir, "replay.csv", &report.csv())?;
-        let json = report.json(&args.trace.display().to_string());
-        write_file(dir, "replay.json", &to_json(&json))?;
-        trace_plots(dir, &report)?;
+        let trace = args.trace.display().to_string();
+        sortsim::report::trace::write(dir, &report, &trace)?;
         println!("written to {}", dir.display());
     }
     println!("replayed in {wall:.2} s wall");
-    Ok(())
-}
-
-/// Paper 003 Figures 5 and 6 style charts: traffic over d*A and over the minimum, against n.
-fn trace_plots(dir: &Path, report: &sortsim::trace::replay::Report) -> Result<(), Failure> {
-    use sortsim::report::plot::{line_chart, ChartOptions, PlotError};
-    use sortsim::trace::replay::Baseline;
-    let failed = |e: PlotError| match e {
-        PlotError::Io { .. } => Failure::BadInput(e.to_string()),
-        _ => Failure::Internal(e.to_string()),
-    };
-    let assign = report.config.assign.name();
-    for (stem, baseline, y_label) in [
-        ("traffic-over-max", Baseline::Maximum, "traffic / (d*A)"),
-        (
-            "traffic-over-min",
-            Baseline::Minimum,
-            "traffic / active pixels",
-        ),
-    ] {
-        line_chart(
-            &dir.join(stem),
-            &format!("Distributed snooping traffic, {assign} (paper 003, Figs. 5-6)"),
-            "processors n",
-            y_label,
-            &report.figure_series(baseline),
-            ChartOptions {
-                log_x: true,
-                y_from_zero: true,
-            },
-        )
-        .map_err(failed)?;
-    }
     Ok(())
 }

@@ -11,6 +11,8 @@ pub mod cost;
 pub mod plot;
 pub mod run;
 pub mod summary;
+pub mod trace;
+pub mod utilization;
 
 use std::io::Write;
 use std::path::Path;
@@ -33,6 +35,13 @@ pub fn write_atomic(path: &Path, bytes: &[u8]) -> std::io::Result<()> {
     file.sync_all()?;
     drop(file);
     std::fs::rename(&tmp, path)
+}
+
+/// Writes `text` to `dir/name` through [`write_atomic`]; a failure names the file (reported as
+/// the plot module's `Io` error, which every report writer returns).
+pub fn write_text(dir: &Path, name: &str, text: &str) -> Result<(), plot::PlotError> {
+    let path = dir.join(name);
+    write_atomic(&path, text.as_bytes()).map_err(|source| plot::PlotError::Io { path, source })
 }
 
 /// Pretty JSON with a trailing newline; serde_json keeps struct field order, and every map in

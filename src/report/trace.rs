@@ -1,0 +1,40 @@
+//! The trace replay report (`sortsim trace replay -o DIR`, paper 003): replay.csv and
+//! replay.json (every algorithm and n), and the Figures 5 and 6 style charts, traffic over
+//! d*A and over the minimum against n, as SVG and PNG.
+//!
+//! Owns the files of this report kind. Must never replay (it is handed the report) and never
+//! write except through `write_atomic`.
+
+use std::path::Path;
+
+use super::plot::{line_chart, ChartOptions, PlotError};
+use super::{to_json, write_text};
+use crate::trace::replay::{Baseline, Report};
+
+/// Writes the report of `report` under `dir`; `trace` names the trace file in replay.json.
+pub fn write(dir: &Path, report: &Report, trace: &str) -> Result<(), PlotError> {
+    write_text(dir, "replay.csv", &report.csv())?;
+    write_text(dir, "replay.json", &to_json(&report.json(trace)))?;
+    let assign = report.config.assign.name();
+    for (stem, baseline, y_label) in [
+        ("traffic-over-max", Baseline::Maximum, "traffic / (d*A)"),
+        (
+            "traffic-over-min",
+            Baseline::Minimum,
+            "traffic / active pixels",
+        ),
+    ] {
+        line_chart(
+            &dir.join(stem),
+            &format!("Distributed snooping traffic, {assign} (paper 003, Figs. 5-6)"),
+            "processors n",
+            y_label,
+            &report.figure_series(baseline),
+            ChartOptions {
+                log_x: true,
+                y_from_zero: true,
+            },
+        )?;
+    }
+    Ok(())
+}

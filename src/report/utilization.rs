@@ -1,0 +1,93 @@
+//! The utilization report (`sortsim utilization -o DIR`, paper 002's Figures 4 and 5):
+//! utilization.csv and utilization.json (every cell), figure4.csv and figure5.csv (the
+//! charts' points) and the two charts as SVG and PNG.
+//!
+//! Owns the files of this report kind. Must never simulate (it is handed the outcome) and
+//! never write except through `write_atomic`.
+
+use std::path::Path;
+
+use super::plot::{line_chart, ChartOptions, PlotError, Series};
+use super::{to_json, write_text};
+use crate::algo::sort_middle::utilization::{CountsMode, Outcome};
+
+/// Writes the report of `outcome` under `dir`: `modes` are the counts modes shown in Figure 4,
+/// `figure5` the one whose relative times Figure 5 shows; `files` = (scene, machine) as named
+/// in utilization.json.
+pub fn write(
+    dir: &Path,
+    outcome: &Outcome,
+    modes: &[CountsMode],
+    figure5: CountsMode,
+    files: (&str, &str),
+) -> Result<(), PlotError> {
+    write_text(dir, "utilization.csv", &outcome.csv())?;
+    write_text(
+        dir,
+        "utilization.json",
+        &to_json(&outcome.json(files.0, files.1)),
+    )?;
+    let mut fig4 = String::from("counts,granularity,procs,utilization_pct\n");
+    let mut fig5 = String::from("procs,granularity,relative_time\n");
+    let mut utilization: Vec<Series> = Vec::new();
+    let mut relative: std::collections::BTreeMap<u32, Vec<(f64, f64)>> =
+        std::collections::BTreeMap::new();
+    let mut grans: Vec<u32> = outcome.cells.iter().map(|c| c.granularity).collect();
+    grans.sort_unstable();
+    grans.dedup();
+    for &mode in modes {
+        for &g in &grans {
+            let points: Vec<(f64, f64)> = outcome
+                .cells
+                .iter()
+                .filter(|c| c.counts == mode && c.granularity == g)
+                .map(|c| (c.procs as f64, 100.0 * c.utilization))
+                .collect();
+            for (n, u) in &points {
+                fig4.push_str(&format!("{},{g},{n},{u:.4}\n", mode.name()));
+            }
+            utilization.push(Series::new(format!("g={g} {}", mode.name()), points));
+        }
+    }
+    for c in outcome.cells.iter().filter(|c| c.counts == figure5) {
+        fig5.push_str(&format!(
+            "{},{},{:.5}\n",
+            c.procs, c.granularity, c.relative_time
+        ));
+        relative
+            .entry(c.procs)
+            .or_default()
+            .push((c.granularity as f64, c.relative_time));
+    }
+    let relative: Vec<Series> = relative
+        .into_iter()
+        .map(|(n, points)| Series::new(format!("N={n}"), points))
+        .collect();
+    write_text(dir, "figure4.csv", &fig4)?;
+    write_text(dir, "figure5.csv", &fig5)?;
+    line_chart(
+        &dir.join("figure4-utilization"),
+        "Expected rasterization utilization (paper 002, Fig. 4)",
+        "processors N",
+        "utilization (%)",
+        &utilization,
+        ChartOptions {
+            log_x: true,
+            y_from_zero: true,
+        },
+    )?;
+    line_chart(
+        &dir.join("figure5-relative-time"),
+        &format!(
+            "Relative execution time, {} counts (paper 002, Fig. 5)",
+            figure5.name()
+        ),
+        "granularity ratio (regions per processor)",
+        "time / mean time for the same N",
+        &relative,
+        ChartOptions {
+            log_x: false,
+            y_from_zero: false,
+        },
+    )
+}
