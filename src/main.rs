@@ -401,9 +401,7 @@ fn write_bytes(path: &Path, bytes: &[u8]) -> Result<(), Failure> {
 }
 
 fn write_file(dir: &Path, name: &str, text: &str) -> Result<(), Failure> {
-    let path = dir.join(name);
-    write_atomic(&path, text.as_bytes())
-        .map_err(|e| Failure::BadInput(format!("{}: cannot write: {e}", path.display())))
+    Ok(sortsim::report::write_text(dir, name, text)?)
 }
 
 /// `sortsim sweep`: runs the points, prints the table's file names and any failed point.

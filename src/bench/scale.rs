@@ -116,14 +116,7 @@ pub fn scale(cfg: &ScaleConfig, progress: &mut dyn FnMut(&str)) -> Result<ScaleR
         "polio stand-in, {} frames, 512 nodes, flow",
         cfg.frames
     ));
-    let (wall, events) = run_wall(
-        &machine,
-        &polio,
-        "sort-middle/ellsworth",
-        512,
-        cfg.frames,
-        Fidelity::Flow,
-    )?;
+    let (wall, events) = run_wall(&machine, &polio, 512, cfg.frames, Fidelity::Flow)?;
     let memory = peak_host_memory().unwrap_or(0) as f64 / 1e9;
     let mut headline = figure(
         &format!("polio, {} frames, 512 Delta nodes, flow: wall", cfg.frames),
@@ -245,21 +238,15 @@ pub fn scale(cfg: &ScaleConfig, progress: &mut dyn FnMut(&str)) -> Result<ScaleR
                 "one polio frame, {procs} nodes, {}",
                 fidelity.name()
             ));
-            let (wall, events) = run_wall(
+            let label = format!("{procs} processors");
+            procs_curve.push(frame_point(
                 &machine,
                 &polio,
-                "sort-middle/ellsworth",
                 procs,
-                1,
                 fidelity,
-            )?;
-            procs_curve.push(CurvePoint {
-                x: procs as f64,
-                label: format!("{procs} processors"),
-                fidelity: fidelity.name(),
-                wall_s: wall,
-                events,
-            });
+                procs as f64,
+                label,
+            )?);
         }
     }
 
@@ -271,15 +258,18 @@ pub fn scale(cfg: &ScaleConfig, progress: &mut dyn FnMut(&str)) -> Result<ScaleR
                 "one frame of {name}, 512 nodes, {}",
                 fidelity.name()
             ));
-            let (wall, events) =
-                run_wall(&machine, &scene, "sort-middle/ellsworth", 512, 1, fidelity)?;
-            triangles_curve.push(CurvePoint {
-                x: scene.triangle_count() as f64,
-                label: name.trim_end_matches(".json").to_string(),
-                fidelity: fidelity.name(),
-                wall_s: wall,
-                events,
-            });
+            let (x, label) = (
+                scene.triangle_count() as f64,
+                name.trim_end_matches(".json"),
+            );
+            triangles_curve.push(frame_point(
+                &machine,
+                &scene,
+                512,
+                fidelity,
+                x,
+                label.into(),
+            )?);
         }
     }
 
@@ -320,11 +310,10 @@ fn load(root: &Path, name: &str) -> Result<Scene, String> {
     Scene::load(&root.join("scenes").join(name)).map_err(|e| e.to_string())
 }
 
-/// Wall seconds and events of a run of `frames` frames (from frame 0).
+/// Wall seconds and events of an Ellsworth run of `frames` frames (from frame 0).
 fn run_wall(
     machine: &Path,
     scene: &Arc<Scene>,
-    algo: &str,
     procs: u32,
     frames: u32,
     fidelity: Fidelity,
@@ -333,7 +322,7 @@ fn run_wall(
         schema: None,
         machine: machine.to_path_buf(),
         scene: scene.file().to_path_buf(),
-        algo: algo.into(),
+        algo: "sort-middle/ellsworth".into(),
         procs,
         frames: Some(format!("0..{}", frames.min(scene.frame_count()))),
         seed: 1,
@@ -350,6 +339,25 @@ fn run_wall(
     let start = Instant::now();
     let result = crate::algo::run(&cfg).map_err(|e| e.to_string())?;
     Ok((start.elapsed().as_secs_f64(), result.stats.events))
+}
+
+/// One point of a growth curve: one frame (frame 0) of `scene` on `procs` nodes.
+fn frame_point(
+    machine: &Path,
+    scene: &Arc<Scene>,
+    procs: u32,
+    fidelity: Fidelity,
+    x: f64,
+    label: String,
+) -> Result<CurvePoint, String> {
+    let (wall_s, events) = run_wall(machine, scene, procs, 1, fidelity)?;
+    Ok(CurvePoint {
+        x,
+        label,
+        fidelity: fidelity.name(),
+        wall_s,
+        events,
+    })
 }
 
 /// Wall seconds of `count` staggered messages (4 KiB or 64 KiB, random pairs) on the Delta's

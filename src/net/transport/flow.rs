@@ -43,8 +43,6 @@ pub struct Flow {
     dirty_since: Option<SimTime>,
     /// Reused by every solve: (flow slot, old rate) of the flows whose rate changed.
     changed: Vec<(u32, u64)>,
-    /// Reused for the route of a flow that ends.
-    route: Vec<LinkId>,
     /// Test switch: every solve from scratch (the reference for the incremental one).
     #[cfg(test)]
     from_scratch: bool,
@@ -83,7 +81,6 @@ impl Flow {
             deliveries: BinaryHeap::new(),
             dirty_since: None,
             changed: Vec::new(),
-            route: Vec::new(),
             #[cfg(test)]
             from_scratch: false,
         }
@@ -144,7 +141,7 @@ impl Flow {
     }
 
     /// Ends the flow in `slot` at `now` (its work is done) and schedules its delivery.
-    fn finish_flow(&mut self, now: SimTime, slot: u32, route: &[LinkId]) {
+    fn finish_flow(&mut self, now: SimTime, slot: u32) {
         let f = &mut self.flows[slot as usize];
         let moved = f.rate as u128 * (now - f.since).ps() as u128;
         debug_assert!(
@@ -155,13 +152,14 @@ impl Flow {
         f.active = false;
         f.version = f.version.wrapping_add(1);
         let (msg, at) = (f.msg, now + f.tail);
-        self.shares.remove(slot);
-        for &l in route {
-            if self.shares.flows_on(l) == 0 {
+        // A link this flow leaves empty stops being busy.
+        for &l in self.shares.route(slot) {
+            if self.shares.flows_on(l) == 1 {
                 let link = &mut self.links[l as usize];
                 link.busy += now - link.busy_since;
             }
         }
+        self.shares.remove(slot);
         self.free_slots.push(slot);
         self.schedule_delivery(at, msg);
         self.mark_dirty(now);
@@ -257,18 +255,14 @@ impl Transport for Flow {
 
     fn advance(&mut self, now: SimTime, delivered: &mut Vec<Delivered>) {
         self.clock = self.clock.max(now);
-        let mut route = std::mem::take(&mut self.route);
         while let Some(&Reverse((at, _, slot, _))) = self.completions.peek() {
             if at > now {
                 break;
             }
             self.completions.pop();
-            route.clear();
-            route.extend_from_slice(self.shares.route(slot));
-            self.finish_flow(at, slot, &route);
+            self.finish_flow(at, slot);
             self.drop_stale_completions();
         }
-        self.route = route;
         if self.dirty_since.take().is_some() {
             self.solve(now);
             self.drop_stale_completions();
