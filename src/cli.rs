@@ -73,6 +73,12 @@ pub enum Command {
         after_help = "Example:\n  sortsim sweep sweeps/p002-fig9-plb.json -o reports/fig9-plb --jobs 2\n\nA sweep spec is a run spec in which machine, scene, algo, procs and seed may be lists,\nplus \"vary\": {\"option\": [values]}; every combination is run. Rerunning with the same\nDIR skips the points whose summary.json exists."
     )]
     Sweep(SweepArgs),
+    /// The papers side by side: run the experiments behind each paper's figures and tables and
+    /// write, per paper, paper.md, paper.json, index.html and plots with the paper's values.
+    #[command(
+        after_help = "Examples:\n  sortsim paper 002 -o reports/paper\n  sortsim paper all --quick\n\nEach row holds the paper's number (papers/NNN.json: figure or table, section, quote),\nsortsim's, the deviation, the tolerance and a verdict: exact, within tolerance, shape\nholds (the number misses, the paper's claim holds) or differs (with the reason)."
+    )]
+    Paper(PaperArgs),
     /// Simulate a list of messages on a machine's network and print each completion time.
     #[command(
         after_help = "Example:\n  sortsim netsim machines/multicluster-torus.json tests/patterns/hot-spot-4x4.json --fidelity flow\n  sortsim netsim machines/delta.json tests/patterns/complement-16x32.json --compare"
@@ -297,6 +303,22 @@ pub struct SweepArgs {
     /// Report folder; reports/sweep-<spec name> when absent.
     #[arg(short, long, value_name = "DIR")]
     pub out: Option<PathBuf>,
+    /// Simulations at a time; the number of cores when absent.
+    #[arg(long, value_name = "J", value_parser = clap::value_parser!(u32).range(1..))]
+    pub jobs: Option<u32>,
+}
+
+#[derive(Args, Debug)]
+pub struct PaperArgs {
+    /// Which paper: 000, 001, 002, 003 or all.
+    #[arg(default_value = "all", value_parser = ["000", "001", "002", "003", "all"])]
+    pub paper: String,
+    /// Fewer frames per run (all four papers in a few minutes).
+    #[arg(long)]
+    pub quick: bool,
+    /// Report folder; each paper gets a folder NNN/ inside it.
+    #[arg(short, long, value_name = "DIR", default_value = "reports/paper")]
+    pub out: PathBuf,
     /// Simulations at a time; the number of cores when absent.
     #[arg(long, value_name = "J", value_parser = clap::value_parser!(u32).range(1..))]
     pub jobs: Option<u32>,

@@ -23,6 +23,7 @@ pub mod bench;
 pub mod engine;
 pub mod machine;
 pub mod net;
+pub mod paper;
 pub mod raster;
 pub mod report;
 pub mod scene;

@@ -138,6 +138,7 @@ fn main() -> ExitCode {
         }
         Some(Command::Trace(cmd)) => trace_command(&cmd),
         Some(Command::Sweep(args)) => sweep(&args),
+        Some(Command::Paper(args)) => paper(&args),
     };
     match outcome {
         Ok(()) => ExitCode::SUCCESS,
@@ -410,10 +411,7 @@ fn sweep(args: &SweepArgs) -> Result<(), Failure> {
     use sortsim::sweep::{run_sweep, spec::load_sweep, SweepError, SweepOptions};
     let spec = load_sweep(&args.spec)?;
     let out = out_dir(&args.out, &args.spec, "reports/sweep-");
-    let jobs = args.jobs.map_or_else(
-        || std::thread::available_parallelism().map_or(1, |n| n.get()),
-        |j| j as usize,
-    );
+    let jobs = jobs(args.jobs);
     let outcome = run_sweep(
         &spec,
         &out,
@@ -454,6 +452,52 @@ fn sweep(args: &SweepArgs) -> Result<(), Failure> {
         ))),
         None => Ok(()),
     }
+}
+
+/// `sortsim paper`: runs each paper's experiments, writes its folder, prints its headline.
+fn paper(args: &cli::PaperArgs) -> Result<(), Failure> {
+    use sortsim::paper::{run_paper, PaperId, PaperOptions};
+    use sortsim::report::paper::{write_overview, write_paper};
+    let ids: Vec<PaperId> = match PaperId::from_id(&args.paper) {
+        Some(id) => vec![id],
+        None => PaperId::ALL.to_vec(),
+    };
+    // An unwritable folder is bad input, found before minutes of simulation.
+    std::fs::create_dir_all(&args.out)
+        .and_then(|()| sortsim::report::write_atomic(&args.out.join(".writable"), b""))
+        .and_then(|()| std::fs::remove_file(args.out.join(".writable")))
+        .map_err(|e| Failure::BadInput(format!("{}: cannot write: {e}", args.out.display())))?;
+    let options = PaperOptions {
+        quick: args.quick,
+        jobs: jobs(args.jobs),
+        root: PathBuf::from(env!("CARGO_MANIFEST_DIR")),
+    };
+    let mut reports = Vec::new();
+    for id in ids {
+        let clock = Stopwatch::start();
+        let mut report = run_paper(id, &options).map_err(|e| Failure::Internal(e.to_string()))?;
+        report.quick = args.quick;
+        let dir = args.out.join(id.id());
+        write_paper(&report, &dir)?;
+        println!(
+            "paper {}: {} ({:.1} s) -> {}",
+            id.id(),
+            report.tally.headline(),
+            clock.cost(0).wall_s,
+            dir.join("index.html").display()
+        );
+        reports.push(report);
+    }
+    write_overview(&reports, &args.out)?;
+    println!("overview: {}", args.out.join("index.html").display());
+    Ok(())
+}
+
+fn jobs(given: Option<u32>) -> usize {
+    given.map_or_else(
+        || std::thread::available_parallelism().map_or(1, |n| n.get()),
+        |j| j as usize,
+    )
 }
 
 fn bench_overhead(

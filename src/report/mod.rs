@@ -8,6 +8,7 @@
 
 pub mod accuracy;
 pub mod cost;
+pub mod paper;
 pub mod plot;
 pub mod run;
 pub mod summary;

@@ -30,6 +30,9 @@ use super::write_atomic;
 pub struct Series {
     pub label: String,
     pub points: Vec<(f64, f64)>,
+    /// Points without a line between them, drawn as large crosses: published values drawn
+    /// over simulated curves.
+    pub marks_only: bool,
 }
 
 /// How the axes are scaled.
@@ -89,6 +92,15 @@ impl Series {
         Series {
             label: label.into(),
             points,
+            marks_only: false,
+        }
+    }
+
+    /// A series of separate marks (no line), e.g. a paper's published values.
+    pub fn marks(label: impl Into<String>, points: Vec<(f64, f64)>) -> Series {
+        Series {
+            marks_only: true,
+            ..Series::new(label, points)
         }
     }
 }
@@ -191,6 +203,12 @@ impl LineChart<'_> {
             .map_err(draw_error)?;
         for (i, points) in lines.iter().enumerate() {
             let colour = palette(i);
+            if self.series[i].marks_only {
+                chart
+                    .draw_series(points.iter().map(|&p| Cross::new(p, 7, colour.stroke_width(3))))
+                    .map_err(draw_error)?;
+                continue;
+            }
             chart
                 .draw_series(LineSeries::new(
                     points.iter().copied(),
@@ -212,13 +230,18 @@ impl LineChart<'_> {
         for (i, s) in self.series.iter().enumerate() {
             let colour = palette(i);
             let y = LEGEND_TOP + LEGEND_ROW * i as i32;
-            area.draw(&PathElement::new(
+            if s.marks_only {
+                area.draw(&Cross::new((17, y), 6, colour.stroke_width(3)))
+                    .map_err(draw_error)?;
+            } else {
+                area.draw(&PathElement::new(
                 vec![(4, y), (30, y)],
                 colour.stroke_width(2),
-            ))
-            .map_err(draw_error)?;
-            area.draw(&Circle::new((17, y), 3, colour.filled()))
+                ))
                 .map_err(draw_error)?;
+                area.draw(&Circle::new((17, y), 3, colour.filled()))
+                    .map_err(draw_error)?;
+            }
             let style = TextStyle::from((FONT_NAME, 13).into_font()).color(&BLACK);
             area.draw(&Text::new(legend_label(&s.label), (38, y - 7), style))
                 .map_err(draw_error)?;

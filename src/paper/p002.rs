@@ -1,0 +1,5 @@
+//! Paper 002.
+use super::{Measurements, PaperData, PaperOptions};
+pub fn measure(_options: &PaperOptions, _data: &PaperData) -> Result<Measurements, String> {
+    Err("not yet".into())
+}

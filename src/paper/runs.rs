@@ -1,0 +1,108 @@
+//! The simulations a paper's experiments need, run side by side on a thread pool of
+//! `--jobs` threads; each scene is loaded once and shared.
+//!
+//! Owns only scheduling. Must never change a run: each is `algo::run` on its own spec, so
+//! results do not depend on the thread count, and they come back in the order asked.
+
+use std::collections::BTreeMap;
+use std::path::Path;
+use std::sync::Arc;
+
+use rayon::prelude::*;
+
+use crate::algo::{run, RunResult};
+use crate::scene::Scene;
+use crate::spec::run::RunSpec;
+
+/// One simulation: files named relative to machines/ and scenes/.
+#[derive(Clone, Debug)]
+pub struct Job {
+    pub machine: String,
+    pub scene: String,
+    pub algo: String,
+    pub procs: u32,
+    pub frames: Option<String>,
+    pub set: Vec<(String, String)>,
+}
+
+impl Job {
+    pub fn new(machine: &str, scene: &str, algo: &str, procs: u32) -> Job {
+        Job {
+            machine: machine.into(),
+            scene: scene.into(),
+            algo: algo.into(),
+            procs,
+            frames: None,
+            set: Vec::new(),
+        }
+    }
+
+    pub fn frames(mut self, frames: &str) -> Job {
+        self.frames = Some(frames.into());
+        self
+    }
+
+    pub fn set(mut self, key: &str, value: &str) -> Job {
+        self.set.push((key.into(), value.into()));
+        self
+    }
+}
+
+/// Runs `jobs` on a pool of `threads`; results in the order of `jobs`.
+pub fn run_jobs(root: &Path, jobs: &[Job], threads: usize) -> Result<Vec<RunResult>, String> {
+    let mut scenes: BTreeMap<&str, Arc<Scene>> = BTreeMap::new();
+    for job in jobs {
+        if !scenes.contains_key(job.scene.as_str()) {
+            let scene = Scene::load(&root.join("scenes").join(&job.scene))
+                .map_err(|e| e.to_string())?;
+            scenes.insert(&job.scene, Arc::new(scene));
+        }
+    }
+    let pool = rayon::ThreadPoolBuilder::new()
+        .num_threads(threads.max(1))
+        .build()
+        .map_err(|e| format!("cannot start {threads} threads: {e}"))?;
+    pool.install(|| {
+        jobs.par_iter()
+            .map(|job| {
+                let spec = RunSpec {
+                    schema: None,
+                    machine: root.join("machines").join(&job.machine),
+                    scene: root.join("scenes").join(&job.scene),
+                    algo: job.algo.clone(),
+                    procs: job.procs,
+                    frames: job.frames.clone(),
+                    seed: 1,
+                    set: job.set.iter().cloned().collect(),
+                };
+                let config = spec
+                    .resolve(Some(scenes[job.scene.as_str()].clone()))
+                    .map_err(|e| format!("{job:?}: {e}"))?;
+                run(&config).map_err(|e| format!("{job:?}: {e}"))
+            })
+            .collect()
+    })
+}
+
+/// Mean over frames of triangles in view per simulated second.
+pub fn triangles_per_s(r: &RunResult) -> f64 {
+    mean(
+        r.frames
+            .iter()
+            .map(|f| f.triangles_in_view as f64 / f.time().as_secs_f64()),
+    )
+}
+
+/// Mean simulated frame time in seconds.
+pub fn frame_s(r: &RunResult) -> f64 {
+    mean(r.frames.iter().map(|f| f.time().as_secs_f64()))
+}
+
+pub fn mean(v: impl Iterator<Item = f64>) -> f64 {
+    let (sum, n) = v.fold((0.0, 0usize), |(s, n), x| (s + x, n + 1));
+    if n == 0 {
+        f64::NAN
+    } else {
+        sum / n as f64
+    }
+}

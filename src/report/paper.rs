@@ -1,0 +1,234 @@
+//! The `sortsim paper` report: per paper, `paper.md` and `paper.json` (one table per figure
+//! or table of the paper, with the verdict counts as a headline), `plots/` (the paper's
+//! values drawn over sortsim's curves) and `index.html`; over all papers asked for, an
+//! `index.html` and `papers.md` with each paper's headline.
+//!
+//! Owns the layout of these files. Must never judge a row (that is `paper::verdict`) or run
+//! anything; every file goes through `write_atomic`, and the text is byte-identical for
+//! identical inputs.
+
+use std::fmt::Write as _;
+use std::path::Path;
+
+use maud::{html, Markup, PreEscaped, DOCTYPE};
+
+use super::plot::{LineChart, PlotError};
+use super::{to_json, write_text};
+use crate::paper::{PaperReport, RowReport, Verdict};
+
+/// Writes one paper's folder: plots, paper.md, paper.json, index.html.
+pub fn write_paper(report: &PaperReport, dir: &Path) -> Result<(), PlotError> {
+    for c in &report.charts {
+        LineChart {
+            title: &c.title,
+            x_label: &c.x_label,
+            y_label: &c.y_label,
+            series: &c.series,
+            options: c.options,
+        }
+        .write(&dir.join("plots").join(&c.stem))?;
+    }
+    write_text(dir, "paper.md", &markdown(report))?;
+    write_text(dir, "paper.json", &to_json(report))?;
+    write_text(dir, "index.html", &page(report).into_string())
+}
+
+/// Writes the overview of several papers (each in its own folder `dir/NNN/`).
+pub fn write_overview(reports: &[PaperReport], dir: &Path) -> Result<(), PlotError> {
+    let mut md = String::from("# sortsim and the papers\n\n");
+    for r in reports {
+        let _ = writeln!(
+            md,
+            "- [Paper {}]({}/paper.md): {}. {}",
+            r.paper,
+            r.paper,
+            r.title,
+            r.tally.headline()
+        );
+    }
+    write_text(dir, "papers.md", &md)?;
+    let body = html! {
+        h1 { "sortsim and the papers" }
+        p { "Each paper's numbers and claims next to what sortsim measures for them. "
+            "Verdicts: exact (the paper's digits), within tolerance, shape holds (the number misses, the claim holds), differs." }
+        table {
+            thead { tr { th { "paper" } th { "title" } th { "exact" } th { "within tolerance" } th { "shape holds" } th { "differs" } } }
+            tbody {
+                @for r in reports {
+                    tr {
+                        td { a href={ (r.paper) "/index.html" } { "Paper " (r.paper) } }
+                        td { (r.title) }
+                        td.num { (r.tally.exact) }
+                        td.num { (r.tally.within_tolerance) }
+                        td.num { (r.tally.shape_holds) }
+                        td.num { (r.tally.differs) }
+                    }
+                }
+            }
+        }
+    };
+    write_text(
+        dir,
+        "index.html",
+        &shell("sortsim and the papers", body).into_string(),
+    )
+}
+
+fn markdown(r: &PaperReport) -> String {
+    let mut md = String::new();
+    let _ = writeln!(md, "# Paper {}: {}\n", r.paper, r.title);
+    let _ = writeln!(md, "**{}**", r.tally.headline());
+    if r.quick {
+        md.push_str("\nQuick run (`--quick`): fewer frames per run than the full report.\n");
+    }
+    for figure in r.figures() {
+        let _ = writeln!(md, "\n## {figure}\n");
+        md.push_str("| quantity | where | paper | sortsim | deviation | tolerance | verdict | why |\n");
+        md.push_str("| --- | --- | ---: | ---: | ---: | --- | --- | --- |\n");
+        for row in r.rows.iter().filter(|row| row.figure == figure) {
+            let _ = writeln!(
+                md,
+                "| {} | {} | {} | {} | {} | {} | {} | {} |",
+                cell(&row.quantity),
+                row.location,
+                with_unit(&row.paper, &row.unit),
+                measured(row),
+                deviation(row),
+                row.tolerance,
+                row.verdict.label(),
+                cell(&row.why)
+            );
+        }
+    }
+    if !r.charts.is_empty() {
+        md.push_str("\n## Plots\n\n");
+        for c in &r.charts {
+            let _ = writeln!(md, "![{}](plots/{}.png)", c.title, c.stem);
+        }
+    }
+    md
+}
+
+fn cell(text: &str) -> String {
+    text.replace('|', "\\|")
+}
+
+fn with_unit(value: &str, unit: &str) -> String {
+    if unit.is_empty() || value == "claim" {
+        value.to_string()
+    } else {
+        format!("{value} {unit}")
+    }
+}
+
+/// sortsim's side of a row: its number, or whether the claim holds.
+fn measured(row: &RowReport) -> String {
+    match row.sortsim {
+        Some(v) => with_unit(&significant(v), &row.unit),
+        None => match row.verdict {
+            Verdict::Differs => "does not hold".to_string(),
+            _ => "holds".to_string(),
+        },
+    }
+}
+
+fn deviation(row: &RowReport) -> String {
+    row.deviation_pct
+        .map_or(String::new(), |d| format!("{d:+.1}%"))
+}
+
+/// Four significant digits, without an exponent for everyday magnitudes.
+fn significant(v: f64) -> String {
+    if v == 0.0 || !v.is_finite() {
+        return format!("{v}");
+    }
+    let digits = 4 - 1 - v.abs().log10().floor() as i32;
+    if digits <= 0 {
+        format!("{}", v.round())
+    } else {
+        let s = format!("{v:.*}", digits.min(9) as usize);
+        s.trim_end_matches('0').trim_end_matches('.').to_string()
+    }
+}
+
+fn page(r: &PaperReport) -> Markup {
+    let title = format!("Paper {}: {}", r.paper, r.title);
+    let body = html! {
+        p { a href="../index.html" { "all papers" } }
+        h1 { (title) }
+        p.headline { (r.tally.headline()) }
+        @if r.quick { p { "Quick run (--quick): fewer frames per run than the full report." } }
+        @for figure in r.figures() {
+            h2 { (figure) }
+            table {
+                thead { tr {
+                    th { "quantity" } th { "where" } th { "paper" } th { "sortsim" }
+                    th { "deviation" } th { "tolerance" } th { "verdict" } th { "why / how measured" }
+                } }
+                tbody {
+                    @for row in r.rows.iter().filter(|row| row.figure == figure) {
+                        tr class=(verdict_class(row.verdict)) {
+                            td { (row.quantity) }
+                            td { (row.location) }
+                            td.num { (with_unit(&row.paper, &row.unit)) }
+                            td.num { (measured(row)) }
+                            td.num { (deviation(row)) }
+                            td { (row.tolerance) }
+                            td.verdict { (row.verdict.label()) }
+                            td {
+                                @if !row.why.is_empty() { (row.why) br; }
+                                span.detail { (row.detail) }
+                            }
+                        }
+                    }
+                }
+            }
+        }
+        @if !r.charts.is_empty() {
+            h2 { "Plots" }
+            p { "Lines: sortsim. Crosses: the paper's values (only those its text or tables state)." }
+            @for c in &r.charts {
+                figure {
+                    img src={ "plots/" (c.stem) ".png" } alt=(c.title);
+                    figcaption { (c.title) }
+                }
+            }
+        }
+        p { "The same tables as " a href="paper.md" { "paper.md" } " and " a href="paper.json" { "paper.json" } "." }
+    };
+    shell(&title, body)
+}
+
+fn verdict_class(v: Verdict) -> &'static str {
+    match v {
+        Verdict::Exact => "exact",
+        Verdict::WithinTolerance => "within",
+        Verdict::ShapeHolds => "shape",
+        Verdict::Differs => "differs",
+    }
+}
+
+/// A self-contained page: inline CSS, no script, images by relative path.
+pub fn shell(title: &str, body: Markup) -> Markup {
+    html! {
+        (DOCTYPE)
+        html lang="en" {
+            head {
+                meta charset="utf-8";
+                meta name="viewport" content="width=device-width, initial-scale=1";
+                title { (title) }
+                style { (PreEscaped(CSS)) }
+            }
+            body { (body) }
+        }
+    }
+}
+
+const CSS: &str = "body{font-family:system-ui,sans-serif;margin:2em auto;max-width:80em;padding:0 1em;color:#222}\
+table{border-collapse:collapse;margin:1em 0;width:100%}\
+th,td{border:1px solid #ddd;padding:.3em .5em;vertical-align:top;text-align:left;font-size:.92em}\
+th{background:#f4f4f4}td.num{text-align:right;white-space:nowrap}\
+tr.exact td.verdict{background:#d9f2d9}tr.within td.verdict{background:#e8f5e0}\
+tr.shape td.verdict{background:#fff3c4}tr.differs td.verdict{background:#f8d0d0}\
+.detail{color:#666;font-size:.9em}.headline{font-size:1.15em;font-weight:600}\
+figure{display:inline-block;margin:1em}img{max-width:100%;border:1px solid #eee}";
