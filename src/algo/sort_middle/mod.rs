@@ -511,7 +511,7 @@ fn settings(cfg: &RunConfig, variant: Variant, viewport: Viewport) -> Result<Set
             })?
         }
     };
-    let buffer: Bytes = o.get("buffer", Bytes::new(4096), "a buffer size such as 4KiB")?;
+    let buffer: Bytes = o.get("buffer", DEFAULT_BUFFER, "a buffer size such as 4KiB")?;
     if buffer.get() < buffers::HEADER_BYTES + buffers::ROUTED_TRIANGLE_BYTES {
         return Err(bad(
             o,
@@ -557,6 +557,9 @@ fn settings(cfg: &RunConfig, variant: Variant, viewport: Viewport) -> Result<Set
         aa,
     })
 }
+
+/// Paper 002's polygon buffer: "The buffer size was fixed at 4 Kbytes."
+pub const DEFAULT_BUFFER: Bytes = Bytes::new(4096);
 
 /// The performance model's verdict on two-step redistribution (paper 002: "an implementation
 /// can determine this automatically"): per processor, one-step pays N-1 message overheads at
