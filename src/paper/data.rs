@@ -39,6 +39,9 @@ pub struct Reference {
     /// The paper's number, in `unit`, with the digits the paper prints.
     #[serde(default)]
     pub value: Option<f64>,
+    /// Decimals the paper prints when the JSON number drops trailing zeros ("2.0", "0.0120").
+    #[serde(default)]
+    pub decimals: Option<u32>,
     /// How `value` is meant: equal to it (default), or a bound.
     #[serde(default)]
     pub relation: Relation,
@@ -80,8 +83,11 @@ pub enum Tolerance {
 impl Reference {
     /// The paper's side of the row as printed in a table.
     pub fn claim(&self) -> String {
-        // The paper's own digits: 0.0002, 2.8, 730.
-        let n = |v: f64| format!("{v}");
+        // The paper's own digits: 0.0002, 2.8, 730, 2.0.
+        let n = |v: f64| match self.decimals {
+            Some(d) => format!("{v:.*}", d as usize),
+            None => format!("{v}"),
+        };
         match (self.value, self.range) {
             (_, Some([lo, hi])) => format!("{} .. {}", n(lo), n(hi)),
             (Some(v), None) => match self.relation {

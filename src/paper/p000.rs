@@ -1,5 +1,323 @@
-//! Paper 000.
-use super::{Measurements, PaperData, PaperOptions};
-pub fn measure(_options: &PaperOptions, _data: &PaperData) -> Result<Measurements, String> {
-    Err("not yet".into())
+//! Paper 000 (adaptive supersampling with fixed memory pools): the memory arithmetic of the
+//! Pixel and Subpixel cells, what the 2 x 2-for-all pool holds at each resolution, memory
+//! adaptation, Figure 6's memory and shares on the stand-in scenes, Figure 7's memory per
+//! processor and Table 1's phase times on the Power Challenge.
+//!
+//! Owns which renders and runs answer which row of papers/000.json. Must never hold a paper
+//! value.
+
+use std::path::Path;
+
+use crate::algo::reference::{raster_options, viewport};
+use crate::algo::RunResult;
+use crate::raster::aa::{
+    adapt, AaStats, AdaptiveConfig, AdaptiveTarget, Grid, SupersampleTarget, PIXEL_BYTES,
+    SUBPIXEL_BYTES,
+};
+use crate::raster::{draw_mesh, draw_screen_triangles, ScreenTriangle, ScreenVertex, Viewport};
+use crate::report::plot::{ChartOptions, Series};
+use crate::scene::{FrameGeometry, Scene};
+
+use super::runs::{mean, run_jobs, triangles_per_s, Job};
+use super::{paper_value, Chart, Measured, Measurements, PaperData, PaperOptions};
+
+const MB: f64 = 1e6;
+
+pub fn measure(options: &PaperOptions, data: &PaperData) -> Result<Measurements, String> {
+    let mut m = Measurements::default();
+    memory_layout_rows(&mut m)?;
+    pool_share_rows(&mut m)?;
+    figure_6_rows(&options.root, data, &mut m)?;
+    parallel_rows(options, &mut m)?;
+    Ok(m)
+}
+
+fn memory_layout_rows(m: &mut Measurements) -> Result<(), String> {
+    let vp = Viewport::new(512, 512).ok_or("a 512 x 512 viewport")?;
+    let pixels = vp.pixels() as u64;
+    m.put(
+        "pixel-bytes",
+        Measured::value(PIXEL_BYTES as f64, "raster::aa::PIXEL_BYTES"),
+    );
+    m.put(
+        "subpixel-bytes",
+        Measured::value(SUBPIXEL_BYTES as f64, "raster::aa::SUBPIXEL_BYTES"),
+    );
+    let t = AdaptiveTarget::full_screen(vp, AdaptiveConfig::for_pixels(pixels), [0; 3]);
+    let array = t.stats().memory_used().get();
+    m.put(
+        "pixel-array-mb",
+        Measured::value(
+            array as f64 / MB,
+            format!("{array} B charged by an empty 512 x 512 adaptive target"),
+        ),
+    );
+    let ss = SupersampleTarget::full_screen(vp, 4, [0; 3]).bytes().get();
+    m.put(
+        "supersample-4x4-mb",
+        Measured::value(ss as f64 / MB, format!("{ss} B: a 512 x 512 4 x 4 supersampling target")),
+    );
+    let pool = AdaptiveConfig::default_pool(pixels).get();
+    m.put(
+        "pool-2x2-mb",
+        Measured::value(
+            (array + pool) as f64 / MB,
+            format!("{array} B Pixel array + {pool} B default pool"),
+        ),
+    );
+    Ok(())
+}
+
+/// A 512 x 512 mesh of one-pixel squares whose corners sit on pixel centres, coloured so that
+/// every pixel's four quarters differ: every pixel wants a Subpixel block, none reclaims.
+fn all_edge_pixels() -> Result<(Viewport, Vec<ScreenTriangle>), String> {
+    let vp = Viewport::new(512, 512).ok_or("a 512 x 512 viewport")?;
+    let mut tris = Vec::new();
+    let v = |x: u32, y: u32, rgb: [f64; 3]| {
+        ScreenVertex::from_pixels(x as f64 + 0.5, y as f64 + 0.5, 0.5, rgb)
+            .ok_or_else(|| format!("vertex {x},{y} off the screen"))
+    };
+    for y in 0..512u32 {
+        for x in 0..512u32 {
+            let rgb = [(x % 2) as f64, (y % 2) as f64, 0.5];
+            let (a, b, c, d) = (v(x, y, rgb)?, v(x + 1, y, rgb)?, v(x + 1, y + 1, rgb)?, v(x, y + 1, rgb)?);
+            let prim = 2 * (y * 512 + x);
+            tris.extend(ScreenTriangle::new([a, b, c], prim));
+            tris.extend(ScreenTriangle::new([a, c, d], prim + 1));
+        }
+    }
+    Ok((vp, tris))
+}
+
+fn pool_share_rows(m: &mut Measurements) -> Result<(), String> {
+    let (vp, tris) = all_edge_pixels()?;
+    for (grid, key) in [(Grid::X4, "4x4"), (Grid::X3, "3x3"), (Grid::X2, "2x2")] {
+        let mut config = AdaptiveConfig::for_pixels(vp.pixels() as u64);
+        config.grid = grid;
+        let mut t = AdaptiveTarget::full_screen(vp, config, [0; 3]);
+        draw_screen_triangles(&tris, &mut t);
+        let s = t.stats();
+        m.put(
+            &format!("pool-share-{key}"),
+            Measured::value(
+                100.0 * s.live_super_pixels as f64 / s.pixels as f64,
+                format!("{} of {} pixels supersampled, {} overflowed", s.live_super_pixels, s.pixels, s.overflowed_pixels),
+            ),
+        );
+    }
+    Ok(())
+}
+
+/// One full-screen adaptive target per frame, adapting the resolution between frames as an
+/// algorithm does; each frame's statistics.
+fn animate(frames: &[FrameGeometry], reclaim: bool) -> Vec<AaStats> {
+    let mut grid = Grid::X4;
+    frames
+        .iter()
+        .map(|g| {
+            let vp = viewport(g);
+            let mut config = AdaptiveConfig::for_pixels(vp.pixels() as u64);
+            config.grid = grid;
+            if !reclaim {
+                config.reclaim_spread = None;
+            }
+            let mut t = AdaptiveTarget::full_screen(vp, config, g.background);
+            draw_mesh(&g.vertices, &g.triangles, vp, &raster_options(g), &mut t);
+            let s = t.stats();
+            grid = adapt(&s);
+            s
+        })
+        .collect()
+}
+
+fn frames_of(root: &Path, name: &str) -> Result<Vec<FrameGeometry>, String> {
+    let scene = Scene::load(&root.join("scenes").join(name)).map_err(|e| e.to_string())?;
+    (0..scene.frame_count())
+        .map(|f| scene.frame(f).map_err(|e| e.to_string()))
+        .collect()
+}
+
+fn pct(n: u64, s: &AaStats) -> f64 {
+    100.0 * n as f64 / s.pixels as f64
+}
+
+fn mb(s: &AaStats) -> f64 {
+    s.memory_used().get() as f64 / MB
+}
+
+fn figure_6_rows(root: &Path, data: &PaperData, m: &mut Measurements) -> Result<(), String> {
+    let b = frames_of(root, "p000-letter-b.json")?;
+    let (plain, reclaimed) = (animate(&b, false), animate(&b, true));
+    let note = format!("scenes/p000-letter-b.json, {} frames, full-screen adaptive target", b.len());
+    let worst = plain.iter().map(|s| pct(s.supersampled_pixels, s)).fold(0.0, f64::max);
+    m.put("letter-b-supersampled", Measured::value(worst, note.clone()));
+    m.put("letter-b-memory", Measured::value(mean(plain.iter().map(mb)), note.clone()));
+    let live = mean(reclaimed.iter().map(|s| pct(s.live_super_pixels, s)));
+    m.put(
+        "letter-b-reclaimed-share",
+        Measured::value_and_shape(
+            live,
+            live < mean(plain.iter().map(|s| pct(s.supersampled_pixels, s))),
+            format!("{note}; the claim: reclaiming lowers the share"),
+        ),
+    );
+    m.put(
+        "letter-b-reclaimed-memory",
+        Measured::value(mean(reclaimed.iter().map(mb)), note.clone()),
+    );
+    let most = reclaimed
+        .iter()
+        .map(|s| 100.0 * s.reclaimed_pixels as f64 / s.supersampled_pixels.max(1) as f64)
+        .fold(0.0, f64::max);
+    m.put("letter-b-most-reclaimed", Measured::value(most, note));
+
+    let t = frames_of(root, "p000-tetra-500.json")?;
+    let (plain, reclaimed) = (animate(&t, false), animate(&t, true));
+    let note = format!("scenes/p000-tetra-500.json, {} frames", t.len());
+    m.put("tetra-500-memory", Measured::value(mean(plain.iter().map(mb)), note.clone()));
+    m.put(
+        "tetra-500-supersampled",
+        Measured::value(mean(plain.iter().map(|s| pct(s.supersampled_pixels, s))), note.clone()),
+    );
+    let removed = mean(
+        reclaimed
+            .iter()
+            .map(|s| 100.0 * (1.0 - s.live_super_pixels as f64 / s.supersampled_pixels.max(1) as f64)),
+    );
+    m.put("tetra-500-removed", Measured::value(removed, note.clone()));
+    m.put(
+        "tetra-500-left",
+        Measured::value(mean(reclaimed.iter().map(|s| pct(s.live_super_pixels, s))), note),
+    );
+    m.charts.push(Chart {
+        stem: "figure6-memory".into(),
+        title: "Figure 6: memory per frame, before and after reclaiming".into(),
+        x_label: "frame".into(),
+        y_label: "MB".into(),
+        series: vec![
+            Series::new("sortsim, letter B", frame_series(&animate(&b, false))),
+            Series::new("sortsim, letter B, reclaiming", frame_series(&animate(&b, true))),
+            Series::new("sortsim, 500 tetrahedra", frame_series(&plain)),
+            Series::new("sortsim, 500 tetrahedra, reclaiming", frame_series(&reclaimed)),
+            // The text gives one number per case, not per frame: drawn over the middle frame.
+            Series::marks("paper, letter B", text_mark(data, "letter-b-memory", b.len())),
+            Series::marks("paper, letter B, reclaiming", text_mark(data, "letter-b-reclaimed-memory", b.len())),
+            Series::marks("paper, 500 tetrahedra", text_mark(data, "tetra-500-memory", t.len())),
+        ],
+        options: ChartOptions { log_x: false, y_from_zero: true },
+    });
+
+    let many = frames_of(root, "p000-tetra-3000.json")?;
+    let mut steps_ok = true;
+    let mut details = Vec::new();
+    let mut most = 0.0f64;
+    for reclaim in [false, true] {
+        let s = animate(&many, reclaim);
+        let sides: Vec<u32> = s.iter().map(|s| s.grid_side).collect();
+        steps_ok &= s[0].grid_side == 4 && s[0].overflowed_pixels > 0;
+        steps_ok &= reclaim || s.get(1).is_some_and(|f| f.grid_side == 2);
+        steps_ok &= s[1..].iter().all(|f| f.grid_side < 4 && f.overflowed_pixels == 0);
+        most = most.max(s[1..].iter().map(|f| pct(f.supersampled_pixels, f)).fold(0.0, f64::max));
+        details.push(format!("reclaiming {reclaim}: grids {sides:?}"));
+    }
+    m.put("adaptation-steps-down", Measured::shape(steps_ok, details.join("; ")));
+    m.put(
+        "tetra-3000-supersampled",
+        Measured::value(most, format!("scenes/p000-tetra-3000.json, {} frames", many.len())),
+    );
+    let changed = animate(&[b[0].clone(), many[0].clone(), many[0].clone()], false);
+    let overflowed: Vec<u64> = changed.iter().map(|s| s.overflowed_pixels).collect();
+    m.put(
+        "view-change-recovers",
+        Measured::shape(
+            overflowed[0] == 0 && overflowed[1] > 0 && overflowed[2] == 0,
+            format!("overflowed pixels per frame: {overflowed:?}"),
+        ),
+    );
+    Ok(())
+}
+
+fn frame_series(stats: &[AaStats]) -> Vec<(f64, f64)> {
+    stats.iter().enumerate().map(|(i, s)| (i as f64, mb(s))).collect()
+}
+
+fn text_mark(data: &PaperData, id: &str, frames: usize) -> Vec<(f64, f64)> {
+    paper_value(data, id)
+        .map(|v| ((frames / 2) as f64, v))
+        .into_iter()
+        .collect()
+}
+
+fn phase_per_frame(r: &RunResult, phase: &str) -> Vec<f64> {
+    let frames = r.frames.len() as f64;
+    r.stats
+        .nodes
+        .iter()
+        .map(|n| {
+            n.busy_by_phase
+                .iter()
+                .filter(|(p, _)| *p == phase)
+                .map(|(_, t)| t.as_secs_f64())
+                .sum::<f64>()
+                / frames
+        })
+        .collect()
+}
+
+fn min_max(v: &[f64]) -> (f64, f64) {
+    v.iter().fold((f64::MAX, f64::MIN), |(lo, hi), &x| (lo.min(x), hi.max(x)))
+}
+
+fn parallel_rows(options: &PaperOptions, m: &mut Measurements) -> Result<(), String> {
+    let frames = if options.quick { "0..5" } else { "0..20" };
+    let job = |scene: &str| {
+        Job::new("power-challenge.json", scene, "sort-middle/static", 8)
+            .frames(frames)
+            .set("aa", "adaptive")
+    };
+    let jobs = [job("p000-tetra-500.json"), job("p000-letter-b.json")];
+    let results = run_jobs(&options.root, &jobs, options.jobs)?;
+    let (tetra, b) = (&results[0], &results[1]);
+
+    let mut all = Vec::new();
+    let mut close = true;
+    let mut worst = 1.0f64;
+    for f in &tetra.frames {
+        let per: Vec<f64> = f.aa.iter().map(mb).collect();
+        let (lo, hi) = min_max(&per);
+        close &= hi / lo < 1.35;
+        worst = worst.max(hi / lo);
+        all.extend(per);
+    }
+    let note = format!("sort-middle/static, aa=adaptive, 8 processors, frames {frames}");
+    m.put(
+        "per-processor-memory",
+        Measured::value(mean(all.into_iter()), format!("500 tetrahedra, {note}")),
+    );
+    m.put(
+        "per-processor-memory-close",
+        Measured::shape(close, format!("largest / smallest, worst frame: {worst:.2}")),
+    );
+    let note = format!("letter B, {note}");
+    for (key, phase) in [("transform", "transform"), ("rasterize", "rasterize")] {
+        let (lo, hi) = min_max(&phase_per_frame(b, phase));
+        m.put(&format!("t1-{key}-min"), Measured::value(lo, note.clone()));
+        m.put(&format!("t1-{key}-max"), Measured::value(hi, note.clone()));
+    }
+    let comm: Vec<f64> = b
+        .stats
+        .nodes
+        .iter()
+        .map(|n| n.comm.as_secs_f64() / b.frames.len() as f64)
+        .collect();
+    let (lo, hi) = min_max(&comm);
+    m.put("t1-redistribute-min", Measured::value(lo, note.clone()));
+    m.put("t1-redistribute-max", Measured::value(hi, note.clone()));
+    let (lo, hi) = min_max(&phase_per_frame(b, "transform"));
+    m.put(
+        "t1-transform-even",
+        Measured::shape(hi <= 1.10 * lo, format!("transform per frame {lo:.6} .. {hi:.6} s")),
+    );
+    m.put("t1-polygons-per-s", Measured::value(triangles_per_s(b), note));
+    Ok(())
 }

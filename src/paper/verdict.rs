@@ -91,7 +91,9 @@ fn numeric_verdict(reference: &Reference, m: f64) -> Option<Verdict> {
     match reference.relation {
         Relation::Below => (m < v).then_some(Verdict::WithinTolerance),
         Relation::Above => (m > v).then_some(Verdict::WithinTolerance),
-        Relation::Equals if (m - v).abs() <= half_last_digit(v) => Some(Verdict::Exact),
+        Relation::Equals if (m - v).abs() <= half_last_digit(v, reference.decimals) => {
+            Some(Verdict::Exact)
+        }
         Relation::Equals => {
             let inside = match reference.tolerance? {
                 Tolerance::RelativePct(p) => v != 0.0 && ((m - v) / v).abs() * 100.0 <= p,
@@ -102,10 +104,13 @@ fn numeric_verdict(reference: &Reference, m: f64) -> Option<Verdict> {
     }
 }
 
-/// Half a unit in the last digit the paper prints: 3.14 -> 0.005, 12 -> 0.5.
-fn half_last_digit(v: f64) -> f64 {
+/// Half a unit in the last digit the paper prints: 3.14 -> 0.005, 12 -> 0.5, 2.0 (one
+/// decimal given) -> 0.05.
+fn half_last_digit(v: f64, decimals: Option<u32>) -> f64 {
     let text = format!("{v}");
-    let decimals = text.split_once('.').map_or(0, |(_, f)| f.len());
+    let decimals = decimals
+        .map(|d| d as usize)
+        .unwrap_or_else(|| text.split_once('.').map_or(0, |(_, f)| f.len()));
     0.5 * 10f64.powi(-(decimals as i32))
 }
 
@@ -124,6 +129,7 @@ mod tests {
             relation,
             range: None,
             tolerance,
+            decimals: None,
             quote: None,
             why: None,
         }
@@ -137,6 +143,11 @@ mod tests {
         let r = reference(3.14, Some(Tolerance::RelativePct(0.5)), Relation::Equals);
         assert_eq!(judge(&r, &Measured::value(3.1457, "")), Verdict::WithinTolerance);
         assert_eq!(judge(&r, &Measured::value(3.2, "")), Verdict::Differs);
+        let mut r = reference(2.0, None, Relation::Equals);
+        assert_eq!(judge(&r, &Measured::value(1.85, "")), Verdict::Exact);
+        r.decimals = Some(1);
+        assert_eq!(judge(&r, &Measured::value(1.85, "")), Verdict::Differs);
+        assert_eq!(r.claim(), "2.0");
     }
 
     #[test]
