@@ -141,7 +141,11 @@ pub fn load(root: &Path, id: PaperId) -> Result<PaperData, PaperError> {
     let data: PaperData = serde_path_to_error::deserialize(de)
         .map_err(|e| fail(format!("at {}: {}", e.path(), e.inner())))?;
     if data.paper != id.id() {
-        return Err(fail(format!("\"paper\" is {:?}, expected {:?}", data.paper, id.id())));
+        return Err(fail(format!(
+            "\"paper\" is {:?}, expected {:?}",
+            data.paper,
+            id.id()
+        )));
     }
     let mut ids: Vec<&str> = data.rows.iter().map(|r| r.id.as_str()).collect();
     ids.sort_unstable();
@@ -150,7 +154,10 @@ pub fn load(root: &Path, id: PaperId) -> Result<PaperData, PaperError> {
     }
     for r in &data.rows {
         if r.value.is_some() && r.range.is_some() {
-            return Err(fail(format!("row {}: give a value or a range, not both", r.id)));
+            return Err(fail(format!(
+                "row {}: give a value or a range, not both",
+                r.id
+            )));
         }
     }
     Ok(data)

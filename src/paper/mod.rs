@@ -185,7 +185,10 @@ pub enum PaperError {
     #[error("{}: {message}", path.display())]
     Data { path: PathBuf, message: String },
     #[error("paper {paper}: {message}")]
-    Experiment { paper: &'static str, message: String },
+    Experiment {
+        paper: &'static str,
+        message: String,
+    },
     #[error("paper {paper}: row {id} is in the data file but no experiment measures it")]
     Unmeasured { paper: &'static str, id: String },
     #[error("paper {paper}: the experiments measure {id}, which the data file does not list")]
@@ -283,4 +286,3 @@ pub fn run_papers(ids: &[PaperId], options: &PaperOptions) -> Result<Vec<PaperRe
 pub(crate) fn paper_value(data: &PaperData, id: &str) -> Option<f64> {
     data.rows.iter().find(|r| r.id == id).and_then(|r| r.value)
 }
-

@@ -55,7 +55,10 @@ fn memory_layout_rows(m: &mut Measurements) -> Result<(), String> {
     let ss = SupersampleTarget::full_screen(vp, 4, [0; 3]).bytes().get();
     m.put(
         "supersample-4x4-mb",
-        Measured::value(ss as f64 / MB, format!("{ss} B: a 512 x 512 4 x 4 supersampling target")),
+        Measured::value(
+            ss as f64 / MB,
+            format!("{ss} B: a 512 x 512 4 x 4 supersampling target"),
+        ),
     );
     let pool = AdaptiveConfig::default_pool(pixels).get();
     m.put(
@@ -80,7 +83,12 @@ fn all_edge_pixels() -> Result<(Viewport, Vec<ScreenTriangle>), String> {
     for y in 0..512u32 {
         for x in 0..512u32 {
             let rgb = [(x % 2) as f64, (y % 2) as f64, 0.5];
-            let (a, b, c, d) = (v(x, y, rgb)?, v(x + 1, y, rgb)?, v(x + 1, y + 1, rgb)?, v(x, y + 1, rgb)?);
+            let (a, b, c, d) = (
+                v(x, y, rgb)?,
+                v(x + 1, y, rgb)?,
+                v(x + 1, y + 1, rgb)?,
+                v(x, y + 1, rgb)?,
+            );
             let prim = 2 * (y * 512 + x);
             tris.extend(ScreenTriangle::new([a, b, c], prim));
             tris.extend(ScreenTriangle::new([a, c, d], prim + 1));
@@ -101,7 +109,10 @@ fn pool_share_rows(m: &mut Measurements) -> Result<(), String> {
             &format!("pool-share-{key}"),
             Measured::value(
                 100.0 * s.live_super_pixels as f64 / s.pixels as f64,
-                format!("{} of {} pixels supersampled, {} overflowed", s.live_super_pixels, s.pixels, s.overflowed_pixels),
+                format!(
+                    "{} of {} pixels supersampled, {} overflowed",
+                    s.live_super_pixels, s.pixels, s.overflowed_pixels
+                ),
             ),
         );
     }
@@ -148,10 +159,22 @@ fn mb(s: &AaStats) -> f64 {
 fn figure_6_rows(root: &Path, data: &PaperData, m: &mut Measurements) -> Result<(), String> {
     let b = frames_of(root, "p000-letter-b.json")?;
     let (plain, reclaimed) = (animate(&b, false), animate(&b, true));
-    let note = format!("scenes/p000-letter-b.json, {} frames, full-screen adaptive target", b.len());
-    let worst = plain.iter().map(|s| pct(s.supersampled_pixels, s)).fold(0.0, f64::max);
-    m.put("letter-b-supersampled", Measured::value(worst, note.clone()));
-    m.put("letter-b-memory", Measured::value(mean(plain.iter().map(mb)), note.clone()));
+    let note = format!(
+        "scenes/p000-letter-b.json, {} frames, full-screen adaptive target",
+        b.len()
+    );
+    let worst = plain
+        .iter()
+        .map(|s| pct(s.supersampled_pixels, s))
+        .fold(0.0, f64::max);
+    m.put(
+        "letter-b-supersampled",
+        Measured::value(worst, note.clone()),
+    );
+    m.put(
+        "letter-b-memory",
+        Measured::value(mean(plain.iter().map(mb)), note.clone()),
+    );
     let live = mean(reclaimed.iter().map(|s| pct(s.live_super_pixels, s)));
     m.put(
         "letter-b-reclaimed-share",
@@ -174,20 +197,28 @@ fn figure_6_rows(root: &Path, data: &PaperData, m: &mut Measurements) -> Result<
     let t = frames_of(root, "p000-tetra-500.json")?;
     let (plain, reclaimed) = (animate(&t, false), animate(&t, true));
     let note = format!("scenes/p000-tetra-500.json, {} frames", t.len());
-    m.put("tetra-500-memory", Measured::value(mean(plain.iter().map(mb)), note.clone()));
+    m.put(
+        "tetra-500-memory",
+        Measured::value(mean(plain.iter().map(mb)), note.clone()),
+    );
     m.put(
         "tetra-500-supersampled",
-        Measured::value(mean(plain.iter().map(|s| pct(s.supersampled_pixels, s))), note.clone()),
+        Measured::value(
+            mean(plain.iter().map(|s| pct(s.supersampled_pixels, s))),
+            note.clone(),
+        ),
     );
-    let removed = mean(
-        reclaimed
-            .iter()
-            .map(|s| 100.0 * (1.0 - s.live_super_pixels as f64 / s.supersampled_pixels.max(1) as f64)),
-    );
+    let removed =
+        mean(reclaimed.iter().map(|s| {
+            100.0 * (1.0 - s.live_super_pixels as f64 / s.supersampled_pixels.max(1) as f64)
+        }));
     m.put("tetra-500-removed", Measured::value(removed, note.clone()));
     m.put(
         "tetra-500-left",
-        Measured::value(mean(reclaimed.iter().map(|s| pct(s.live_super_pixels, s))), note),
+        Measured::value(
+            mean(reclaimed.iter().map(|s| pct(s.live_super_pixels, s))),
+            note,
+        ),
     );
     m.charts.push(Chart {
         stem: "figure6-memory".into(),
@@ -196,15 +227,33 @@ fn figure_6_rows(root: &Path, data: &PaperData, m: &mut Measurements) -> Result<
         y_label: "MB".into(),
         series: vec![
             Series::new("sortsim, letter B", frame_series(&animate(&b, false))),
-            Series::new("sortsim, letter B, reclaiming", frame_series(&animate(&b, true))),
+            Series::new(
+                "sortsim, letter B, reclaiming",
+                frame_series(&animate(&b, true)),
+            ),
             Series::new("sortsim, 500 tetrahedra", frame_series(&plain)),
-            Series::new("sortsim, 500 tetrahedra, reclaiming", frame_series(&reclaimed)),
+            Series::new(
+                "sortsim, 500 tetrahedra, reclaiming",
+                frame_series(&reclaimed),
+            ),
             // The text gives one number per case, not per frame: drawn over the middle frame.
-            Series::marks("paper, letter B", text_mark(data, "letter-b-memory", b.len())),
-            Series::marks("paper, letter B, reclaiming", text_mark(data, "letter-b-reclaimed-memory", b.len())),
-            Series::marks("paper, 500 tetrahedra", text_mark(data, "tetra-500-memory", t.len())),
+            Series::marks(
+                "paper, letter B",
+                text_mark(data, "letter-b-memory", b.len()),
+            ),
+            Series::marks(
+                "paper, letter B, reclaiming",
+                text_mark(data, "letter-b-reclaimed-memory", b.len()),
+            ),
+            Series::marks(
+                "paper, 500 tetrahedra",
+                text_mark(data, "tetra-500-memory", t.len()),
+            ),
         ],
-        options: ChartOptions { log_x: false, y_from_zero: true },
+        options: ChartOptions {
+            log_x: false,
+            y_from_zero: true,
+        },
     });
 
     let many = frames_of(root, "p000-tetra-3000.json")?;
@@ -216,14 +265,27 @@ fn figure_6_rows(root: &Path, data: &PaperData, m: &mut Measurements) -> Result<
         let sides: Vec<u32> = s.iter().map(|s| s.grid_side).collect();
         steps_ok &= s[0].grid_side == 4 && s[0].overflowed_pixels > 0;
         steps_ok &= reclaim || s.get(1).is_some_and(|f| f.grid_side == 2);
-        steps_ok &= s[1..].iter().all(|f| f.grid_side < 4 && f.overflowed_pixels == 0);
-        most = most.max(s[1..].iter().map(|f| pct(f.supersampled_pixels, f)).fold(0.0, f64::max));
+        steps_ok &= s[1..]
+            .iter()
+            .all(|f| f.grid_side < 4 && f.overflowed_pixels == 0);
+        most = most.max(
+            s[1..]
+                .iter()
+                .map(|f| pct(f.supersampled_pixels, f))
+                .fold(0.0, f64::max),
+        );
         details.push(format!("reclaiming {reclaim}: grids {sides:?}"));
     }
-    m.put("adaptation-steps-down", Measured::shape(steps_ok, details.join("; ")));
+    m.put(
+        "adaptation-steps-down",
+        Measured::shape(steps_ok, details.join("; ")),
+    );
     m.put(
         "tetra-3000-supersampled",
-        Measured::value(most, format!("scenes/p000-tetra-3000.json, {} frames", many.len())),
+        Measured::value(
+            most,
+            format!("scenes/p000-tetra-3000.json, {} frames", many.len()),
+        ),
     );
     let changed = animate(&[b[0].clone(), many[0].clone(), many[0].clone()], false);
     let overflowed: Vec<u64> = changed.iter().map(|s| s.overflowed_pixels).collect();
@@ -238,7 +300,11 @@ fn figure_6_rows(root: &Path, data: &PaperData, m: &mut Measurements) -> Result<
 }
 
 fn frame_series(stats: &[AaStats]) -> Vec<(f64, f64)> {
-    stats.iter().enumerate().map(|(i, s)| (i as f64, mb(s))).collect()
+    stats
+        .iter()
+        .enumerate()
+        .map(|(i, s)| (i as f64, mb(s)))
+        .collect()
 }
 
 fn text_mark(data: &PaperData, id: &str, frames: usize) -> Vec<(f64, f64)> {
@@ -265,7 +331,8 @@ fn phase_per_frame(r: &RunResult, phase: &str) -> Vec<f64> {
 }
 
 fn min_max(v: &[f64]) -> (f64, f64) {
-    v.iter().fold((f64::MAX, f64::MIN), |(lo, hi), &x| (lo.min(x), hi.max(x)))
+    v.iter()
+        .fold((f64::MAX, f64::MIN), |(lo, hi), &x| (lo.min(x), hi.max(x)))
 }
 
 fn parallel_rows(options: &PaperOptions, m: &mut Measurements) -> Result<(), String> {
@@ -296,7 +363,10 @@ fn parallel_rows(options: &PaperOptions, m: &mut Measurements) -> Result<(), Str
     );
     m.put(
         "per-processor-memory-close",
-        Measured::shape(close, format!("largest / smallest, worst frame: {worst:.2}")),
+        Measured::shape(
+            close,
+            format!("largest / smallest, worst frame: {worst:.2}"),
+        ),
     );
     let note = format!("letter B, {note}");
     for (key, phase) in [("transform", "transform"), ("rasterize", "rasterize")] {
@@ -316,8 +386,14 @@ fn parallel_rows(options: &PaperOptions, m: &mut Measurements) -> Result<(), Str
     let (lo, hi) = min_max(&phase_per_frame(b, "transform"));
     m.put(
         "t1-transform-even",
-        Measured::shape(hi <= 1.10 * lo, format!("transform per frame {lo:.6} .. {hi:.6} s")),
+        Measured::shape(
+            hi <= 1.10 * lo,
+            format!("transform per frame {lo:.6} .. {hi:.6} s"),
+        ),
     );
-    m.put("t1-polygons-per-s", Measured::value(triangles_per_s(b), note));
+    m.put(
+        "t1-polygons-per-s",
+        Measured::value(triangles_per_s(b), note),
+    );
     Ok(())
 }

@@ -25,7 +25,11 @@ const NODES: [u32; 4] = [2, 4, 8, 16];
 const PIPELINE: &str = "multicluster-pipeline.json";
 
 fn scene_file(key: &str) -> &'static str {
-    SCENES.iter().find(|s| s.0 == key).map(|s| s.1).unwrap_or("")
+    SCENES
+        .iter()
+        .find(|s| s.0 == key)
+        .map(|s| s.1)
+        .unwrap_or("")
 }
 
 fn pc(key: &str, procs: u32, assign: &str) -> Job {
@@ -45,9 +49,14 @@ fn df(key: &str, procs: u32) -> Job {
         8 => "[4,2]",
         _ => "[4,4]",
     };
-    Job::new("multicluster-torus.json", scene_file(key), "sort-last/df", procs)
-        .set("machine.nodes", &procs.to_string())
-        .set("machine.network.dims", dims)
+    Job::new(
+        "multicluster-torus.json",
+        scene_file(key),
+        "sort-last/df",
+        procs,
+    )
+    .set("machine.nodes", &procs.to_string())
+    .set("machine.network.dims", dims)
 }
 
 fn secs(r: &RunResult) -> f64 {
@@ -93,7 +102,10 @@ pub fn measure(options: &PaperOptions, data: &PaperData) -> Result<Measurements,
         let i = jobs
             .iter()
             .position(|j| {
-                j.algo == job.algo && j.scene == job.scene && j.procs == job.procs && j.set == job.set
+                j.algo == job.algo
+                    && j.scene == job.scene
+                    && j.procs == job.procs
+                    && j.set == job.set
             })
             .expect("every job asked for was run");
         &results[i]
@@ -152,7 +164,10 @@ pub fn measure(options: &PaperOptions, data: &PaperData) -> Result<Measurements,
         for n in [4, 8, 16] {
             let on = at(pc(key, n, "request")).frames[0].load_imbalance_pct();
             let off = at(pc(key, n, "scatter")).frames[0].load_imbalance_pct();
-            balancing.push((format!("{key} {n}: imbalance {off:.1}% -> {on:.1}%"), on < off));
+            balancing.push((
+                format!("{key} {n}: imbalance {off:.1}% -> {on:.1}%"),
+                on < off,
+            ));
         }
     }
     for n in NODES {
@@ -263,7 +278,10 @@ pub fn measure(options: &PaperOptions, data: &PaperData) -> Result<Measurements,
     );
     m.put(
         "slmf-wins-from-8",
-        Measured::shape(wins.iter().all(|w| w.1), join(wins.iter().map(|w| w.0.clone()))),
+        Measured::shape(
+            wins.iter().all(|w| w.1),
+            join(wins.iter().map(|w| w.0.clone())),
+        ),
     );
 
     for (key, _, name) in SCENES.iter().filter(|s| TABLE_1.contains(&s.0)) {

@@ -75,11 +75,18 @@ fn delta_rows(machine: &MachineConfig, root: &Path, m: &mut Measurements) -> Res
     );
     let cpu = &machine.cpu;
     let overhead = (cpu.send_overhead + cpu.recv_overhead).as_secs_f64();
-    let copy = cpu.costs.get(Op::ByteCopy).times(DEFAULT_BUFFER.get()).as_secs_f64()
+    let copy = cpu
+        .costs
+        .get(Op::ByteCopy)
+        .times(DEFAULT_BUFFER.get())
+        .as_secs_f64()
         + (cpu.send_per_byte + cpu.recv_per_byte)
             .times(DEFAULT_BUFFER.get())
             .as_secs_f64();
-    let wire = net.link_bandwidth.transfer_time(DEFAULT_BUFFER).as_secs_f64();
+    let wire = net
+        .link_bandwidth
+        .transfer_time(DEFAULT_BUFFER)
+        .as_secs_f64();
     m.put(
         "delta-overhead-share",
         Measured::value(
@@ -134,7 +141,11 @@ fn model_rows(root: &Path, m: &mut Measurements) -> Result<(), String> {
             &format!("model-{key}-overlap"),
             Measured::value(
                 s.overlap_256,
-                format!("{where_}, 16 x 16 regions of {}x{} px", s.width / 16, s.height / 16),
+                format!(
+                    "{where_}, 16 x 16 regions of {}x{} px",
+                    s.width / 16,
+                    s.height / 16
+                ),
             ),
         );
     }
@@ -175,15 +186,20 @@ fn utilization_rows(
     let root = &options.root;
     let step = if options.quick { 16 } else { 4 };
     let plb_frames: Vec<u32> = (1..80).step_by(step).collect();
-    let polio_frames: Vec<u32> = if options.quick { vec![1] } else { vec![1, 28, 55, 82] };
+    let polio_frames: Vec<u32> = if options.quick {
+        vec![1]
+    } else {
+        vec![1, 28, 55, 82]
+    };
     let simulate = |file: &str, frames: &[u32]| -> Result<utilization::Outcome, String> {
         let scene = Scene::load(&root.join("scenes").join(file)).map_err(|e| e.to_string())?;
-        let cfg = utilization::Config::new(&UPROCS, &GRANULARITIES, frames)
-            .map_err(|e| e.to_string())?;
+        let cfg =
+            utilization::Config::new(&UPROCS, &GRANULARITIES, frames).map_err(|e| e.to_string())?;
         utilization::simulate(&scene, machine, &cfg).map_err(|e| e.to_string())
     };
     let plb = simulate(PLB, &plb_frames)?;
-    let u = |n: u32, g: u32, mode: CountsMode| plb.cell(n, g, mode).map_or(f64::NAN, |c| c.utilization);
+    let u =
+        |n: u32, g: u32, mode: CountsMode| plb.cell(n, g, mode).map_or(f64::NAN, |c| c.utilization);
     let balanced = [CountsMode::Current, CountsMode::Previous];
     let mut rises = true;
     let mut falls = true;
@@ -235,7 +251,11 @@ fn utilization_rows(
     let polio = simulate(POLIO, &polio_frames)?;
     for (id, outcome, note) in [
         ("best-g-head", &plb, frames_note.clone()),
-        ("best-g-polio", &polio, format!("polio stand-in, frames {polio_frames:?}")),
+        (
+            "best-g-polio",
+            &polio,
+            format!("polio stand-in, frames {polio_frames:?}"),
+        ),
     ] {
         // Figure 5's ratios (2 to 12): the mean relative time over 2..512 processors.
         let score = |g: u32| {
@@ -243,7 +263,9 @@ fn utilization_rows(
                 outcome
                     .cells
                     .iter()
-                    .filter(|c| c.granularity == g && c.procs >= 2 && c.counts == CountsMode::Previous)
+                    .filter(|c| {
+                        c.granularity == g && c.procs >= 2 && c.counts == CountsMode::Previous
+                    })
                     .map(|c| c.relative_time),
             )
         };
@@ -259,7 +281,10 @@ fn utilization_rows(
             .join(", ");
         m.put(
             id,
-            Measured::value(best as f64, format!("{note}; mean relative time by ratio: {scores}")),
+            Measured::value(
+                best as f64,
+                format!("{note}; mean relative time by ratio: {scores}"),
+            ),
         );
     }
     Ok(())
@@ -272,7 +297,12 @@ struct Curve<'a> {
 
 impl<'a> Curve<'a> {
     fn best(&self, procs: u32) -> (&'a RunResult, &'static str) {
-        let [off, on] = self.runs.iter().find(|r| r.0 == procs).expect("a listed count").1;
+        let [off, on] = self
+            .runs
+            .iter()
+            .find(|r| r.0 == procs)
+            .expect("a listed count")
+            .1;
         if triangles_per_s(on) > triangles_per_s(off) {
             (on, "on")
         } else {
@@ -281,7 +311,10 @@ impl<'a> Curve<'a> {
     }
 
     fn rates(&self, pick: impl Fn(&[&'a RunResult; 2]) -> f64) -> Vec<(f64, f64)> {
-        self.runs.iter().map(|(n, r)| (*n as f64, pick(r))).collect()
+        self.runs
+            .iter()
+            .map(|(n, r)| (*n as f64, pick(r)))
+            .collect()
     }
 
     fn best_rates(&self) -> Vec<(u32, f64)> {
@@ -298,7 +331,11 @@ fn figure_9_rows(
     data: &PaperData,
     m: &mut Measurements,
 ) -> Result<(), String> {
-    let (polio_frames, plb_frames) = if options.quick { ("0..2", "0..3") } else { ("0..4", "0..16") };
+    let (polio_frames, plb_frames) = if options.quick {
+        ("0..2", "0..3")
+    } else {
+        ("0..4", "0..16")
+    };
     let mut jobs = Vec::new();
     for n in PROCS {
         for mode in MODES {
@@ -325,7 +362,13 @@ fn figure_9_rows(
         runs: PROCS
             .iter()
             .map(|&n| {
-                (n, [at(ellsworth(scene, n, "off", frames)), at(ellsworth(scene, n, "on", frames))])
+                (
+                    n,
+                    [
+                        at(ellsworth(scene, n, "off", frames)),
+                        at(ellsworth(scene, n, "on", frames)),
+                    ],
+                )
             })
             .collect(),
     };
@@ -333,7 +376,9 @@ fn figure_9_rows(
     let plb = curve(PLB, plb_frames);
     let fidelity = format!("{:?}", machine.network.fidelity).to_lowercase();
     let note = |scene: &str, frames: &str| {
-        format!("sort-middle/ellsworth, granularity 8, {scene}, frames {frames}, fidelity {fidelity}")
+        format!(
+            "sort-middle/ellsworth, granularity 8, {scene}, frames {frames}, fidelity {fidelity}"
+        )
     };
 
     let (best_256, mode_256) = polio.best(256);
@@ -355,7 +400,10 @@ fn figure_9_rows(
         "peak-polio-procs",
         Measured::value(
             peak_at(&polio_best) as f64,
-            format!("best-of-modes M triangles/s: {}", rate_list(&polio_best, 1e6)),
+            format!(
+                "best-of-modes M triangles/s: {}",
+                rate_list(&polio_best, 1e6)
+            ),
         ),
     );
     let plb_best = plb.best_rates();
@@ -386,7 +434,10 @@ fn figure_9_rows(
         .iter()
         .flat_map(|(name, c)| {
             c.runs.iter().map(move |(n, [off, on])| {
-                (format!("{name} {n}"), 100.0 * (triangles_per_s(on) / triangles_per_s(off) - 1.0))
+                (
+                    format!("{name} {n}"),
+                    100.0 * (triangles_per_s(on) / triangles_per_s(off) - 1.0),
+                )
             })
         })
         .collect();
@@ -430,25 +481,46 @@ fn figure_9_rows(
 
     let polio_aa = MODES
         .iter()
-        .map(|&mode| (mode, triangles_per_s(at(ellsworth(POLIO, 256, mode, polio_frames).set(AA.0, AA.1)))))
+        .map(|&mode| {
+            (
+                mode,
+                triangles_per_s(at(ellsworth(POLIO, 256, mode, polio_frames).set(AA.0, AA.1))),
+            )
+        })
         .max_by(|a, b| a.1.total_cmp(&b.1))
         .unwrap_or(("off", f64::NAN));
     m.put(
         "peak-polio-aa",
         Measured::value(
             polio_aa.1 / 1e6,
-            format!("{}, aa={}, two-step {}", note("polio", polio_frames), AA.1, polio_aa.0),
+            format!(
+                "{}, aa={}, two-step {}",
+                note("polio", polio_frames),
+                AA.1,
+                polio_aa.0
+            ),
         ),
     );
     let plb_ratio = |n: u32| {
         triangles_per_s(at(ellsworth(PLB, n, "off", plb_frames).set(AA.0, AA.1)))
             / triangles_per_s(at(ellsworth(PLB, n, "off", plb_frames)))
     };
-    let aa_note = format!("{}, two-step off, aa={} against none", note("PLB head", plb_frames), AA.1);
-    m.put("aa-ratio-8", Measured::value(100.0 * plb_ratio(8), aa_note.clone()));
-    m.put("aa-ratio-512", Measured::value(100.0 * plb_ratio(512), aa_note));
-    let polio_ratio = triangles_per_s(at(ellsworth(POLIO, 256, "off", polio_frames).set(AA.0, AA.1)))
-        / triangles_per_s(at(ellsworth(POLIO, 256, "off", polio_frames)));
+    let aa_note = format!(
+        "{}, two-step off, aa={} against none",
+        note("PLB head", plb_frames),
+        AA.1
+    );
+    m.put(
+        "aa-ratio-8",
+        Measured::value(100.0 * plb_ratio(8), aa_note.clone()),
+    );
+    m.put(
+        "aa-ratio-512",
+        Measured::value(100.0 * plb_ratio(512), aa_note),
+    );
+    let polio_ratio = triangles_per_s(at(
+        ellsworth(POLIO, 256, "off", polio_frames).set(AA.0, AA.1)
+    )) / triangles_per_s(at(ellsworth(POLIO, 256, "off", polio_frames)));
     let head_256 = plb_ratio(256);
     m.put(
         "aa-ratio-256",
@@ -462,7 +534,8 @@ fn figure_9_rows(
         ),
     );
 
-    let paper_point = |id: &str, x: f64| paper_value(data, id).map(|v| (x, v)).into_iter().collect();
+    let paper_point =
+        |id: &str, x: f64| paper_value(data, id).map(|v| (x, v)).into_iter().collect();
     let mtris = |r: &RunResult| triangles_per_s(r) / 1e6;
     m.charts.push(Chart {
         stem: "figure9-polio".into(),
@@ -472,10 +545,19 @@ fn figure_9_rows(
         series: vec![
             Series::new("sortsim, two-step off", polio.rates(|r| mtris(r[0]))),
             Series::new("sortsim, two-step on", polio.rates(|r| mtris(r[1]))),
-            Series::marks("paper, point-sampled peak", paper_point("peak-polio", 256.0)),
-            Series::marks("paper, anti-aliased peak", paper_point("peak-polio-aa", 256.0)),
+            Series::marks(
+                "paper, point-sampled peak",
+                paper_point("peak-polio", 256.0),
+            ),
+            Series::marks(
+                "paper, anti-aliased peak",
+                paper_point("peak-polio-aa", 256.0),
+            ),
         ],
-        options: ChartOptions { log_x: true, y_from_zero: true },
+        options: ChartOptions {
+            log_x: true,
+            y_from_zero: true,
+        },
     });
     m.charts.push(Chart {
         stem: "figure9-plb-head".into(),
@@ -487,7 +569,10 @@ fn figure_9_rows(
             Series::new("sortsim, two-step on", plb.rates(|r| 1.0 / frame_s(r[1]))),
             Series::marks("paper, peak", paper_point("plb-fps-128", 128.0)),
         ],
-        options: ChartOptions { log_x: true, y_from_zero: true },
+        options: ChartOptions {
+            log_x: true,
+            y_from_zero: true,
+        },
     });
     Ok(())
 }

@@ -10,8 +10,8 @@ use std::path::Path;
 
 use crate::raster::ACTIVE_PIXEL_BYTES;
 use crate::report::plot::{ChartOptions, Series};
-use crate::spec::scene::SceneSpec;
 use crate::scene::Scene;
+use crate::spec::scene::SceneSpec;
 use crate::trace::record_scene;
 use crate::trace::replay::{harmonic, Algo, Assign, DepthStats, Replay, ReplayConfig};
 use crate::trace::Trace;
@@ -83,7 +83,10 @@ pub fn measure(options: &PaperOptions, data: &PaperData) -> Result<Measurements,
         let replay = Replay::new(&s.trace);
         let stats = replay.stats();
         table_1_rows(&mut m, s, &replay);
-        let note = format!("scenes/{}, frame 0 trace, 64 processors, round-robin", file(s.key));
+        let note = format!(
+            "scenes/{}, frame 0 trace, 64 processors, round-robin",
+            file(s.key)
+        );
         let observed = snoop(&replay, Assign::Scatter, &[64], 1)[0];
         // The paper states no reduction for Zinnia (its pathology has rows of its own).
         if s.key != "zinnia" {
@@ -94,7 +97,10 @@ pub fn measure(options: &PaperOptions, data: &PaperData) -> Result<Measurements,
         }
         formula_ok &= ((expectation(stats) - stats.expected) / stats.expected).abs() <= 1e-12;
         bound_ok &= stats.expected <= stats.even_bound * (1.0 + 1e-12);
-        writes.push((s.name, random_order_writes(&s.trace) as f64 / stats.expected));
+        writes.push((
+            s.name,
+            random_order_writes(&s.trace) as f64 / stats.expected,
+        ));
         let curve = snoop(&replay, Assign::Scatter, &CURVE, 1);
         if s.key != "zinnia" {
             let early = curve[4] as f64 - curve[0] as f64;
@@ -128,11 +134,17 @@ pub fn measure(options: &PaperOptions, data: &PaperData) -> Result<Measurements,
     }
     m.put(
         "expected-is-formula",
-        Measured::shape(formula_ok, "A * sum_d p_d H_d recomputed from each depth histogram against replay's expectation"),
+        Measured::shape(
+            formula_ok,
+            "A * sum_d p_d H_d recomputed from each depth histogram against replay's expectation",
+        ),
     );
     m.put(
         "even-bound-holds",
-        Measured::shape(bound_ok, "replay's expectation against its equation-4 bound, every stand-in"),
+        Measured::shape(
+            bound_ok,
+            "replay's expectation against its equation-4 bound, every stand-in",
+        ),
     );
     m.put(
         "zbuffer-writes-expected",
@@ -155,14 +167,24 @@ pub fn measure(options: &PaperOptions, data: &PaperData) -> Result<Measurements,
         "random-close-to-expected",
         Measured::shape(
             random_close.iter().all(|r| (r.1 - 1.0).abs() <= 0.03),
-            format!("observed / expected, random, 64 processors: {}", pairs(&random_close)),
+            format!(
+                "observed / expected, random, 64 processors: {}",
+                pairs(&random_close)
+            ),
         ),
     );
     m.put(
         "local-active-8",
         Measured::value(
             local.iter().sum::<f64>() / local.len().max(1) as f64,
-            format!("round-robin, 8 processors, by stand-in: {}", local.iter().map(|l| format!("{l:.1}%")).collect::<Vec<_>>().join(", ")),
+            format!(
+                "round-robin, 8 processors, by stand-in: {}",
+                local
+                    .iter()
+                    .map(|l| format!("{l:.1}%"))
+                    .collect::<Vec<_>>()
+                    .join(", ")
+            ),
         ),
     );
     worst_case_row(&mut m)?;
@@ -172,10 +194,18 @@ pub fn measure(options: &PaperOptions, data: &PaperData) -> Result<Measurements,
         .into_iter()
         .map(|(name, points)| Series::new(format!("sortsim, {name}"), points))
         .collect();
-    for (key, name) in [("brooks", "Brooks"), ("cube", "Cube"), ("roses", "Roses"), ("washht", "Wash.ht")] {
+    for (key, name) in [
+        ("brooks", "Brooks"),
+        ("cube", "Cube"),
+        ("roses", "Roses"),
+        ("washht", "Wash.ht"),
+    ] {
         // The text states one factor per scene, not per n: drawn at the largest n.
         if let Some(v) = paper_value(data, &format!("reduction-{key}")) {
-            series.push(Series::marks(format!("paper, {name} (text)"), vec![(64.0, v)]));
+            series.push(Series::marks(
+                format!("paper, {name} (text)"),
+                vec![(64.0, v)],
+            ));
         }
     }
     m.charts.push(Chart {
@@ -184,7 +214,10 @@ pub fn measure(options: &PaperOptions, data: &PaperData) -> Result<Measurements,
         x_label: "processors".into(),
         y_label: "reduction (x)".into(),
         series,
-        options: ChartOptions { log_x: true, y_from_zero: true },
+        options: ChartOptions {
+            log_x: true,
+            y_from_zero: true,
+        },
     });
     Ok(m)
 }
@@ -194,14 +227,29 @@ fn table_1_rows(m: &mut Measurements, s: &Standin, replay: &Replay) {
     let note = format!("scenes/{}, frame 0 trace", file(s.key));
     let primitives = replay.present().len() as f64;
     let k = s.key;
-    m.put(&format!("t1-{k}-primitives"), Measured::value(primitives, note.clone()));
+    m.put(
+        &format!("t1-{k}-primitives"),
+        Measured::value(primitives, note.clone()),
+    );
     m.put(
         &format!("t1-{k}-mean"),
-        Measured::value(stats.fragments as f64 / primitives, format!("{note}: fragments / primitives")),
+        Measured::value(
+            stats.fragments as f64 / primitives,
+            format!("{note}: fragments / primitives"),
+        ),
     );
-    m.put(&format!("t1-{k}-total"), Measured::value(stats.fragments as f64, note.clone()));
-    m.put(&format!("t1-{k}-area"), Measured::value(stats.area as f64, note.clone()));
-    m.put(&format!("t1-{k}-depth"), Measured::value(stats.depth(), note));
+    m.put(
+        &format!("t1-{k}-total"),
+        Measured::value(stats.fragments as f64, note.clone()),
+    );
+    m.put(
+        &format!("t1-{k}-area"),
+        Measured::value(stats.area as f64, note.clone()),
+    );
+    m.put(
+        &format!("t1-{k}-depth"),
+        Measured::value(stats.depth(), note),
+    );
 }
 
 /// Pixels a single z-buffer writes when the primitives arrive in a random order (seed 1):
@@ -214,7 +262,13 @@ fn random_order_writes(trace: &Trace) -> u64 {
     let mut rank: Vec<u32> = (0..count as u32).collect();
     rank.shuffle(&mut rand_chacha::ChaCha8Rng::seed_from_u64(1));
     let mut order: Vec<(u32, u32, u32)> = (0..trace.len())
-        .map(|i| (trace.pixels()[i], rank[prims[i] as usize], trace.depths()[i]))
+        .map(|i| {
+            (
+                trace.pixels()[i],
+                rank[prims[i] as usize],
+                trace.depths()[i],
+            )
+        })
         .collect();
     order.sort_unstable();
     let mut writes = 0;
@@ -249,12 +303,22 @@ fn zinnia_rows(m: &mut Measurements, replay: &Replay) {
     let first_is_largest = replay.largest() == replay.present().first().copied();
     let scatter = snoop(replay, Assign::Scatter, &procs, 1);
     let last = snoop(replay, Assign::BackgroundLast, &procs, 1);
-    let above: Vec<f64> = scatter.iter().map(|&o| 100.0 * (o as f64 / expected - 1.0)).collect();
+    let above: Vec<f64> = scatter
+        .iter()
+        .map(|&o| 100.0 * (o as f64 / expected - 1.0))
+        .collect();
     m.put(
         "zinnia-background-first",
         Measured::shape(
             first_is_largest && above[1..].iter().all(|&a| a > 4.0),
-            format!("round-robin above expected at 4, 16, 32, 64: {}", above.iter().map(|a| format!("{a:+.1}%")).collect::<Vec<_>>().join(", ")),
+            format!(
+                "round-robin above expected at 4, 16, 32, 64: {}",
+                above
+                    .iter()
+                    .map(|a| format!("{a:+.1}%"))
+                    .collect::<Vec<_>>()
+                    .join(", ")
+            ),
         ),
     );
     let random = (1..=4u64)
@@ -313,16 +377,35 @@ fn worst_case_row(m: &mut Measurements) -> Result<(), String> {
     Ok(())
 }
 
-fn simulated_rows(options: &PaperOptions, standins: &[Standin], m: &mut Measurements) -> Result<(), String> {
+fn simulated_rows(
+    options: &PaperOptions,
+    standins: &[Standin],
+    m: &mut Measurements,
+) -> Result<(), String> {
     let mut jobs: Vec<Job> = standins
         .iter()
-        .map(|s| Job::new("denali-crossbar.json", &file(s.key), "sort-last/direct-send", 16))
+        .map(|s| {
+            Job::new(
+                "denali-crossbar.json",
+                &file(s.key),
+                "sort-last/direct-send",
+                16,
+            )
+        })
         .collect();
-    jobs.push(Job::new("pixelflow-pipeline.json", &file("cube"), "sort-last/pixelflow", 16));
+    jobs.push(Job::new(
+        "pixelflow-pipeline.json",
+        &file("cube"),
+        "sort-last/pixelflow",
+        16,
+    ));
     let results = run_jobs(&options.root, &jobs, options.jobs)?;
     let mut exact = Vec::new();
     for (s, r) in standins.iter().zip(&results) {
-        exact.push((s.name, r.frames[0].bytes.get() == s.trace.len() as u64 * ACTIVE_PIXEL_BYTES));
+        exact.push((
+            s.name,
+            r.frames[0].bytes.get() == s.trace.len() as u64 * ACTIVE_PIXEL_BYTES,
+        ));
     }
     m.put(
         "direct-send-is-dA",
@@ -330,21 +413,36 @@ fn simulated_rows(options: &PaperOptions, standins: &[Standin], m: &mut Measurem
             exact.iter().all(|e| e.1),
             format!(
                 "bytes sent = fragments x {ACTIVE_PIXEL_BYTES} B on: {}",
-                exact.iter().filter(|e| e.1).map(|e| e.0).collect::<Vec<_>>().join(", ")
+                exact
+                    .iter()
+                    .filter(|e| e.1)
+                    .map(|e| e.0)
+                    .collect::<Vec<_>>()
+                    .join(", ")
             ),
         ),
     );
     let pf = &results[standins.len()];
-    let cube = standins.iter().find(|s| s.key == "cube").ok_or("no Cube stand-in")?;
+    let cube = standins
+        .iter()
+        .find(|s| s.key == "cube")
+        .ok_or("no Cube stand-in")?;
     let area = Replay::new(&cube.trace).stats().area;
     // PixelFlow ships rgb and z: 7 bytes a pixel.
     let total_ok = pf.frames[0].bytes.get() == 16 * area * 7;
-    let per_link_ok = pf.stats.nodes[..15].iter().all(|n| n.bytes_sent.get() == area * 7);
+    let per_link_ok = pf.stats.nodes[..15]
+        .iter()
+        .all(|n| n.bytes_sent.get() == area * 7);
     m.put(
         "pixelflow-is-nA",
         Measured::shape(
             total_ok && per_link_ok,
-            format!("{} B sent, n*A*7 = {} B; every node but the last sends A*7 = {} B: {per_link_ok}", pf.frames[0].bytes.get(), 16 * area * 7, area * 7),
+            format!(
+                "{} B sent, n*A*7 = {} B; every node but the last sends A*7 = {} B: {per_link_ok}",
+                pf.frames[0].bytes.get(),
+                16 * area * 7,
+                area * 7
+            ),
         ),
     );
     Ok(())

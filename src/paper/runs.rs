@@ -53,8 +53,8 @@ pub fn run_jobs(root: &Path, jobs: &[Job], threads: usize) -> Result<Vec<RunResu
     let mut scenes: BTreeMap<&str, Arc<Scene>> = BTreeMap::new();
     for job in jobs {
         if !scenes.contains_key(job.scene.as_str()) {
-            let scene = Scene::load(&root.join("scenes").join(&job.scene))
-                .map_err(|e| e.to_string())?;
+            let scene =
+                Scene::load(&root.join("scenes").join(&job.scene)).map_err(|e| e.to_string())?;
             scenes.insert(&job.scene, Arc::new(scene));
         }
     }

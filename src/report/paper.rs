@@ -83,7 +83,9 @@ fn markdown(r: &PaperReport) -> String {
     }
     for figure in r.figures() {
         let _ = writeln!(md, "\n## {figure}\n");
-        md.push_str("| quantity | where | paper | sortsim | deviation | tolerance | verdict | why |\n");
+        md.push_str(
+            "| quantity | where | paper | sortsim | deviation | tolerance | verdict | why |\n",
+        );
         md.push_str("| --- | --- | ---: | ---: | ---: | --- | --- | --- |\n");
         for row in r.rows.iter().filter(|row| row.figure == figure) {
             let _ = writeln!(

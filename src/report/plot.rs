@@ -205,7 +205,11 @@ impl LineChart<'_> {
             let colour = palette(i);
             if self.series[i].marks_only {
                 chart
-                    .draw_series(points.iter().map(|&p| Cross::new(p, 7, colour.stroke_width(3))))
+                    .draw_series(
+                        points
+                            .iter()
+                            .map(|&p| Cross::new(p, 7, colour.stroke_width(3))),
+                    )
                     .map_err(draw_error)?;
                 continue;
             }
@@ -235,8 +239,8 @@ impl LineChart<'_> {
                     .map_err(draw_error)?;
             } else {
                 area.draw(&PathElement::new(
-                vec![(4, y), (30, y)],
-                colour.stroke_width(2),
+                    vec![(4, y), (30, y)],
+                    colour.stroke_width(2),
                 ))
                 .map_err(draw_error)?;
                 area.draw(&Circle::new((17, y), 3, colour.filled()))
