@@ -20,7 +20,6 @@ use sortsim::net::fidelity::{fidelity_table, format_table};
 use sortsim::net::pattern::{run_pattern, Pattern};
 use sortsim::net::Fidelity;
 use sortsim::raster::encode_png;
-use sortsim::report::run::{timeline_json, RunSummary};
 use sortsim::report::{cost::Stopwatch, to_json, write_atomic};
 use sortsim::scene::Scene;
 use sortsim::spec::run::{parse_frames, RunSpec, RunSpecError};
@@ -104,7 +103,7 @@ fn main() -> ExitCode {
             regions,
             json,
         }) => scene_stats(&scene, frames.as_deref(), regions, json),
-        Some(Command::Bench(BenchCommand::Phold(args))) => bench_phold(&args),
+        Some(Command::Bench(BenchCommand::Phold(args))) => bench_phold(&args).map(|_| ()),
         Some(Command::Bench(BenchCommand::Overhead {
             machine,
             scene,
@@ -137,7 +136,7 @@ fn main() -> ExitCode {
             Ok(())
         }
         Some(Command::Trace(cmd)) => trace_command(&cmd),
-        Some(Command::Sweep(args)) => sweep(&args),
+        Some(Command::Sweep(args)) => sweep(&args).map(|_| ()),
         Some(Command::Paper(args)) => paper(&args),
     };
     match outcome {
@@ -219,22 +218,14 @@ fn run(args: &RunArgs) -> Result<(), Failure> {
     let clock = Stopwatch::start();
     let result = sortsim::algo::run(&cfg)?;
     let cost = clock.cost(result.stats.events);
-    let summary = RunSummary::new(&cfg, &result);
-    let last = result.frames.last().map_or(0, |f| f.frame);
-    let png = png_bytes(&result.image)?;
-    write_file(&args.out, "summary.json", &to_json(&summary))?;
-    write_file(&args.out, "summary.md", &summary.markdown())?;
-    write_file(&args.out, "cost.json", &to_json(&cost))?;
-    if let Some(timeline) = timeline_json(&result) {
-        write_file(&args.out, "timeline.json", &timeline)?;
-    }
-    write_bytes(&args.out.join(format!("frame-{last:04}.png")), &png)?;
+    let summary = sortsim::report::run::write_report(&args.out, &cfg, &result, &cost)?;
     print!("{}", summary.markdown());
     println!(
-        "\nreport written to {} (simulated in {:.2} s wall, {} events)",
+        "\nreport written to {} (simulated in {:.2} s wall, {} events); page: {}",
         args.out.display(),
         cost.wall_s,
-        cost.events
+        cost.events,
+        args.out.join("index.html").display()
     );
     Ok(())
 }
@@ -405,9 +396,10 @@ fn write_file(dir: &Path, name: &str, text: &str) -> Result<(), Failure> {
     Ok(sortsim::report::write_text(dir, name, text)?)
 }
 
-/// `sortsim sweep`: runs the points, prints the table's file names and any failed point.
-/// Bad input is refused before any point runs; a point that fails is a row with an error.
-fn sweep(args: &SweepArgs) -> Result<(), Failure> {
+/// `sortsim sweep`: runs the points, prints the table's file names and any failed point;
+/// returns the table as printed. Bad input is refused before any point runs; a point that
+/// fails is a row with an error.
+fn sweep(args: &SweepArgs) -> Result<String, Failure> {
     use sortsim::sweep::{run_sweep, spec::load_sweep, SweepError, SweepOptions};
     let spec = load_sweep(&args.spec)?;
     let out = out_dir(&args.out, &args.spec, "reports/sweep-");
@@ -426,7 +418,8 @@ fn sweep(args: &SweepArgs) -> Result<(), Failure> {
         }
         SweepError::Plot(_) | SweepError::Pool { .. } => Failure::Internal(e.to_string()),
     })?;
-    print!("{}", sortsim::sweep::table::format_rows(&outcome.rows));
+    let table = sortsim::sweep::table::format_rows(&outcome.rows);
+    print!("{table}");
     println!(
         "{} points ({} simulated now, {} already done) in {:.1} s on {jobs} threads",
         outcome.ran + outcome.skipped,
@@ -438,8 +431,9 @@ fn sweep(args: &SweepArgs) -> Result<(), Failure> {
         println!("point {} failed: {}", f.point, f.message);
     }
     println!(
-        "report written to {} (sweep.csv, sweep.json, plots/)",
-        out.display()
+        "report written to {} (sweep.csv, sweep.json, plots/); page: {}",
+        out.display(),
+        out.join("index.html").display()
     );
     match outcome
         .failures
@@ -450,7 +444,7 @@ fn sweep(args: &SweepArgs) -> Result<(), Failure> {
             "point {}: {}",
             f.point, f.message
         ))),
-        None => Ok(()),
+        None => Ok(table),
     }
 }
 
@@ -583,7 +577,8 @@ fn fidelity_name(f: FidelityArg) -> &'static str {
     }
 }
 
-fn bench_phold(args: &PholdArgs) -> Result<(), Failure> {
+/// Runs PHOLD and prints its summary and cost as JSON; returns what it printed.
+fn bench_phold(args: &PholdArgs) -> Result<String, Failure> {
     let cfg = PholdConfig {
         lps: args.lps,
         events_per_lp: args.events_per_lp,
@@ -598,8 +593,9 @@ fn bench_phold(args: &PholdArgs) -> Result<(), Failure> {
         write_file(dir, "summary.json", &to_json(&summary))?;
         write_file(dir, "cost.json", &to_json(&cost))?;
     }
-    print!("{}{}", to_json(&summary), to_json(&cost));
-    Ok(())
+    let text = format!("{}{}", to_json(&summary), to_json(&cost));
+    print!("{text}");
+    Ok(text)
 }
 
 /// The main job on the built-in default: validate the bundled machines, run the default sweep
@@ -617,9 +613,9 @@ fn default_job() -> Result<(), Failure> {
     files.sort();
     check_files(&files)?;
     let out = root.join("reports/default");
-    default_sweep(root, &out)?;
+    let sweep_table = default_sweep(root, &out)?;
     println!("\nPHOLD, 16,384 events in flight, engine against a bare binary-heap loop:");
-    bench_phold(&PholdArgs {
+    let phold = bench_phold(&PholdArgs {
         lps: 1024,
         events_per_lp: 16,
         remote: 0.9,
@@ -639,13 +635,26 @@ fn default_job() -> Result<(), Failure> {
     let table = format_table(&rows);
     print!("{table}");
     write_file(&out, "fidelity.txt", &table)?;
-    println!("\nreport written to {}", out.display());
+    sortsim::report::default_job::write_page(
+        &out,
+        &sortsim::report::default_job::DefaultJob {
+            machines: &files,
+            sweep_table: &sweep_table,
+            phold: &phold,
+            fidelity: &table,
+        },
+    )?;
+    println!(
+        "\nreport written to {}; open {} in a browser",
+        out.display(),
+        out.join("index.html").display()
+    );
     Ok(())
 }
 
 /// The default sweep, always simulated afresh (its points folder is cleared first, so a
 /// changed simulator or machine never shows an old result), and its table printed.
-fn default_sweep(root: &Path, out: &Path) -> Result<(), Failure> {
+fn default_sweep(root: &Path, out: &Path) -> Result<String, Failure> {
     let spec = root.join("sweeps/default.json");
     println!("\nThe default sweep ({}):", spec.display());
     match std::fs::remove_dir_all(out.join("points")) {

@@ -93,8 +93,8 @@ fn thread_count_does_not_change_a_byte() {
     }
     assert_eq!(
         fa.len(),
-        2 + 10 + 6,
-        "table, plots, one summary.json per point: {names:?}"
+        2 + 10 + 6 + 1,
+        "table, plots, one summary.json per point, the page: {names:?}"
     );
     for ((pa, ba), (pb, bb)) in fa.iter().zip(&fb) {
         assert_eq!(pa, pb);

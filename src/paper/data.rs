@@ -110,6 +110,8 @@ impl Reference {
                     hi
                 }
             }
+            // A bound holds or not; a distance to it reads like an error where there is none.
+            (Some(_), None) if self.relation != Relation::Equals => return None,
             (Some(v), None) => v,
             (None, None) => return None,
         };

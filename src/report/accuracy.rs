@@ -276,6 +276,11 @@ pub fn write_report(dir: &Path, study: &Study) -> Result<String, ReportError> {
         write(dir, &name, &png(&m.image)?)?;
     }
     charts(dir, &summary, &cost)?;
+    super::page::Page::new("Accuracy versus time")
+        .markdown(&md)
+        .images_of(dir)
+        .files(&["accuracy.md", "accuracy.json", "fidelity.txt", "cost.json"])
+        .write(dir)?;
     Ok(md)
 }
 

@@ -8,10 +8,13 @@
 
 pub mod accuracy;
 pub mod cost;
+pub mod default_job;
+pub mod page;
 pub mod paper;
 pub mod plot;
 pub mod run;
 pub mod summary;
+pub mod sweep;
 pub mod trace;
 pub mod utilization;
 

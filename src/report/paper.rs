@@ -10,8 +10,9 @@
 use std::fmt::Write as _;
 use std::path::Path;
 
-use maud::{html, Markup, PreEscaped, DOCTYPE};
+use maud::{html, Markup};
 
+use super::page::shell;
 use super::plot::{LineChart, PlotError};
 use super::{to_json, write_text};
 use crate::paper::{PaperReport, RowReport, Verdict};
@@ -209,28 +210,3 @@ fn verdict_class(v: Verdict) -> &'static str {
         Verdict::Differs => "differs",
     }
 }
-
-/// A self-contained page: inline CSS, no script, images by relative path.
-pub fn shell(title: &str, body: Markup) -> Markup {
-    html! {
-        (DOCTYPE)
-        html lang="en" {
-            head {
-                meta charset="utf-8";
-                meta name="viewport" content="width=device-width, initial-scale=1";
-                title { (title) }
-                style { (PreEscaped(CSS)) }
-            }
-            body { (body) }
-        }
-    }
-}
-
-const CSS: &str = "body{font-family:system-ui,sans-serif;margin:2em auto;max-width:80em;padding:0 1em;color:#222}\
-table{border-collapse:collapse;margin:1em 0;width:100%}\
-th,td{border:1px solid #ddd;padding:.3em .5em;vertical-align:top;text-align:left;font-size:.92em}\
-th{background:#f4f4f4}td.num{text-align:right;white-space:nowrap}\
-tr.exact td.verdict{background:#d9f2d9}tr.within td.verdict{background:#e8f5e0}\
-tr.shape td.verdict{background:#fff3c4}tr.differs td.verdict{background:#f8d0d0}\
-.detail{color:#666;font-size:.9em}.headline{font-size:1.15em;font-weight:600}\
-figure{display:inline-block;margin:1em}img{max-width:100%;border:1px solid #eee}";

@@ -1,16 +1,67 @@
 //! The report of one run: summary.json (every metric with its unit, deterministic),
-//! summary.md (the tables a person reads), timeline.json (Chrome trace events, one track per
-//! node cpu; opens in Perfetto or chrome://tracing) and the last frame's image.
+//! summary.md (the tables a person reads), cost.json (what it cost the host), timeline.json
+//! (Chrome trace events, one track per node cpu; opens in Perfetto or chrome://tracing), the
+//! last frame's image and index.html (all of it on one page).
 //!
 //! Must never run a simulation; it only formats what a run measured.
 
 use std::collections::BTreeMap;
 use std::fmt::Write as _;
+use std::path::Path;
 
 use serde::Serialize;
 
+use super::cost::Cost;
+use super::page::{phase_bars, timeline_note, Page};
+use super::plot::PlotError;
 use super::summary::Summary;
+use super::{to_json, write_atomic, write_text};
 use crate::algo::{FrameRecord, RunConfig, RunResult};
+use crate::raster::encode_png;
+
+/// Writes a run's report folder; returns its summary (for printing).
+pub fn write_report(
+    dir: &Path,
+    cfg: &RunConfig,
+    result: &RunResult,
+    cost: &Cost,
+) -> Result<RunSummary, PlotError> {
+    let summary = RunSummary::new(cfg, result);
+    let last = result.frames.last().map_or(0, |f| f.frame);
+    let mut png = Vec::new();
+    encode_png(&result.image, &mut png).map_err(|e| PlotError::Draw(e.to_string()))?;
+    write_text(dir, "summary.json", &to_json(&summary))?;
+    write_text(dir, "summary.md", &summary.markdown())?;
+    write_text(dir, "cost.json", &to_json(cost))?;
+    let timeline = timeline_json(result);
+    if let Some(timeline) = &timeline {
+        write_text(dir, "timeline.json", timeline)?;
+    }
+    let image = dir.join(format!("frame-{last:04}.png"));
+    write_atomic(&image, &png).map_err(|source| PlotError::Io {
+        path: image.clone(),
+        source,
+    })?;
+    let title = format!(
+        "{} on {} ({} processors)",
+        summary.run.algo, summary.run.machine, summary.run.procs
+    );
+    let mut page = Page::new(title)
+        .markdown(&summary.markdown())
+        .section(phase_bars(
+            &summary.machine_metrics.nodes,
+            summary.machine_metrics.end_s,
+        ));
+    if timeline.is_some() {
+        page = page.section(timeline_note());
+    }
+    let mut files = vec!["summary.json", "summary.md", "cost.json"];
+    if timeline.is_some() {
+        files.push("timeline.json");
+    }
+    page.images_of(dir).files(&files).write(dir)?;
+    Ok(summary)
+}
 
 /// What a run was: the fields every report of one run spec opens with (summary.json,
 /// accuracy.json).

@@ -36,5 +36,9 @@ pub fn write(dir: &Path, report: &Report, trace: &str) -> Result<(), PlotError> 
             },
         )?;
     }
-    Ok(())
+    super::page::Page::new(format!("Trace replay: {trace}"))
+        .section(super::page::text_block("Traffic", &report.table()))
+        .images_of(dir)
+        .files(&["replay.csv", "replay.json"])
+        .write(dir)
 }

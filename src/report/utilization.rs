@@ -89,5 +89,29 @@ pub fn write(
             log_x: false,
             y_from_zero: false,
         },
-    )
+    )?;
+    let utilization_table =
+        outcome.table(modes, "Expected rasterization utilization (%)", 1, |c| {
+            100.0 * c.utilization
+        });
+    let relative_table = outcome.table(
+        &[figure5],
+        "Relative execution time (performance model)",
+        3,
+        |c| c.relative_time,
+    );
+    super::page::Page::new(format!("Utilization simulation: {}", files.0))
+        .section(super::page::text_block("Utilization", &utilization_table))
+        .section(super::page::text_block(
+            "Performance model",
+            &relative_table,
+        ))
+        .images_of(dir)
+        .files(&[
+            "utilization.csv",
+            "utilization.json",
+            "figure4.csv",
+            "figure5.csv",
+        ])
+        .write(dir)
 }

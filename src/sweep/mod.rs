@@ -5,7 +5,7 @@
 //! sweep.json ─> spec::Sweep (points in product order) ─> pending points (no summary.json yet)
 //!     ─> thread pool: resolve, run, write points/<name>/summary.json + cost.json
 //!     ─> every point's summary.json ─> table::Row (speedup against the 1-processor point)
-//!     ─> sweep.csv, sweep.json, plots/*.svg|png, cost.json
+//!     ─> sweep.csv, sweep.json, plots/*.svg|png, index.html, cost.json
 //! ```
 //!
 //! Determinism: a point's result depends only on its run spec; results are collected by
@@ -360,6 +360,7 @@ fn write_reports(sweep: &Sweep, out: &Path, rows: &[Row]) -> Result<(), SweepErr
         to_json(&table::SweepTable::new(sweep, rows)).as_bytes(),
     )?;
     plots::write_plots(sweep, rows, &out.join("plots"))?;
+    crate::report::sweep::write_page(out, sweep, rows)?;
     Ok(())
 }
 

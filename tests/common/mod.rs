@@ -78,3 +78,40 @@ pub fn run_sort_last(
     };
     run(&spec.resolve(Some(scene.clone())).expect("valid run"))
 }
+
+/// The path of `binary`, installing the Debian `packages` (apt-get, as root) when it is not on
+/// the PATH. A failed install fails the calling test with apt-get's output: a test never
+/// passes because a tool was missing.
+pub fn installed(binary: &str, packages: &[&str]) -> std::path::PathBuf {
+    static INSTALL: std::sync::Mutex<()> = std::sync::Mutex::new(());
+    let find = || {
+        std::env::var_os("PATH").and_then(|paths| {
+            std::env::split_paths(&paths)
+                .map(|d| d.join(binary))
+                .find(|p| p.is_file())
+        })
+    };
+    let _one_at_a_time = INSTALL.lock().unwrap_or_else(|e| e.into_inner());
+    if let Some(p) = find() {
+        return p;
+    }
+    let apt = |args: &[&str]| {
+        let out = std::process::Command::new("apt-get")
+            .args(args)
+            .env("DEBIAN_FRONTEND", "noninteractive")
+            .output()
+            .unwrap_or_else(|e| panic!("{binary} is missing and apt-get cannot run: {e}"));
+        assert!(
+            out.status.success(),
+            "{binary} is missing and `apt-get {}` failed:\n{}{}",
+            args.join(" "),
+            String::from_utf8_lossy(&out.stdout),
+            String::from_utf8_lossy(&out.stderr)
+        );
+    };
+    apt(&["update"]);
+    let mut install = vec!["install", "-y", "--no-install-recommends"];
+    install.extend(packages);
+    apt(&install);
+    find().unwrap_or_else(|| panic!("{packages:?} installed, yet {binary} is not on the PATH"))
+}
