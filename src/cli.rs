@@ -31,7 +31,8 @@ pub enum Command {
     },
     /// Simulate an algorithm on a machine and a scene; write its report.
     #[command(
-        after_help = "Example:\n  sortsim run --machine machines/delta.json --scene scenes/plb-head-standin.json \\\n      --algo sort-middle/ellsworth --procs 64 --frames 0..4 --set granularity=8 -o reports/plb-64"
+        after_help = "Example:\n  sortsim run --machine machines/delta.json --scene scenes/plb-head-standin.json \\\n      --algo sort-middle/ellsworth --procs 64 --frames 0..4 --set granularity=8 -o reports/plb-64\n\n--help lists every algorithm's options with their defaults.",
+        after_long_help = run_long_help()
     )]
     Run(RunArgs),
     /// What accuracy costs in time: image error against a supersampled reference, simulated
@@ -100,7 +101,7 @@ pub enum Command {
         after_help = "Example:\n  sortsim schema machine > machine.schema.json\n\nIn VS Code, map the schemas to files with `json.schemas` in settings.json, e.g.\n  {\"fileMatch\": [\"machines/*.json\"], \"url\": \"./schemas/machine.schema.json\"}"
     )]
     Schema {
-        #[arg(value_parser = ["machine", "scene", "run", "sweep", "pattern"])]
+        #[arg(value_parser = sortsim::spec::schema::KINDS)]
         kind: String,
     },
     /// Print a shell completion script for sortsim.
@@ -306,6 +307,14 @@ pub struct SweepArgs {
     /// Simulations at a time; the number of cores when absent.
     #[arg(long, value_name = "J", value_parser = clap::value_parser!(u32).range(1..))]
     pub jobs: Option<u32>,
+}
+
+/// `sortsim run --help`: the example, then every algorithm's options from their structs.
+fn run_long_help() -> String {
+    format!(
+        "Example:\n  sortsim run --machine machines/delta.json --scene scenes/plb-head-standin.json \\\n      --algo sort-middle/ellsworth --procs 64 --frames 0..4 --set granularity=8 -o reports/plb-64\n\n{}\nMachine fields are set the same way: --set machine.network.fidelity=packet.",
+        sortsim::algo::AlgorithmId::options_help()
+    )
 }
 
 #[derive(Args, Debug)]

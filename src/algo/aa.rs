@@ -3,6 +3,7 @@
 //!
 //! Must never build a target or charge anything: a family decides what its nodes render into.
 
+use super::options::{choice_option, quantity_option, string_option, OnOff};
 use super::{bad_option as bad, Options, RunConfig, RunError};
 use crate::machine::Op;
 use crate::raster::aa::{AaMethod, Grid};
@@ -31,26 +32,87 @@ impl Default for AaSettings {
     }
 }
 
-/// Reads the anti-aliasing options (`aa`, `aa-pool`, `aa-start`, `aa-reclaim`).
-pub(crate) fn aa_settings(o: &Options) -> Result<AaSettings, RunError> {
-    let method: String = o.get("aa", "none".to_string(), AaMethod::VALID)?;
-    let method = AaMethod::parse(&method).ok_or_else(|| bad(o, "aa", AaMethod::VALID))?;
-    let pool_given = o.pairs().any(|(k, _)| k == "aa-pool");
-    let pool: Bytes = o.get(
-        "aa-pool",
-        Bytes::new(0),
-        "a Subpixel pool size per processor such as 10MB",
-    )?;
-    let pool = pool_given.then_some(pool);
-    let start = match o.choice("aa-start", "4", &["4", "3", "2"])? {
-        "3" => Grid::X3,
-        "2" => Grid::X2,
-        _ => Grid::X4,
-    };
-    let reclaim = o.choice("aa-reclaim", "on", &["on", "off"])? == "on";
+choice_option!(
+    /// The first frame's subpixel resolution, n x n.
+    AaStart { X4 = "4", X3 = "3", X2 = "2" }
+);
+
+quantity_option!(
+    /// A Subpixel pool per processor.
+    PoolSize(Bytes),
+    what = "a Subpixel pool size per processor such as 10MB"
+);
+
+/// An anti-aliasing method as `--set aa=` spells it.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct Method(pub AaMethod);
+
+impl std::str::FromStr for Method {
+    type Err = String;
+    fn from_str(s: &str) -> Result<Method, String> {
+        AaMethod::parse(s)
+            .map(Method)
+            .ok_or_else(|| format!("expected {}", AaMethod::VALID))
+    }
+}
+
+impl std::fmt::Display for Method {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.write_str(&self.0.name())
+    }
+}
+
+string_option!(Method);
+
+impl schemars::JsonSchema for Method {
+    fn schema_name() -> std::borrow::Cow<'static, str> {
+        "AaMethod".into()
+    }
+    fn json_schema(_: &mut schemars::SchemaGenerator) -> schemars::Schema {
+        schemars::json_schema!({
+            "type": "string",
+            "pattern": "^(none|adaptive|supersample:[0-9]+)$",
+            "description": AaMethod::VALID,
+        })
+    }
+}
+
+/// The anti-aliasing options every algorithm takes.
+#[derive(Clone, Debug, serde::Deserialize, schemars::JsonSchema)]
+#[serde(rename_all = "kebab-case")]
+pub struct AaOptions {
+    /// Anti-aliasing: none, adaptive (paper 000's supersampling of edge pixels into a fixed
+    /// Subpixel pool) or supersample:N (N samples per pixel, a perfect square from 4 to 256).
+    #[serde(default = "no_aa")]
+    pub aa: Method,
+    /// Subpixel pool per processor, adaptive only; none: 2x2 samples for all of its pixels.
+    #[serde(default)]
+    pub aa_pool: Option<PoolSize>,
+    /// First frame's subpixel resolution n (n x n samples), adaptive only; paper 000: 4.
+    #[serde(default = "start_at_4x4")]
+    pub aa_start: AaStart,
+    /// Reclaim the cells of edge pixels whose samples agree, adaptive only.
+    #[serde(default = "reclaiming")]
+    pub aa_reclaim: OnOff,
+}
+
+fn no_aa() -> Method {
+    Method(AaMethod::None)
+}
+fn start_at_4x4() -> AaStart {
+    AaStart::X4
+}
+fn reclaiming() -> OnOff {
+    OnOff::On
+}
+
+/// The anti-aliasing settings of parsed options; the adaptive-only keys are refused with
+/// any other method.
+pub(crate) fn aa_settings(o: &Options, a: &AaOptions) -> Result<AaSettings, RunError> {
+    let method = a.aa.0;
     let adaptive_only = ["aa-pool", "aa-start", "aa-reclaim"];
     if method != AaMethod::Adaptive {
-        if let Some((k, _)) = o.pairs().find(|(k, _)| adaptive_only.contains(&k.as_str())) {
+        if let Some(k) = adaptive_only.iter().find(|k| o.is_given(k)) {
             return Err(bad(
                 o,
                 k,
@@ -60,9 +122,13 @@ pub(crate) fn aa_settings(o: &Options) -> Result<AaSettings, RunError> {
     }
     Ok(AaSettings {
         method,
-        pool,
-        start,
-        reclaim,
+        pool: a.aa_pool.map(|p| p.0),
+        start: match a.aa_start {
+            AaStart::X4 => Grid::X4,
+            AaStart::X3 => Grid::X3,
+            AaStart::X2 => Grid::X2,
+        },
+        reclaim: a.aa_reclaim.is_on(),
     })
 }
 

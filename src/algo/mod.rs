@@ -94,6 +94,74 @@ impl AlgorithmId {
     }
 
     /// The valid ids, for error messages.
+    /// The options this algorithm takes (its own, then the anti-aliasing ones), read from
+    /// their structs: the same source as parsing, the schema and `--help`.
+    pub fn option_docs(self) -> Vec<options::OptionDoc> {
+        let mut all = self.own_option_docs();
+        all.extend(options::docs::<aa::AaOptions>());
+        all
+    }
+
+    /// The options of this algorithm's own struct, without the anti-aliasing ones.
+    fn own_option_docs(self) -> Vec<options::OptionDoc> {
+        use options::docs;
+        match self {
+            AlgorithmId::SortMiddleStatic => docs::<sort_middle::StaticOptions>(),
+            AlgorithmId::SortMiddleEllsworth => docs::<sort_middle::EllsworthOptions>(),
+            AlgorithmId::SortLastDf => docs::<sort_last::DfOptions>(),
+            AlgorithmId::SortLastPc => docs::<sort_last::PcOptions>(),
+            AlgorithmId::SortLastDirectSend => docs::<sort_last::DirectSendOptions>(),
+            AlgorithmId::SortLastScanlineFlow
+            | AlgorithmId::SortLastPixelFlow
+            | AlgorithmId::SortLastSnooping => docs::<sort_last::DealOptions>(),
+        }
+    }
+
+    /// The JSON Schema of this algorithm's options (its struct's properties and the
+    /// anti-aliasing ones).
+    pub fn options_schema(self) -> serde_json::Value {
+        use schemars::schema_for;
+        let own = match self {
+            AlgorithmId::SortMiddleStatic => schema_for!(sort_middle::StaticOptions),
+            AlgorithmId::SortMiddleEllsworth => schema_for!(sort_middle::EllsworthOptions),
+            AlgorithmId::SortLastDf => schema_for!(sort_last::DfOptions),
+            AlgorithmId::SortLastPc => schema_for!(sort_last::PcOptions),
+            AlgorithmId::SortLastDirectSend => schema_for!(sort_last::DirectSendOptions),
+            AlgorithmId::SortLastScanlineFlow
+            | AlgorithmId::SortLastPixelFlow
+            | AlgorithmId::SortLastSnooping => schema_for!(sort_last::DealOptions),
+        };
+        let mut own = own.to_value();
+        let aa = schema_for!(aa::AaOptions).to_value();
+        for key in ["properties", "$defs"] {
+            if let (Some(into), Some(from)) = (
+                own.get_mut(key).and_then(|v| v.as_object_mut()),
+                aa.get(key).and_then(|v| v.as_object()),
+            ) {
+                into.extend(from.clone());
+            } else if let Some(from) = aa.get(key) {
+                own[key] = from.clone();
+            }
+        }
+        own["title"] = self.id().into();
+        own["additionalProperties"] = false.into();
+        own
+    }
+
+    /// Every algorithm's options as `--help` prints them.
+    pub fn options_help() -> String {
+        let mut text = String::from(
+            "Algorithm options (--set KEY=VALUE, or a run spec's \"set\"), with their defaults:\n",
+        );
+        for a in AlgorithmId::ALL {
+            text.push_str(&format!("  {}\n", a.id()));
+            text.push_str(&options::help_lines(&a.own_option_docs()));
+        }
+        text.push_str("  every algorithm (anti-aliasing)\n");
+        text.push_str(&options::help_lines(&options::docs::<aa::AaOptions>()));
+        text
+    }
+
     pub fn valid_ids() -> String {
         AlgorithmId::ALL
             .iter()

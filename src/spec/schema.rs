@@ -11,8 +11,9 @@ use crate::spec::run::RunSpec;
 use crate::spec::scene::SceneSpec;
 use crate::sweep::spec::SweepSpec;
 
-/// The spec kinds, in the order `schemas/` lists them.
-pub const KINDS: [&str; 5] = ["machine", "scene", "run", "sweep", "pattern"];
+/// The spec kinds, in the order `schemas/` lists them; `options` is the algorithms' options
+/// (a run spec's `set`), one definition per algorithm.
+pub const KINDS: [&str; 6] = ["machine", "scene", "run", "sweep", "pattern", "options"];
 
 /// The schema of spec kind `kind` as pretty JSON with a final newline; `None` for an unknown
 /// kind.
@@ -23,11 +24,40 @@ pub fn schema_json(kind: &str) -> Option<String> {
         "run" => schemars::schema_for!(RunSpec),
         "sweep" => schemars::schema_for!(SweepSpec),
         "pattern" => schemars::schema_for!(Pattern),
+        "options" => return Some(pretty(&options_schema())),
         _ => return None,
     };
-    let mut text = serde_json::to_string_pretty(&schema).expect("a schema serializes");
+    Some(pretty(&schema))
+}
+
+/// Every algorithm's options: `$defs` keyed by algorithm id.
+fn options_schema() -> serde_json::Value {
+    use crate::algo::AlgorithmId;
+    // Each algorithm's value types ($refs to "#/$defs/...") move up to the top, beside the
+    // algorithms, so every reference resolves from the document's root.
+    let mut defs = serde_json::Map::new();
+    for a in AlgorithmId::ALL {
+        let mut schema = a.options_schema();
+        if let Some(obj) = schema.as_object_mut() {
+            obj.remove("$schema");
+            if let Some(serde_json::Value::Object(types)) = obj.remove("$defs") {
+                defs.extend(types);
+            }
+        }
+        defs.insert(a.id().to_string(), schema);
+    }
+    serde_json::json!({
+        "$schema": "https://json-schema.org/draft/2020-12/schema",
+        "title": "Algorithm options",
+        "description": "The options each algorithm takes through --set KEY=VALUE or a run spec's \"set\" object (values are strings there); one definition per algorithm id.",
+        "$defs": defs,
+    })
+}
+
+fn pretty(schema: &impl serde::Serialize) -> String {
+    let mut text = serde_json::to_string_pretty(schema).expect("a schema serializes");
     text.push('\n');
-    Some(text)
+    text
 }
 
 /// The file `schemas/` ships for `kind`.

@@ -27,6 +27,7 @@ mod df;
 mod direct_send;
 mod full_frame;
 mod local;
+pub mod options;
 mod pc;
 mod pixel;
 mod pixelflow;
@@ -40,6 +41,7 @@ use std::rc::Rc;
 
 use super::aa::{aa_settings, check_prices, AaSettings};
 use super::frames::FrameBook;
+use super::options::parse;
 use super::primitives::{deal, shares, Deal};
 use super::{bad_option as bad, simulate, RunConfig, RunError, RunResult};
 use crate::engine::{Node, Payload, SimError};
@@ -50,6 +52,8 @@ use crate::raster::screen::MAX_VIEWPORT;
 use crate::raster::{Framebuffer, RasterOptions, Viewport};
 use crate::scene::FrameGeometry;
 use crate::units::Bytes;
+use options::AssignRule;
+pub use options::{DealOptions, DfOptions, DirectSendOptions, PcOptions};
 use pixel::{AaPx, Px, ShippedPixel};
 
 /// The six sort-last algorithms.
@@ -367,63 +371,98 @@ fn requirements(cfg: &RunConfig, variant: Variant) -> Result<(), RunError> {
     Ok(())
 }
 
+/// The options every sort-last algorithm reads, whatever its struct.
+struct Common {
+    assign: AssignRule,
+    split: u32,
+    min_packet: u32,
+    local_zbuffer: bool,
+    chunk_rows: u32,
+}
+
 /// Reads the options of `variant` and checks them.
 fn settings(cfg: &RunConfig, variant: Variant) -> Result<Settings, RunError> {
     let o = &cfg.options;
-    let names = ["scatter", "random", "background-last", "request"];
-    let rule = o.choice("assign", "scatter", &names)?;
-    let assignment = match Deal::from_name(rule) {
-        Some(deal) => Assignment::Static(deal),
-        None => {
-            if !variant.balances_on_request() {
-                return Err(bad(
-                    o,
-                    "assign",
-                    "scatter, random or background-last: request balancing runs at the end \
-                     of rendering, so only sort-last/df and sort-last/pc use it (paper 001)",
-                ));
-            }
-            let split: u32 = o.get("split", 2, "a splitting factor of at least 2")?;
-            if split < 2 {
-                return Err(bad(o, "split", "a splitting factor of at least 2"));
-            }
-            let min_packet: u32 =
-                o.get("min-packet", 16, "a whole number of primitives, at least 1")?;
-            if min_packet == 0 {
-                return Err(bad(
-                    o,
-                    "min-packet",
-                    "a whole number of primitives, at least 1",
-                ));
-            }
-            Assignment::Request { split, min_packet }
-        }
-    };
-    let local_zbuffer = match variant {
-        Variant::DirectSend => o.choice("local-zbuffer", "off", &["on", "off"])? == "on",
-        _ => false,
-    };
-    let chunk_rows = match variant {
+    let algo = cfg.algo.id();
+    let (common, aa) = match variant {
         Variant::Pc => {
-            let rows: u32 = o.get("chunk-rows", 1, "a whole number of scanlines, at least 1")?;
-            if rows == 0 {
-                return Err(bad(
-                    o,
-                    "chunk-rows",
-                    "a whole number of scanlines, at least 1",
-                ));
-            }
-            rows
+            let (p, aa) = parse::<PcOptions>(o, algo)?;
+            let c = Common {
+                assign: p.assign,
+                split: p.split.0,
+                min_packet: p.min_packet.0,
+                local_zbuffer: false,
+                chunk_rows: p.chunk_rows.0,
+            };
+            (c, aa)
         }
-        _ => 1,
+        Variant::Df => {
+            let (d, aa) = parse::<DfOptions>(o, algo)?;
+            let c = Common {
+                assign: d.assign,
+                split: d.split.0,
+                min_packet: d.min_packet.0,
+                local_zbuffer: false,
+                chunk_rows: 1,
+            };
+            (c, aa)
+        }
+        Variant::DirectSend => {
+            let (d, aa) = parse::<DirectSendOptions>(o, algo)?;
+            let c = Common {
+                assign: d.assign,
+                split: 2,
+                min_packet: 16,
+                local_zbuffer: d.local_zbuffer.is_on(),
+                chunk_rows: 1,
+            };
+            (c, aa)
+        }
+        Variant::ScanlineFlow | Variant::PixelFlow | Variant::Snooping => {
+            let (d, aa) = parse::<DealOptions>(o, algo)?;
+            let c = Common {
+                assign: d.assign,
+                split: 2,
+                min_packet: 16,
+                local_zbuffer: false,
+                chunk_rows: 1,
+            };
+            (c, aa)
+        }
     };
-    let aa = aa_settings(o)?;
+    let assignment = match common.assign {
+        AssignRule::Scatter => Assignment::Static(Deal::Scatter),
+        AssignRule::Random => Assignment::Static(Deal::Random),
+        AssignRule::BackgroundLast => Assignment::Static(Deal::BackgroundLast),
+        AssignRule::Request if !variant.balances_on_request() => {
+            return Err(bad(
+                o,
+                "assign",
+                "scatter, random or background-last: request balancing runs at the end \
+                 of rendering, so only sort-last/df and sort-last/pc use it (paper 001)",
+            ))
+        }
+        AssignRule::Request => Assignment::Request {
+            split: common.split,
+            min_packet: common.min_packet,
+        },
+    };
+    if common.assign != AssignRule::Request {
+        if let Some(k) = ["split", "min-packet"].iter().find(|k| o.is_given(k)) {
+            return Err(bad(
+                o,
+                k,
+                "assign=request with it (it applies to request balancing only)",
+            ));
+        }
+    }
+    let (local_zbuffer, chunk_rows) = (common.local_zbuffer, common.chunk_rows);
+    let aa = aa_settings(o, &aa)?;
     check_prices(cfg, &aa)?;
     let side = match aa.method {
         AaMethod::None | AaMethod::Adaptive => 1,
         AaMethod::Supersample { side } => side,
     };
-    o.finish(cfg.algo.id())?;
     Ok(Settings {
         variant,
         assignment,

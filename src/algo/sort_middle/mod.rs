@@ -15,6 +15,7 @@ pub mod assign;
 pub mod buffers;
 pub mod canvas;
 mod ellsworth;
+pub mod options;
 mod redistribute;
 pub mod regions;
 mod static_regions;
@@ -25,8 +26,12 @@ use std::cell::RefCell;
 use std::rc::Rc;
 
 use super::aa::{aa_settings, AaSettings};
+use super::options::parse;
 use assign::Assignment;
 use canvas::Canvas;
+pub use options::CountsFrom;
+use options::TwoStep;
+pub use options::{EllsworthOptions, StaticOptions, DEFAULT_BUFFER};
 use regions::RegionGrid;
 use two_step::Groups;
 
@@ -47,15 +52,6 @@ use crate::units::{Bytes, SimTime};
 pub enum Variant {
     Static,
     Ellsworth,
-}
-
-/// When the per-region counts that drive the assignment are taken (paper 002).
-#[derive(Clone, Copy, Debug, PartialEq, Eq)]
-pub enum CountsFrom {
-    /// This frame's counts assign the next frame's regions, summed while rasterizing.
-    Previous,
-    /// This frame's counts assign this frame's regions: everyone waits for them.
-    Current,
 }
 
 /// The validated options of one run.
@@ -472,32 +468,31 @@ async fn rasterize(
     Ok(image)
 }
 
-/// Reads the options of `variant` and checks them.
+/// Reads the options of `variant` and checks them against the machine and the screen.
 fn settings(cfg: &RunConfig, variant: Variant, viewport: Viewport) -> Result<Settings, RunError> {
     let o = &cfg.options;
     let n = cfg.machine.nodes;
-    let grid = match variant {
+    let costs = &cfg.machine.cpu.costs;
+    let default_estimate = costs.get(Op::SetupTriangle)
+        + costs.get(Op::Span).times(3)
+        + (costs.get(Op::PixelTest) + costs.get(Op::PixelWrite)).times(6);
+    let algo = cfg.algo.id();
+    let (grid, buffer, counts, two_step, polygon_estimate, aa) = match variant {
         Variant::Static => {
-            let size: u32 = o.get("region-size", 64, "a region side in pixels, at least 1")?;
-            if size == 0 {
-                return Err(bad(o, "region-size", "a region side in pixels, at least 1"));
-            }
-            RegionGrid::of_size(viewport, size)
+            let (s, aa) = parse::<StaticOptions>(o, algo)?;
+            let grid = RegionGrid::of_size(viewport, s.region_size.0);
+            (
+                grid,
+                s.buffer.0,
+                CountsFrom::Previous,
+                TwoStep::Off,
+                default_estimate,
+                aa,
+            )
         }
         Variant::Ellsworth => {
-            let granularity: u32 = o.get(
-                "granularity",
-                8,
-                "a whole number of regions per processor, at least 1",
-            )?;
-            if granularity == 0 {
-                return Err(bad(
-                    o,
-                    "granularity",
-                    "a whole number of regions per processor, at least 1",
-                ));
-            }
-            RegionGrid::with_count(viewport, granularity * n).ok_or_else(|| {
+            let (e, aa) = parse::<EllsworthOptions>(o, algo)?;
+            let grid = RegionGrid::with_count(viewport, e.granularity.0 * n).ok_or_else(|| {
                 bad(
                     o,
                     "granularity",
@@ -508,10 +503,11 @@ fn settings(cfg: &RunConfig, variant: Variant, viewport: Viewport) -> Result<Set
                         viewport.height()
                     ),
                 )
-            })?
+            })?;
+            let estimate = e.polygon_estimate.map_or(default_estimate, |t| t.0);
+            (grid, e.buffer.0, e.counts, e.two_step, estimate, aa)
         }
     };
-    let buffer: Bytes = o.get("buffer", DEFAULT_BUFFER, "a buffer size such as 4KiB")?;
     if buffer.get() < buffers::HEADER_BYTES + buffers::ROUTED_TRIANGLE_BYTES {
         return Err(bad(
             o,
@@ -522,31 +518,13 @@ fn settings(cfg: &RunConfig, variant: Variant, viewport: Viewport) -> Result<Set
             ),
         ));
     }
-    let costs = &cfg.machine.cpu.costs;
-    let default_estimate = costs.get(Op::SetupTriangle)
-        + costs.get(Op::Span).times(3)
-        + (costs.get(Op::PixelTest) + costs.get(Op::PixelWrite)).times(6);
-    let (counts, groups, polygon_estimate) = match variant {
-        Variant::Static => (CountsFrom::Previous, None, default_estimate),
-        Variant::Ellsworth => {
-            let counts = match o.choice("counts", "previous", &["previous", "current"])? {
-                "current" => CountsFrom::Current,
-                _ => CountsFrom::Previous,
-            };
-            let two_step = o.choice("two-step", "off", &["on", "off", "auto"])?;
-            let groups = match two_step {
-                "on" => Some(Groups::near_sqrt(n)),
-                "auto" => two_step_pays(cfg, buffer).then(|| Groups::near_sqrt(n)),
-                _ => None,
-            };
-            let estimate: SimTime =
-                o.get("polygon-estimate", default_estimate, "a time such as 12us")?;
-            (counts, groups, estimate)
-        }
+    let groups = match two_step {
+        TwoStep::On => Some(Groups::near_sqrt(n)),
+        TwoStep::Auto => two_step_pays(cfg, buffer).then(|| Groups::near_sqrt(n)),
+        TwoStep::Off => None,
     };
-    let aa = aa_settings(o)?;
+    let aa = aa_settings(o, &aa)?;
     super::aa::check_prices(cfg, &aa)?;
-    o.finish(cfg.algo.id())?;
     Ok(Settings {
         variant,
         grid,
@@ -557,9 +535,6 @@ fn settings(cfg: &RunConfig, variant: Variant, viewport: Viewport) -> Result<Set
         aa,
     })
 }
-
-/// Paper 002's polygon buffer: "The buffer size was fixed at 4 Kbytes."
-pub const DEFAULT_BUFFER: Bytes = Bytes::new(4096);
 
 /// The performance model's verdict on two-step redistribution (paper 002: "an implementation
 /// can determine this automatically"): per processor, one-step pays N-1 message overheads at

@@ -1,0 +1,116 @@
+//! The options of the sort-last algorithms, one struct per algorithm (three share one: they
+//! take only the primitive assignment). The doc comment of a field is its help, its serde
+//! default the default.
+//!
+//! Owns the option names, types and defaults. Must never check them against a machine (that
+//! is `settings`).
+
+use crate::algo::options::{choice_option, count_option, OnOff};
+
+choice_option!(
+    /// How primitives are dealt to processors.
+    AssignRule {
+        /// Round-robin in database order (paper 001's scattering).
+        Scatter = "scatter",
+        /// Each primitive to a processor drawn from a seeded stream.
+        Random = "random",
+        /// Scatter, but the largest primitive last (paper 003's advice for backgrounds).
+        BackgroundLast = "background-last",
+        /// Paper 001's request-based dynamic load balancing (sort-last/df and pc only).
+        Request = "request",
+    }
+);
+
+count_option!(
+    /// Request balancing's splitting factor.
+    SplitFactor,
+    min = 2,
+    what = "a splitting factor of at least 2"
+);
+
+count_option!(
+    /// A packet of primitives.
+    Primitives,
+    min = 1,
+    what = "a whole number of primitives, at least 1"
+);
+
+count_option!(
+    /// Scanlines per pipeline message.
+    Scanlines,
+    min = 1,
+    what = "a whole number of scanlines, at least 1"
+);
+
+fn scatter() -> AssignRule {
+    AssignRule::Scatter
+}
+fn split_in_two() -> SplitFactor {
+    SplitFactor(2)
+}
+fn sixteen() -> Primitives {
+    Primitives(16)
+}
+fn one_row() -> Scanlines {
+    Scanlines(1)
+}
+fn off() -> OnOff {
+    OnOff::Off
+}
+
+/// sort-last/pc (paper 001's Pipeline Composition).
+#[derive(Clone, Debug, serde::Deserialize, schemars::JsonSchema)]
+#[serde(rename_all = "kebab-case")]
+pub struct PcOptions {
+    /// How primitives are dealt: scatter, random, background-last or request (paper 001's
+    /// request-based dynamic load balancing).
+    #[serde(default = "scatter")]
+    pub assign: AssignRule,
+    /// Request balancing: a donor splits its remaining work into this many parts.
+    #[serde(default = "split_in_two")]
+    pub split: SplitFactor,
+    /// Request balancing: the smallest packet of primitives worth giving away.
+    #[serde(default = "sixteen")]
+    pub min_packet: Primitives,
+    /// Scanlines per message through the pipeline.
+    #[serde(default = "one_row")]
+    pub chunk_rows: Scanlines,
+}
+
+/// sort-last/df (paper 001's Distributed Framebuffer).
+#[derive(Clone, Debug, serde::Deserialize, schemars::JsonSchema)]
+#[serde(rename_all = "kebab-case")]
+pub struct DfOptions {
+    /// How primitives are dealt: scatter, random, background-last or request (paper 001's
+    /// request-based dynamic load balancing).
+    #[serde(default = "scatter")]
+    pub assign: AssignRule,
+    /// Request balancing: a donor splits its remaining work into this many parts.
+    #[serde(default = "split_in_two")]
+    pub split: SplitFactor,
+    /// Request balancing: the smallest packet of primitives worth giving away.
+    #[serde(default = "sixteen")]
+    pub min_packet: Primitives,
+}
+
+/// sort-last/direct-send (paper 003).
+#[derive(Clone, Debug, serde::Deserialize, schemars::JsonSchema)]
+#[serde(rename_all = "kebab-case")]
+pub struct DirectSendOptions {
+    /// How primitives are dealt: scatter, random or background-last.
+    #[serde(default = "scatter")]
+    pub assign: AssignRule,
+    /// Z-buffer locally first and send only the active pixels.
+    #[serde(default = "off")]
+    pub local_zbuffer: OnOff,
+}
+
+/// sort-last/scanline-flow (paper 001), sort-last/pixelflow and sort-last/snooping (paper
+/// 003): only the assignment.
+#[derive(Clone, Debug, serde::Deserialize, schemars::JsonSchema)]
+#[serde(rename_all = "kebab-case")]
+pub struct DealOptions {
+    /// How primitives are dealt: scatter, random or background-last.
+    #[serde(default = "scatter")]
+    pub assign: AssignRule,
+}
