@@ -634,7 +634,6 @@ fn default_job() -> Result<(), Failure> {
         fidelity_table(&delta.network, &pattern).map_err(|e| Failure::Internal(e.to_string()))?;
     let table = format_table(&rows);
     print!("{table}");
-    write_file(&out, "fidelity.txt", &table)?;
     sortsim::report::default_job::write_page(
         &out,
         &sortsim::report::default_job::DefaultJob {

@@ -10,6 +10,7 @@ use maud::html;
 
 use super::page::{text_block, Page};
 use super::plot::PlotError;
+use super::write_text;
 
 pub struct DefaultJob<'a> {
     pub machines: &'a [PathBuf],
@@ -18,7 +19,9 @@ pub struct DefaultJob<'a> {
     pub fidelity: &'a str,
 }
 
+/// Writes fidelity.txt and the page.
 pub fn write_page(dir: &Path, job: &DefaultJob) -> Result<(), PlotError> {
+    write_text(dir, "fidelity.txt", job.fidelity)?;
     Page::new("sortsim: the default job")
         .section(html! {
             p { "What " code { "cargo run --release" } " ran: the bundled machines checked, the default sweep "
