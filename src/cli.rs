@@ -80,6 +80,13 @@ pub enum Command {
         after_help = "Examples:\n  sortsim paper 002 -o reports/paper\n  sortsim paper all --quick\n\nEach row holds the paper's number (papers/NNN.json: figure or table, section, quote),\nsortsim's, the deviation, the tolerance and a verdict: exact, within tolerance, shape\nholds (the number misses, the paper's claim holds) or differs (with the reason)."
     )]
     Paper(PaperArgs),
+    /// Fit a machine's cost parameters to a paper's numbers at once (least squares over the
+    /// targets, each in units of its tolerance; Nelder-Mead); write the fitted machine and
+    /// the residual table.
+    #[command(
+        after_help = "Example:\n  sortsim calibrate sweeps/calibrate-multicluster.json -o reports/calibrate\n\nThe spec names the machine, the paper, the target rows of papers/NNN.json and the\nparameters: groups of machine fields (times or bandwidths) scaled by one factor each,\nwithin a range, e.g. {\"name\": \"cpu costs\", \"fields\": [\"cpu.costs.*\"], \"range\": [0.5, 2]}."
+    )]
+    Calibrate(CalibrateArgs),
     /// Simulate a list of messages on a machine's network and print each completion time.
     #[command(
         after_help = "Example:\n  sortsim netsim machines/multicluster-torus.json tests/patterns/hot-spot-4x4.json --fidelity flow\n  sortsim netsim machines/delta.json tests/patterns/complement-16x32.json --compare"
@@ -315,6 +322,18 @@ fn run_long_help() -> String {
         "Example:\n  sortsim run --machine machines/delta.json --scene scenes/plb-head-standin.json \\\n      --algo sort-middle/ellsworth --procs 64 --frames 0..4 --set granularity=8 -o reports/plb-64\n\n{}\nMachine fields are set the same way: --set machine.network.fidelity=packet.",
         sortsim::algo::AlgorithmId::options_help()
     )
+}
+
+#[derive(Args, Debug)]
+pub struct CalibrateArgs {
+    /// Calibration spec (JSON).
+    pub spec: PathBuf,
+    /// Report folder; reports/calibrate-<spec name> when absent.
+    #[arg(short, long, value_name = "DIR")]
+    pub out: Option<PathBuf>,
+    /// Simulations at a time; the number of cores when absent.
+    #[arg(long, value_name = "J", value_parser = clap::value_parser!(u32).range(1..))]
+    pub jobs: Option<u32>,
 }
 
 #[derive(Args, Debug)]

@@ -20,6 +20,7 @@
 pub mod accuracy;
 pub mod algo;
 pub mod bench;
+pub mod calibrate;
 pub mod engine;
 pub mod machine;
 pub mod net;

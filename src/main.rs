@@ -138,6 +138,7 @@ fn main() -> ExitCode {
         Some(Command::Trace(cmd)) => trace_command(&cmd),
         Some(Command::Sweep(args)) => sweep(&args).map(|_| ()),
         Some(Command::Paper(args)) => paper(&args),
+        Some(Command::Calibrate(args)) => calibrate(&args),
     };
     match outcome {
         Ok(()) => ExitCode::SUCCESS,
@@ -465,6 +466,7 @@ fn paper(args: &cli::PaperArgs) -> Result<(), Failure> {
         quick: args.quick,
         jobs: jobs(args.jobs),
         root: PathBuf::from(env!("CARGO_MANIFEST_DIR")),
+        machines: None,
     };
     let mut reports = Vec::new();
     for id in ids {
@@ -484,6 +486,29 @@ fn paper(args: &cli::PaperArgs) -> Result<(), Failure> {
     }
     write_overview(&reports, &args.out)?;
     println!("overview: {}", args.out.join("index.html").display());
+    Ok(())
+}
+
+/// `sortsim calibrate`: fits, writes the fitted machine and the residual table, prints it.
+fn calibrate(args: &cli::CalibrateArgs) -> Result<(), Failure> {
+    use sortsim::calibrate::{calibrate, load_spec, CalibrationError};
+    let to_failure = |e: CalibrationError| match e {
+        CalibrationError::Spec { .. } => Failure::BadInput(e.to_string()),
+        CalibrationError::Failed(_) => Failure::Internal(e.to_string()),
+    };
+    let spec = load_spec(&args.spec).map_err(to_failure)?;
+    let out = out_dir(&args.out, &args.spec, "reports/calibrate-");
+    std::fs::create_dir_all(&out)
+        .map_err(|e| Failure::BadInput(format!("{}: cannot write: {e}", out.display())))?;
+    let root = Path::new(env!("CARGO_MANIFEST_DIR"));
+    let result = calibrate(&spec, &args.spec, root, jobs(args.jobs)).map_err(to_failure)?;
+    sortsim::report::calibration::write(&out, &result)?;
+    print!("{}", sortsim::report::calibration::markdown(&result));
+    println!(
+        "\nfitted machine: {}; page: {}",
+        out.join(&result.machine).display(),
+        out.join("index.html").display()
+    );
     Ok(())
 }
 

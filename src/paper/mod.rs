@@ -68,6 +68,19 @@ pub struct PaperOptions {
     pub jobs: usize,
     /// The repository root: machines/, scenes/ and papers/ are read from here.
     pub root: PathBuf,
+    /// Where machine files are read from instead of `root/machines` (a calibration's
+    /// candidate machines).
+    pub machines: Option<PathBuf>,
+}
+
+impl PaperOptions {
+    /// The machine file `name` (e.g. `delta.json`).
+    pub fn machine(&self, name: &str) -> PathBuf {
+        self.machines
+            .clone()
+            .unwrap_or_else(|| self.root.join("machines"))
+            .join(name)
+    }
 }
 
 /// What sortsim measured for one row: a number in the row's unit, whether the paper's

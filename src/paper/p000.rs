@@ -343,7 +343,7 @@ fn parallel_rows(options: &PaperOptions, m: &mut Measurements) -> Result<(), Str
             .set("aa", "adaptive")
     };
     let jobs = [job("p000-tetra-500.json"), job("p000-letter-b.json")];
-    let results = run_jobs(&options.root, &jobs, options.jobs)?;
+    let results = run_jobs(options, &jobs)?;
     let (tetra, b) = (&results[0], &results[1]);
 
     let mut all = Vec::new();

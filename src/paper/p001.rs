@@ -97,7 +97,7 @@ pub fn measure(options: &PaperOptions, data: &PaperData) -> Result<Measurements,
             jobs.push(scanline_flow(key, n));
         }
     }
-    let results = run_jobs(&options.root, &jobs, options.jobs)?;
+    let results = run_jobs(options, &jobs)?;
     let at = |job: Job| -> &RunResult {
         let i = jobs
             .iter()

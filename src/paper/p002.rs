@@ -36,7 +36,7 @@ fn ellsworth(scene: &str, procs: u32, two_step: &str, frames: &str) -> Job {
 
 pub fn measure(options: &PaperOptions, data: &PaperData) -> Result<Measurements, String> {
     let root = &options.root;
-    let machine = load_machine(&root.join("machines").join(DELTA)).map_err(|e| e.to_string())?;
+    let machine = load_machine(&options.machine(DELTA)).map_err(|e| e.to_string())?;
     let mut m = Measurements::default();
     delta_rows(&machine, root, &mut m)?;
     model_rows(root, &mut m)?;
@@ -350,7 +350,7 @@ fn figure_9_rows(
         jobs.push(ellsworth(PLB, n, "off", plb_frames));
         jobs.push(ellsworth(PLB, n, "off", plb_frames).set(AA.0, AA.1));
     }
-    let results = run_jobs(&options.root, &jobs, options.jobs)?;
+    let results = run_jobs(options, &jobs)?;
     let at = |job: Job| -> &RunResult {
         let i = jobs
             .iter()

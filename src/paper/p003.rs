@@ -399,7 +399,7 @@ fn simulated_rows(
         "sort-last/pixelflow",
         16,
     ));
-    let results = run_jobs(&options.root, &jobs, options.jobs)?;
+    let results = run_jobs(options, &jobs)?;
     let mut exact = Vec::new();
     for (s, r) in standins.iter().zip(&results) {
         exact.push((

@@ -5,7 +5,6 @@
 //! results do not depend on the thread count, and they come back in the order asked.
 
 use std::collections::BTreeMap;
-use std::path::Path;
 use std::sync::Arc;
 
 use rayon::prelude::*;
@@ -13,6 +12,8 @@ use rayon::prelude::*;
 use crate::algo::{run, RunResult};
 use crate::scene::Scene;
 use crate::spec::run::RunSpec;
+
+use super::PaperOptions;
 
 /// One simulation: files named relative to machines/ and scenes/.
 #[derive(Clone, Debug)]
@@ -48,8 +49,9 @@ impl Job {
     }
 }
 
-/// Runs `jobs` on a pool of `threads`; results in the order of `jobs`.
-pub fn run_jobs(root: &Path, jobs: &[Job], threads: usize) -> Result<Vec<RunResult>, String> {
+/// Runs `jobs` on a pool of `options.jobs` threads; results in the order of `jobs`.
+pub fn run_jobs(options: &PaperOptions, jobs: &[Job]) -> Result<Vec<RunResult>, String> {
+    let (root, threads) = (&options.root, options.jobs);
     let mut scenes: BTreeMap<&str, Arc<Scene>> = BTreeMap::new();
     for job in jobs {
         if !scenes.contains_key(job.scene.as_str()) {
@@ -67,7 +69,7 @@ pub fn run_jobs(root: &Path, jobs: &[Job], threads: usize) -> Result<Vec<RunResu
             .map(|job| {
                 let spec = RunSpec {
                     schema: None,
-                    machine: root.join("machines").join(&job.machine),
+                    machine: options.machine(&job.machine),
                     scene: root.join("scenes").join(&job.scene),
                     algo: job.algo.clone(),
                     procs: job.procs,

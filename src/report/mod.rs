@@ -7,6 +7,7 @@
 //! file: everything goes through `write_atomic`.
 
 pub mod accuracy;
+pub mod calibration;
 pub mod cost;
 pub mod default_job;
 pub mod page;

@@ -1,0 +1,529 @@
+//! `sortsim calibrate`: fit a machine's free cost parameters to every numeric target of a
+//! paper at once. A calibration spec names the machine, the paper, the rows of
+//! `papers/NNN.json` to fit and the parameters (groups of machine fields scaled by one
+//! factor each); the fit runs the paper's experiments (`paper::run_paper`) on candidate
+//! machines and minimises the sum of squared deviations, each measured in units of its row's
+//! tolerance, with Nelder-Mead (argmin) over the logarithms of the factors.
+//!
+//! ```text
+//! spec ─> start machine ─> Nelder-Mead: factors ─> candidate machine file ─> run_paper ─> cost
+//!                                       best factors ─> fitted machine (source updated) + residual table
+//! ```
+//!
+//! Owns the objective and the scaling of machine fields. Must never change how a run
+//! simulates, nor invent a target: targets are the paper's rows, with their own tolerances.
+//! Deterministic: the same spec gives the same fit and the same files.
+
+use std::path::{Path, PathBuf};
+use std::sync::Mutex;
+
+use argmin::core::{CostFunction, Executor, State};
+use argmin::solver::neldermead::NelderMead;
+use serde::{Deserialize, Serialize};
+
+use crate::paper::data::{Reference, Relation, Tolerance};
+use crate::paper::{run_paper, PaperId, PaperOptions, PaperReport, Verdict};
+use crate::units::{Bandwidth, SimTime};
+
+/// A calibration spec file.
+#[derive(Clone, Debug, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct CalibrationSpec {
+    #[serde(rename = "$schema", default)]
+    pub schema: Option<String>,
+    #[serde(default)]
+    pub note: Option<String>,
+    /// The machine file to fit, relative to the spec's folder.
+    pub machine: PathBuf,
+    /// The paper whose rows are the targets: "000" .. "003".
+    pub paper: String,
+    /// Row ids of papers/NNN.json; each must have a number (value or range).
+    pub targets: Vec<String>,
+    pub parameters: Vec<Parameter>,
+    /// Run the paper's experiments with `--quick` frame counts.
+    #[serde(default)]
+    pub quick: bool,
+    /// About how many runs of the paper's experiments the fit may spend (the report gives the
+    /// exact count).
+    #[serde(default = "default_evaluations")]
+    pub max_evaluations: u32,
+}
+
+fn default_evaluations() -> u32 {
+    24
+}
+
+/// One free parameter: every listed field multiplied by the same factor.
+#[derive(Clone, Debug, Deserialize, Serialize)]
+#[serde(deny_unknown_fields)]
+pub struct Parameter {
+    pub name: String,
+    /// Dotted paths into the machine spec holding a time or a bandwidth ("cpu.send_overhead");
+    /// `path.*` scales every entry of the object at `path` ("cpu.costs.*").
+    pub fields: Vec<String>,
+    /// The smallest and largest factor allowed.
+    pub range: [f64; 2],
+}
+
+#[derive(Debug, thiserror::Error)]
+pub enum CalibrationError {
+    /// The spec, the machine or a target is not usable: bad input.
+    #[error("{}: {message}", file.display())]
+    Spec { file: PathBuf, message: String },
+    /// An experiment or the optimiser failed.
+    #[error("calibration failed: {0}")]
+    Failed(String),
+}
+
+/// The outcome: the factors found, the fitted machine's JSON text, and the targets' rows at
+/// the start and at the fit.
+#[derive(Debug, Serialize)]
+pub struct Calibration {
+    pub paper: String,
+    pub machine: String,
+    pub factors: Vec<(String, f64)>,
+    pub evaluations: u32,
+    pub start_cost: f64,
+    pub fitted_cost: f64,
+    pub rows: Vec<Residual>,
+    #[serde(skip)]
+    pub fitted_machine: String,
+}
+
+/// One target before and after the fit.
+#[derive(Debug, Serialize)]
+pub struct Residual {
+    pub id: String,
+    pub quantity: String,
+    pub unit: String,
+    pub paper: String,
+    pub start: Option<f64>,
+    pub fitted: Option<f64>,
+    pub fitted_deviation_pct: Option<f64>,
+    pub tolerance: String,
+    pub fitted_verdict: Verdict,
+}
+
+pub fn load_spec(path: &Path) -> Result<CalibrationSpec, CalibrationError> {
+    let fail = |message: String| CalibrationError::Spec {
+        file: path.to_path_buf(),
+        message,
+    };
+    let text = std::fs::read_to_string(path).map_err(|e| fail(e.to_string()))?;
+    let de = &mut serde_json::Deserializer::from_str(&text);
+    let mut spec: CalibrationSpec = serde_path_to_error::deserialize(de)
+        .map_err(|e| fail(format!("at {}: {}", e.path(), e.inner())))?;
+    spec.machine = crate::spec::run::relative_to(path, &spec.machine);
+    if spec.parameters.is_empty() || spec.targets.is_empty() {
+        return Err(fail("give at least one target and one parameter".into()));
+    }
+    for p in &spec.parameters {
+        let [lo, hi] = p.range;
+        if !(lo > 0.0 && lo <= 1.0 && hi >= 1.0 && hi.is_finite()) {
+            return Err(fail(format!(
+                "parameter {:?}: range [{lo}, {hi}] must hold the factor 1 and be positive",
+                p.name
+            )));
+        }
+    }
+    if spec.max_evaluations < 2 {
+        return Err(fail("max_evaluations must be at least 2".into()));
+    }
+    Ok(spec)
+}
+
+/// The machine spec with each parameter's fields multiplied by its factor.
+pub fn scaled_machine(
+    machine: &serde_json::Value,
+    parameters: &[Parameter],
+    factors: &[f64],
+) -> Result<serde_json::Value, String> {
+    let mut m = machine.clone();
+    for (p, &f) in parameters.iter().zip(factors) {
+        for field in &p.fields {
+            let (path, all) = match field.strip_suffix(".*") {
+                Some(path) => (path, true),
+                None => (field.as_str(), false),
+            };
+            let mut here = &mut m;
+            for key in path.split('.') {
+                here = here
+                    .get_mut(key)
+                    .ok_or_else(|| format!("the machine has no field `{path}`"))?;
+            }
+            if all {
+                let obj = here
+                    .as_object_mut()
+                    .ok_or_else(|| format!("`{path}` is not an object"))?;
+                for v in obj.values_mut() {
+                    *v = scale_quantity(v, f).map_err(|e| format!("{field}: {e}"))?;
+                }
+            } else {
+                *here = scale_quantity(here, f).map_err(|e| format!("{field}: {e}"))?;
+            }
+        }
+    }
+    Ok(m)
+}
+
+/// A time or bandwidth string times `factor`, in integer picoseconds or bytes per second.
+fn scale_quantity(v: &serde_json::Value, factor: f64) -> Result<serde_json::Value, String> {
+    let text = v
+        .as_str()
+        .ok_or_else(|| format!("{v} is not a time or a bandwidth"))?;
+    if let Ok(t) = text.parse::<SimTime>() {
+        let ps = (t.ps() as f64 * factor).round() as u64;
+        return Ok(format!("{ps}ps").into());
+    }
+    if let Ok(b) = text.parse::<Bandwidth>() {
+        let bps = (b.bytes_per_s_f64() * factor).round().max(1.0) as u64;
+        return Ok(format!("{bps}B/s").into());
+    }
+    Err(format!("{text:?} is not a time or a bandwidth"))
+}
+
+/// How far a row is from its paper value, in units of its tolerance (0 inside a bound or
+/// range); a row without a number costs as much as ten tolerances.
+pub fn row_cost(reference: &Reference, measured: Option<f64>) -> f64 {
+    let Some(m) = measured.filter(|m| m.is_finite()) else {
+        return 100.0;
+    };
+    let Some(dev) = reference.deviation_pct(m) else {
+        // A bound: free inside, 10% of the bound per unit outside.
+        let v = reference.value.unwrap_or(0.0);
+        let outside = match reference.relation {
+            Relation::Below if m >= v => (m - v) / v.abs().max(1e-12),
+            Relation::Above if m <= v => (v - m) / v.abs().max(1e-12),
+            _ => 0.0,
+        };
+        return (outside / 0.10).powi(2);
+    };
+    let unit_pct = match (reference.tolerance, reference.value) {
+        (Some(Tolerance::RelativePct(p)), _) => p,
+        (Some(Tolerance::Absolute(a)), Some(v)) if v != 0.0 => 100.0 * a / v.abs(),
+        _ => 10.0,
+    };
+    (dev / unit_pct).powi(2)
+}
+
+struct Objective<'a> {
+    spec: &'a CalibrationSpec,
+    machine: serde_json::Value,
+    id: PaperId,
+    options: PaperOptions,
+    work: PathBuf,
+    file_name: String,
+    evaluations: Mutex<u32>,
+}
+
+impl Objective<'_> {
+    fn factors(&self, x: &[f64]) -> Vec<f64> {
+        x.iter()
+            .zip(&self.spec.parameters)
+            .map(|(&x, p)| x.exp().clamp(p.range[0], p.range[1]))
+            .collect()
+    }
+
+    fn report(&self, factors: &[f64]) -> Result<PaperReport, String> {
+        let machine = scaled_machine(&self.machine, &self.spec.parameters, factors)?;
+        let text = serde_json::to_string_pretty(&machine).map_err(|e| e.to_string())?;
+        std::fs::write(self.work.join(&self.file_name), text).map_err(|e| e.to_string())?;
+        *self.evaluations.lock().unwrap_or_else(|e| e.into_inner()) += 1;
+        run_paper(self.id, &self.options).map_err(|e| e.to_string())
+    }
+
+    fn cost_of(&self, report: &PaperReport, data: &crate::paper::PaperData) -> f64 {
+        self.spec
+            .targets
+            .iter()
+            .map(|id| {
+                let reference = data.rows.iter().find(|r| &r.id == id).expect("checked");
+                let row = report.row(id).expect("every row is reported");
+                row_cost(reference, row.sortsim)
+            })
+            .sum()
+    }
+}
+
+/// The objective as argmin sees it (a borrow, so the fit keeps the objective afterwards).
+struct Problem<'a, 'b> {
+    objective: &'a Objective<'b>,
+    data: &'a crate::paper::PaperData,
+}
+
+impl CostFunction for Problem<'_, '_> {
+    type Param = Vec<f64>;
+    type Output = f64;
+
+    fn cost(&self, x: &Vec<f64>) -> Result<f64, argmin::core::Error> {
+        let o = self.objective;
+        let report = o.report(&o.factors(x)).map_err(argmin::core::Error::msg)?;
+        Ok(o.cost_of(&report, self.data))
+    }
+}
+
+/// Fits the spec's parameters; `root` is the repository (scenes/, papers/, machines/).
+pub fn calibrate(
+    spec: &CalibrationSpec,
+    spec_file: &Path,
+    root: &Path,
+    jobs: usize,
+) -> Result<Calibration, CalibrationError> {
+    let bad = |message: String| CalibrationError::Spec {
+        file: spec_file.to_path_buf(),
+        message,
+    };
+    let id = PaperId::from_id(&spec.paper).ok_or_else(|| {
+        bad(format!(
+            "paper {:?}: expected 000, 001, 002 or 003",
+            spec.paper
+        ))
+    })?;
+    let data = crate::paper::data::load(root, id).map_err(|e| bad(e.to_string()))?;
+    for t in &spec.targets {
+        match data.rows.iter().find(|r| &r.id == t) {
+            None => {
+                return Err(bad(format!(
+                    "target {t:?} is not a row of papers/{}.json",
+                    spec.paper
+                )))
+            }
+            Some(r) if r.value.is_none() && r.range.is_none() => {
+                return Err(bad(format!("target {t:?} is a claim without a number")))
+            }
+            Some(_) => {}
+        }
+    }
+    let text = std::fs::read_to_string(&spec.machine)
+        .map_err(|e| bad(format!("{}: {e}", spec.machine.display())))?;
+    let machine: serde_json::Value =
+        crate::spec::parse_json(&spec.machine, &text).map_err(|e| bad(e.to_string()))?;
+    scaled_machine(
+        &machine,
+        &spec.parameters,
+        &vec![1.0; spec.parameters.len()],
+    )
+    .map_err(|e| bad(format!("{}: {e}", spec.machine.display())))?;
+    let file_name = spec
+        .machine
+        .file_name()
+        .map(|n| n.to_string_lossy().into_owned())
+        .ok_or_else(|| bad("the machine has no file name".into()))?;
+    // The candidates live beside copies of every bundled machine, since a paper's experiments
+    // may use several.
+    let work = tempdir_for_candidates(root).map_err(CalibrationError::Failed)?;
+    let objective = Objective {
+        spec,
+        machine: machine.clone(),
+        id,
+        options: PaperOptions {
+            quick: spec.quick,
+            jobs,
+            root: root.to_path_buf(),
+            machines: Some(work.clone()),
+        },
+        work: work.clone(),
+        file_name,
+        evaluations: Mutex::new(0),
+    };
+    let result = fit(&objective, &data);
+    let _ = std::fs::remove_dir_all(&work);
+    result
+}
+
+fn fit(
+    objective: &Objective,
+    data: &crate::paper::PaperData,
+) -> Result<Calibration, CalibrationError> {
+    let failed = |e: String| CalibrationError::Failed(e);
+    let spec = objective.spec;
+    let n = spec.parameters.len();
+    let start_factors = vec![1.0; n];
+    let start = objective.report(&start_factors).map_err(failed)?;
+    let start_cost = objective.cost_of(&start, data);
+    // The simplex: the start and one point per parameter, a factor 1.5 away (toward the
+    // larger end of its range when 1.5 is outside it).
+    let mut simplex = vec![vec![0.0; n]];
+    for (i, p) in spec.parameters.iter().enumerate() {
+        let mut x = vec![0.0; n];
+        x[i] = if p.range[1] >= 1.5 {
+            1.5f64.ln()
+        } else {
+            (1.0 / 1.5f64).ln()
+        };
+        simplex.push(x);
+    }
+    let solver = NelderMead::new(simplex)
+        .with_sd_tolerance(1e-3)
+        .map_err(|e| failed(e.to_string()))?;
+    // The simplex costs n + 1 runs, each later step one or two (a shrink n + 1): the budget
+    // bounds the steps, so the runs spent are about max_evaluations (reported exactly).
+    let iterations = u64::from(spec.max_evaluations.saturating_sub(n as u32 + 1) / 2).max(1);
+    let run = Executor::new(Problem { objective, data }, solver)
+        .configure(|state| state.max_iters(iterations))
+        .run()
+        .map_err(|e| failed(e.to_string()))?;
+    let best = run
+        .state()
+        .get_best_param()
+        .cloned()
+        .unwrap_or_else(|| vec![0.0; n]);
+    let factors = objective.factors(&best);
+    let fitted = objective.report(&factors).map_err(failed)?;
+    let fitted_cost = objective.cost_of(&fitted, data);
+    let evaluations = *objective
+        .evaluations
+        .lock()
+        .unwrap_or_else(|e| e.into_inner());
+    let rows = spec
+        .targets
+        .iter()
+        .map(|id| {
+            let (s, f) = (
+                start.row(id).expect("reported"),
+                fitted.row(id).expect("reported"),
+            );
+            Residual {
+                id: id.clone(),
+                quantity: f.quantity.clone(),
+                unit: f.unit.clone(),
+                paper: f.paper.clone(),
+                start: s.sortsim,
+                fitted: f.sortsim,
+                fitted_deviation_pct: f.deviation_pct,
+                tolerance: f.tolerance.clone(),
+                fitted_verdict: f.verdict,
+            }
+        })
+        .collect();
+    let named: Vec<(String, f64)> = spec
+        .parameters
+        .iter()
+        .zip(&factors)
+        .map(|(p, &f)| (p.name.clone(), f))
+        .collect();
+    let mut machine =
+        scaled_machine(&objective.machine, &spec.parameters, &factors).map_err(failed)?;
+    let source = machine
+        .get("source")
+        .and_then(|s| s.as_str())
+        .unwrap_or("")
+        .to_string();
+    machine["source"] = format!(
+        "{source} Fitted by sortsim calibrate to paper {} ({}): {}; cost {:.3} (start {:.3}) over {} runs.",
+        spec.paper,
+        spec.targets.join(", "),
+        named
+            .iter()
+            .map(|(n, f)| format!("{n} x{f:.4}"))
+            .collect::<Vec<_>>()
+            .join(", "),
+        fitted_cost,
+        start_cost,
+        evaluations
+    )
+    .trim()
+    .into();
+    let mut fitted_machine =
+        serde_json::to_string_pretty(&machine).map_err(|e| failed(e.to_string()))?;
+    fitted_machine.push('\n');
+    Ok(Calibration {
+        paper: spec.paper.clone(),
+        machine: objective.file_name.clone(),
+        factors: named,
+        evaluations,
+        start_cost,
+        fitted_cost,
+        rows,
+        fitted_machine,
+    })
+}
+
+/// A fresh folder holding a copy of every bundled machine.
+fn tempdir_for_candidates(root: &Path) -> Result<PathBuf, String> {
+    static NEXT: std::sync::atomic::AtomicUsize = std::sync::atomic::AtomicUsize::new(0);
+    let k = NEXT.fetch_add(1, std::sync::atomic::Ordering::Relaxed);
+    let dir = std::env::temp_dir().join(format!("sortsim-calibrate-{}-{k}", std::process::id()));
+    let _ = std::fs::remove_dir_all(&dir);
+    std::fs::create_dir_all(&dir).map_err(|e| format!("{}: {e}", dir.display()))?;
+    let machines = root.join("machines");
+    let entries =
+        std::fs::read_dir(&machines).map_err(|e| format!("{}: {e}", machines.display()))?;
+    for e in entries.filter_map(|e| e.ok()) {
+        if e.path().extension().is_some_and(|x| x == "json") {
+            std::fs::copy(e.path(), dir.join(e.file_name()))
+                .map_err(|err| format!("{}: {err}", e.path().display()))?;
+        }
+    }
+    Ok(dir)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn fields_scale_by_their_factor_in_integer_units() {
+        let m = serde_json::json!({"cpu": {"send_overhead": "122us", "costs": {"a": "2us", "b": "10ns"}},
+                                   "network": {"link_bandwidth": "17MB/s"}});
+        let params = vec![
+            Parameter {
+                name: "o".into(),
+                fields: vec!["cpu.send_overhead".into()],
+                range: [0.5, 2.0],
+            },
+            Parameter {
+                name: "c".into(),
+                fields: vec!["cpu.costs.*".into()],
+                range: [0.5, 2.0],
+            },
+            Parameter {
+                name: "b".into(),
+                fields: vec!["network.link_bandwidth".into()],
+                range: [0.5, 2.0],
+            },
+        ];
+        let s = scaled_machine(&m, &params, &[0.5, 2.0, 0.25]).unwrap();
+        assert_eq!(s["cpu"]["send_overhead"], "61000000ps");
+        assert_eq!(s["cpu"]["costs"]["a"], "4000000ps");
+        assert_eq!(s["cpu"]["costs"]["b"], "20000ps");
+        assert_eq!(s["network"]["link_bandwidth"], "4250000B/s");
+        assert!(scaled_machine(
+            &m,
+            &[Parameter {
+                name: "x".into(),
+                fields: vec!["cpu.nothing".into()],
+                range: [0.5, 2.0]
+            }],
+            &[1.0]
+        )
+        .is_err());
+    }
+
+    fn reference(value: f64, tolerance: Option<Tolerance>, relation: Relation) -> Reference {
+        serde_json::from_value::<Reference>(serde_json::json!({
+            "id": "x", "figure": "F", "location": "S", "quantity": "q", "value": value
+        }))
+        .map(|mut r| {
+            r.tolerance = tolerance;
+            r.relation = relation;
+            r
+        })
+        .unwrap()
+    }
+
+    #[test]
+    fn a_rows_cost_is_its_deviation_in_tolerances() {
+        let r = reference(2.8, Some(Tolerance::RelativePct(10.0)), Relation::Equals);
+        assert!((row_cost(&r, Some(2.8)) - 0.0).abs() < 1e-12);
+        // 20% off with a 10% tolerance: two tolerances, cost 4.
+        assert!((row_cost(&r, Some(3.36)) - 4.0).abs() < 1e-9);
+        assert_eq!(row_cost(&r, None), 100.0);
+        let r = reference(50.0, Some(Tolerance::Absolute(10.0)), Relation::Equals);
+        // 50 points off with a 10-point tolerance on 50: 5 tolerances.
+        assert!((row_cost(&r, Some(100.0)) - 25.0).abs() < 1e-9);
+        let r = reference(7.0, None, Relation::Below);
+        assert_eq!(row_cost(&r, Some(3.0)), 0.0);
+        assert!(row_cost(&r, Some(7.7)) > 0.9);
+    }
+}

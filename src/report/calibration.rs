@@ -1,0 +1,59 @@
+//! `sortsim calibrate`'s report: the fitted machine file, calibration.json, calibration.md
+//! (the factors and the residual table: every target, the paper's value, sortsim's before and
+//! after the fit, the deviation and the verdict) and index.html.
+//!
+//! Must never fit anything; it lays out what `calibrate` found.
+
+use std::fmt::Write as _;
+use std::path::Path;
+
+use super::page::Page;
+use super::plot::PlotError;
+use super::{to_json, write_text};
+use crate::calibrate::Calibration;
+
+pub fn markdown(c: &Calibration) -> String {
+    let mut md = format!("# Calibration of {} to paper {}\n\n", c.machine, c.paper);
+    let _ = writeln!(
+        md,
+        "Cost (squared deviations in tolerances, summed): {:.3} at the start, {:.3} fitted, after {} runs of the paper's experiments.\n",
+        c.start_cost, c.fitted_cost, c.evaluations
+    );
+    md.push_str("| parameter | factor |\n| --- | ---: |\n");
+    for (name, f) in &c.factors {
+        let _ = writeln!(md, "| {name} | {f:.4} |");
+    }
+    md.push_str(
+        "\n| target | quantity | paper | start | fitted | deviation | tolerance | verdict |\n",
+    );
+    md.push_str("| --- | --- | ---: | ---: | ---: | ---: | --- | --- |\n");
+    let num = |v: Option<f64>| v.map_or("-".to_string(), |v| format!("{v:.4}"));
+    for r in &c.rows {
+        let _ = writeln!(
+            md,
+            "| {} | {} | {} {} | {} | {} | {} | {} | {} |",
+            r.id,
+            r.quantity.replace('|', "\\|"),
+            r.paper,
+            r.unit,
+            num(r.start),
+            num(r.fitted),
+            r.fitted_deviation_pct
+                .map_or(String::new(), |d| format!("{d:+.1}%")),
+            r.tolerance,
+            r.fitted_verdict.label()
+        );
+    }
+    md
+}
+
+pub fn write(dir: &Path, c: &Calibration) -> Result<(), PlotError> {
+    write_text(dir, &c.machine, &c.fitted_machine)?;
+    write_text(dir, "calibration.json", &to_json(c))?;
+    let md = markdown(c);
+    write_text(dir, "calibration.md", &md)?;
+    Page::new(format!("Calibration of {}", c.machine))
+        .markdown(&md)
+        .files(&[c.machine.as_str(), "calibration.json", "calibration.md"])
+        .write(dir)
+}
