@@ -471,8 +471,7 @@ fn paper(args: &cli::PaperArgs) -> Result<(), Failure> {
     let mut reports = Vec::new();
     for id in ids {
         let clock = Stopwatch::start();
-        let mut report = run_paper(id, &options).map_err(|e| Failure::Internal(e.to_string()))?;
-        report.quick = args.quick;
+        let report = run_paper(id, &options).map_err(|e| Failure::Internal(e.to_string()))?;
         let dir = args.out.join(id.id());
         write_paper(&report, &dir)?;
         println!(

@@ -221,7 +221,9 @@ pub fn run_paper(id: PaperId, options: &PaperOptions) -> Result<PaperReport, Pap
         paper: id.id(),
         message,
     })?;
-    assemble(id, &data, measured)
+    let mut report = assemble(id, &data, measured)?;
+    report.quick = options.quick;
+    Ok(report)
 }
 
 fn assemble(
@@ -283,19 +285,8 @@ fn row_report(reference: &Reference, m: Measured) -> RowReport {
     }
 }
 
-/// Runs the papers asked for, in order; `quick` is recorded in each report.
-pub fn run_papers(ids: &[PaperId], options: &PaperOptions) -> Result<Vec<PaperReport>, PaperError> {
-    ids.iter()
-        .map(|&id| {
-            let mut report = run_paper(id, options)?;
-            report.quick = options.quick;
-            Ok(report)
-        })
-        .collect()
-}
-
-/// The paper's value of a row, for drawing it over a curve. Panics are impossible for a
-/// listed id only if the data file lists it; the experiments ask only for rows they measure.
+/// The paper's value of a row, for drawing it over a curve; `None` for a row without one (a
+/// claim) or an id the data file does not list.
 pub(crate) fn paper_value(data: &PaperData, id: &str) -> Option<f64> {
     data.rows.iter().find(|r| r.id == id).and_then(|r| r.value)
 }
