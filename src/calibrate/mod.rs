@@ -43,8 +43,8 @@ pub struct CalibrationSpec {
     /// Run the paper's experiments with `--quick` frame counts.
     #[serde(default)]
     pub quick: bool,
-    /// About how many runs of the paper's experiments the fit may spend (the report gives the
-    /// exact count).
+    /// The most runs of the paper's experiments the search may spend (the start is one of
+    /// them; the final run of the fitted machine comes on top).
     #[serde(default = "default_evaluations")]
     pub max_evaluations: u32,
 }
@@ -257,6 +257,11 @@ impl CostFunction for Problem<'_, '_> {
 
     fn cost(&self, x: &Vec<f64>) -> Result<f64, argmin::core::Error> {
         let o = self.objective;
+        // The budget is hard: past it a point costs nothing to evaluate and is never better,
+        // so the remaining steps end at once and the best point so far stands.
+        if *o.evaluations.lock().unwrap_or_else(|e| e.into_inner()) >= o.spec.max_evaluations {
+            return Ok(f64::INFINITY);
+        }
         let report = o.report(&o.factors(x)).map_err(argmin::core::Error::msg)?;
         Ok(o.cost_of(&report, self.data))
     }
@@ -356,9 +361,9 @@ fn fit(
     let solver = NelderMead::new(simplex)
         .with_sd_tolerance(1e-3)
         .map_err(|e| failed(e.to_string()))?;
-    // The simplex costs n + 1 runs, each later step one or two (a shrink n + 1): the budget
-    // bounds the steps, so the runs spent are about max_evaluations (reported exactly).
-    let iterations = u64::from(spec.max_evaluations.saturating_sub(n as u32 + 1) / 2).max(1);
+    // The simplex costs n + 1 runs, each later step one or two (a shrink n + 1); `cost`
+    // stops running once max_evaluations is spent, so the step count only bounds the loop.
+    let iterations = u64::from(spec.max_evaluations).max(1);
     let run = Executor::new(Problem { objective, data }, solver)
         .configure(|state| state.max_iters(iterations))
         .run()
