@@ -21,6 +21,15 @@
 //! way its pop could differ has marked it dirty, so untouched links and flows keep their old
 //! keys and rates exactly.
 //!
+//! Most links a changed flow crosses fixed nothing last time and fix nothing now; evaluating
+//! each would cost more than the rest of the solve. Such a link (old key `NONE`, no flow
+//! added) is only a *suspect*: the sweep runs as if it stays out of the filling, and then
+//! checks it against the rates that sweep produced. If, walking its flows in key order, its
+//! share always stays above the key of the next flow to be fixed, it never is the smallest
+//! link during the filling, so leaving it out changed nothing; `capacity - load >= flows`
+//! proves that without sorting (every share then exceeds each flow's rate by at least 1). A
+//! suspect that fails is made dirty and the solve runs again from the same state.
+//!
 //! Must never use floating point, never iterate a hash map, and never depend on anything but
 //! the flows' routes and the link capacity (not on the order flows were added).
 
@@ -54,8 +63,13 @@ pub struct MaxMin {
     capacity: u64,
     links: Vec<Link>,
     flows: Vec<Flow>,
-    /// Links whose flow set changed since the last solve.
-    touched: Vec<LinkId>,
+    /// Links that lost a flow since the last solve.
+    shrunk: Vec<LinkId>,
+    /// Links that gained a flow since the last solve: each must be evaluated, since its new
+    /// flow may have no other link to fix it.
+    grown: Vec<LinkId>,
+    /// Suspects that failed their check in this solve: dirty from the start when it runs again.
+    forced: Vec<LinkId>,
     /// Flows added since the last solve.
     added: Vec<u32>,
     sweep: Sweep,
@@ -65,6 +79,8 @@ pub struct MaxMin {
 struct Link {
     flows: Vec<u32>,
     key: Key,
+    /// The sum of its flows' rates.
+    load: u64,
 }
 
 struct Flow {
@@ -82,6 +98,8 @@ struct Sweep {
     links: Vec<SweepLink>,
     dirty: Vec<LinkId>,
     settled: Vec<u32>,
+    /// Links left out of the filling, to be checked once it is done (`SweepLink::suspect`).
+    suspects: Vec<LinkId>,
     /// Flows unsettled when a link turned dirty, in runs (`SweepLink::unsettled`).
     unsettled: Vec<u32>,
     /// Dirty links to evaluate at `now` before the sweep moves on.
@@ -114,10 +132,29 @@ struct SweepLink {
     pending: bool,
     /// `unsettled[start..end]`: the flows it had fixed last time.
     unsettled: (u32, u32),
+    /// `suspect` and `delta` belong to the solve of this epoch.
+    seen: u64,
+    suspect: bool,
+    /// How much the flows settled in this sweep add to its load.
+    delta: i64,
 }
 
 const POP: u128 = 0;
 const PASS: u128 = 1;
+
+impl Sweep {
+    /// `link`'s per-solve state, with its suspect mark and load delta reset on first use in
+    /// this epoch.
+    fn link_seen(&mut self, link: LinkId) -> &mut SweepLink {
+        let sl = &mut self.links[link as usize];
+        if sl.seen != self.epoch {
+            sl.seen = self.epoch;
+            sl.suspect = false;
+            sl.delta = 0;
+        }
+        sl
+    }
+}
 
 impl MaxMin {
     /// `links` links of `capacity` bits per second each.
@@ -128,10 +165,13 @@ impl MaxMin {
                 .map(|_| Link {
                     flows: Vec::new(),
                     key: NONE,
+                    load: 0,
                 })
                 .collect(),
             flows: Vec::new(),
-            touched: Vec::new(),
+            shrunk: Vec::new(),
+            grown: Vec::new(),
+            forced: Vec::new(),
             added: Vec::new(),
             sweep: Sweep {
                 links: vec![SweepLink::default(); links],
@@ -161,17 +201,18 @@ impl MaxMin {
         for &l in route {
             self.links[l as usize].flows.push(slot);
         }
-        self.touched.extend_from_slice(route);
+        self.grown.extend_from_slice(route);
         self.added.push(slot);
     }
 
     /// Removes flow `slot`; the others' rates change at the next solve.
     pub fn remove(&mut self, slot: u32) {
         let f = &mut self.flows[slot as usize];
-        f.rate = 0;
+        let rate = std::mem::take(&mut f.rate);
         f.key = NONE;
         f.live = false;
         for &l in &f.route {
+            self.links[l as usize].load -= rate;
             let flows = &mut self.links[l as usize].flows;
             let pos = flows
                 .iter()
@@ -179,7 +220,7 @@ impl MaxMin {
                 .expect("flow on its link");
             flows.swap_remove(pos);
         }
-        self.touched.extend_from_slice(&f.route);
+        self.shrunk.extend_from_slice(&f.route);
     }
 
     /// Flows on `link` now.
@@ -201,12 +242,24 @@ impl MaxMin {
     /// `(slot, old rate)` for every flow whose rate changed (0 for an added flow), in the
     /// order the filling fixed them.
     pub fn solve(&mut self, changed: &mut Vec<(u32, u64)>) {
+        while !self.sweep_and_check() {}
+        self.commit(changed);
+        self.added.clear();
+        self.grown.clear();
+        self.shrunk.clear();
+        self.forced.clear();
+    }
+
+    /// One sweep from the last solve's state; false if a suspect failed its check (it is
+    /// then in `forced`, and nothing was committed).
+    fn sweep_and_check(&mut self) -> bool {
         let s = &mut self.sweep;
         s.epoch += 1;
         s.now = 0;
         s.dirty.clear();
         s.settled.clear();
         s.unsettled.clear();
+        s.suspects.clear();
         s.heap.clear();
         for &slot in &self.added {
             s.flows[slot as usize] = SweepFlow {
@@ -216,13 +269,15 @@ impl MaxMin {
                 key: NONE,
             };
         }
-        self.added.clear();
-        let touched = std::mem::take(&mut self.touched);
-        for &l in &touched {
-            self.mark_dirty(l);
+        for i in 0..self.grown.len() {
+            self.mark_dirty(self.grown[i]);
         }
-        self.touched = touched;
-        self.touched.clear();
+        for i in 0..self.forced.len() {
+            self.mark_dirty(self.forced[i]);
+        }
+        for i in 0..self.shrunk.len() {
+            self.note(self.shrunk[i]);
+        }
         self.evaluate_pending();
         while let Some(Reverse(entry)) = self.sweep.heap.pop() {
             let at = entry >> 1;
@@ -237,7 +292,75 @@ impl MaxMin {
             }
             self.evaluate_pending();
         }
-        self.commit(changed);
+        let forced = self.forced.len();
+        for i in 0..self.sweep.suspects.len() {
+            let link = self.sweep.suspects[i];
+            if self.sweep.links[link as usize].epoch != self.sweep.epoch && !self.stays_out(link) {
+                self.forced.push(link);
+            }
+        }
+        self.forced.len() == forced
+    }
+
+    /// A flow on `link` changed: a link that fixed flows last time is dirty, one that fixed
+    /// none is a suspect.
+    fn note(&mut self, link: LinkId) {
+        if self.links[link as usize].key != NONE {
+            self.mark_dirty(link);
+            return;
+        }
+        let epoch = self.sweep.epoch;
+        let sl = self.sweep.link_seen(link);
+        if sl.epoch != epoch && !sl.suspect {
+            sl.suspect = true;
+            self.sweep.suspects.push(link);
+        }
+    }
+
+    /// Whether suspect `link`, left out of this sweep, would have fixed nothing in it: as its
+    /// flows are fixed in key order at the rates the sweep gave them, its share never falls
+    /// to the key of the next one.
+    fn stays_out(&mut self, link: LinkId) -> bool {
+        let l = &self.links[link as usize];
+        let load = l.load as i128 + self.sweep.links[link as usize].delta as i128;
+        if load + l.flows.len() as i128 <= self.capacity as i128 {
+            return true;
+        }
+        let mut ahead = std::mem::take(&mut self.sweep.ahead);
+        ahead.clear();
+        for &slot in &l.flows {
+            match self.final_rate_and_key(slot) {
+                Some((rate, key)) => ahead.push((key, rate)),
+                None => {
+                    self.sweep.ahead = ahead;
+                    return false;
+                }
+            }
+        }
+        ahead.sort_unstable();
+        let mut left = self.capacity;
+        let mut unfixed = ahead.len() as u64;
+        let mut out = true;
+        for &(k, rate) in &ahead {
+            if key(left / unfixed, link) <= k {
+                out = false;
+                break;
+            }
+            left = left.saturating_sub(rate);
+            unfixed -= 1;
+        }
+        self.sweep.ahead = ahead;
+        out
+    }
+
+    /// Flow `slot`'s rate and key once this sweep is done; None if nothing fixed it.
+    fn final_rate_and_key(&self, slot: u32) -> Option<(u64, Key)> {
+        let sf = &self.sweep.flows[slot as usize];
+        if sf.epoch == self.sweep.epoch {
+            return sf.settled.then_some((sf.rate, sf.key));
+        }
+        let f = &self.flows[slot as usize];
+        (f.key != NONE).then_some((f.rate, f.key))
     }
 
     /// Makes `link` part of the sweep (once): it will be evaluated, and the flows it fixed
@@ -282,6 +405,7 @@ impl MaxMin {
             popped: false,
             pending: true,
             unsettled: (start, end),
+            ..self.sweep.links[l]
         };
         self.sweep.dirty.push(link);
         self.sweep.pending.push(link);
@@ -403,14 +527,21 @@ impl MaxMin {
             key: at,
         };
         s.settled.push(slot);
-        self.touch_route(slot);
-        if old_key == NONE || (old_rate == rate && old_key == at) {
-            // An added flow's links are all dirty already.
-            return;
-        }
+        let epoch = s.epoch;
+        let delta = rate as i64 - old_rate as i64;
+        // An added flow's links are all dirty already.
+        let moved = old_key != NONE && (old_rate != rate || old_key != at);
         for i in 0..self.flows[slot as usize].route.len() {
             let l = self.flows[slot as usize].route[i];
-            self.mark_dirty(l);
+            let sl = self.sweep.link_seen(l);
+            sl.delta += delta;
+            if sl.epoch == epoch && !sl.popped && !sl.pending {
+                sl.pending = true;
+                self.sweep.pending.push(l);
+            }
+            if moved {
+                self.note(l);
+            }
         }
     }
 
@@ -427,7 +558,7 @@ impl MaxMin {
             }
             for j in 0..self.flows[slot as usize].route.len() {
                 let l = self.flows[slot as usize].route[j];
-                self.mark_dirty(l);
+                self.note(l);
             }
         }
     }
@@ -436,7 +567,16 @@ impl MaxMin {
         let s = &mut self.sweep;
         for &l in &s.dirty {
             let sl = &s.links[l as usize];
-            self.links[l as usize].key = if sl.popped { sl.pop } else { NONE };
+            let link = &mut self.links[l as usize];
+            link.key = if sl.popped { sl.pop } else { NONE };
+            if sl.seen == s.epoch {
+                link.load = (link.load as i64 + sl.delta) as u64;
+            }
+        }
+        for &l in &s.suspects {
+            // A settled flow's links are all dirty or suspects, so every delta lands here.
+            let link = &mut self.links[l as usize];
+            link.load = (link.load as i64 + s.links[l as usize].delta) as u64;
         }
         for &slot in &s.settled {
             let sf = s.flows[slot as usize];
@@ -452,10 +592,22 @@ impl MaxMin {
 
 #[cfg(test)]
 impl MaxMin {
+    /// Whether every link's load is the sum of its flows' rates.
+    fn loads_add_up(&self) -> bool {
+        self.links.iter().all(|l| {
+            l.load
+                == l.flows
+                    .iter()
+                    .map(|&s| self.flows[s as usize].rate)
+                    .sum::<u64>()
+        })
+    }
+
     /// What [`MaxMin::solve`] must do, done plainly: every rate from [`reference_rates`].
     pub fn solve_from_scratch(&mut self, changed: &mut Vec<(u32, u64)>) {
         self.added.clear();
-        self.touched.clear();
+        self.grown.clear();
+        self.shrunk.clear();
         let live: Vec<u32> = (0..self.flows.len() as u32)
             .filter(|&s| self.flows[s as usize].live)
             .collect();
@@ -575,6 +727,7 @@ mod tests {
             for ((slot, _), want) in live.iter().zip(&expected) {
                 prop_assert_eq!(mm.rate(*slot), *want, "flow in slot {}", slot);
             }
+            prop_assert!(mm.loads_add_up());
             let mut moved: Vec<u32> = live
                 .iter()
                 .filter(|(slot, _)| before[*slot as usize] != mm.rate(*slot))
