@@ -62,6 +62,9 @@ fn link_of(key: Key) -> LinkId {
 pub struct MaxMin {
     capacity: u64,
     links: Vec<Link>,
+    /// Each link's key in the last solve (`NONE` if it fixed nothing); apart from `links`
+    /// because most visits read only this.
+    keys: Vec<Key>,
     flows: Vec<Flow>,
     /// Links that lost a flow since the last solve.
     shrunk: Vec<LinkId>,
@@ -78,7 +81,6 @@ pub struct MaxMin {
 #[derive(Default)]
 struct Link {
     flows: Vec<u32>,
-    key: Key,
     /// The sum of its flows' rates.
     load: u64,
 }
@@ -96,11 +98,16 @@ struct Sweep {
     epoch: u64,
     flows: Vec<SweepFlow>,
     links: Vec<SweepLink>,
+    /// Where each dirty link pops, as last evaluated; `NONE` if it fixes nothing as things
+    /// stand. Apart from `links`, which every visit of a link reads.
+    pops: Vec<Key>,
+    /// `unsettled[start..end]`: the flows a dirty link had fixed last time.
+    unsettled_of: Vec<(u32, u32)>,
     dirty: Vec<LinkId>,
     settled: Vec<u32>,
     /// Links left out of the filling, to be checked once it is done (`SweepLink::suspect`).
     suspects: Vec<LinkId>,
-    /// Flows unsettled when a link turned dirty, in runs (`SweepLink::unsettled`).
+    /// Flows unsettled when a link turned dirty, in runs (`Sweep::unsettled_of`).
     unsettled: Vec<u32>,
     /// Dirty links to evaluate at `now` before the sweep moves on.
     pending: Vec<LinkId>,
@@ -122,21 +129,21 @@ struct SweepFlow {
     key: Key,
 }
 
+/// What a visit to a link reads, packed small: settling a flow visits every link it crosses.
 #[derive(Clone, Copy, Default)]
 struct SweepLink {
+    /// It is dirty in the solve of this epoch.
     epoch: u64,
-    /// Where the link pops, as last evaluated; `NONE` if it fixes nothing as things stand.
-    pop: Key,
+    /// `suspect` and `delta` belong to the solve of this epoch.
+    seen: u64,
+    /// How much the flows settled in this sweep add to its load.
+    delta: i64,
     /// It fixed its flows; nothing can change it any more in this solve.
     popped: bool,
     pending: bool,
-    /// `unsettled[start..end]`: the flows it had fixed last time.
-    unsettled: (u32, u32),
-    /// `suspect` and `delta` belong to the solve of this epoch.
-    seen: u64,
     suspect: bool,
-    /// How much the flows settled in this sweep add to its load.
-    delta: i64,
+    /// It fixed flows in the last solve (`MaxMin::keys` is not `NONE`); kept across solves.
+    fixed_some: bool,
 }
 
 const POP: u128 = 0;
@@ -161,13 +168,8 @@ impl MaxMin {
     pub fn new(capacity: u64, links: usize) -> MaxMin {
         MaxMin {
             capacity,
-            links: (0..links)
-                .map(|_| Link {
-                    flows: Vec::new(),
-                    key: NONE,
-                    load: 0,
-                })
-                .collect(),
+            links: (0..links).map(|_| Link::default()).collect(),
+            keys: vec![NONE; links],
             flows: Vec::new(),
             shrunk: Vec::new(),
             grown: Vec::new(),
@@ -175,6 +177,8 @@ impl MaxMin {
             added: Vec::new(),
             sweep: Sweep {
                 links: vec![SweepLink::default(); links],
+                pops: vec![NONE; links],
+                unsettled_of: vec![(0, 0); links],
                 ..Sweep::default()
             },
         }
@@ -283,8 +287,7 @@ impl MaxMin {
             let at = entry >> 1;
             let link = link_of(at);
             if entry & 1 == POP {
-                let sl = &self.sweep.links[link as usize];
-                if sl.pop == at && !sl.popped {
+                if self.sweep.pops[link as usize] == at && !self.sweep.links[link as usize].popped {
                     self.pop(link, at);
                 }
             } else {
@@ -305,12 +308,12 @@ impl MaxMin {
     /// A flow on `link` changed: a link that fixed flows last time is dirty, one that fixed
     /// none is a suspect.
     fn note(&mut self, link: LinkId) {
-        if self.links[link as usize].key != NONE {
+        let epoch = self.sweep.epoch;
+        let sl = self.sweep.link_seen(link);
+        if sl.fixed_some {
             self.mark_dirty(link);
             return;
         }
-        let epoch = self.sweep.epoch;
-        let sl = self.sweep.link_seen(link);
         if sl.epoch != epoch && !sl.suspect {
             sl.suspect = true;
             self.sweep.suspects.push(link);
@@ -371,7 +374,7 @@ impl MaxMin {
         if self.sweep.links[l].epoch == epoch {
             return;
         }
-        let old = self.links[l].key;
+        let old = self.keys[l];
         debug_assert!(
             old >= self.sweep.now,
             "link {link} turned dirty after its old key had passed"
@@ -399,12 +402,12 @@ impl MaxMin {
             }
         }
         let end = self.sweep.unsettled.len() as u32;
+        self.sweep.pops[l] = NONE;
+        self.sweep.unsettled_of[l] = (start, end);
         self.sweep.links[l] = SweepLink {
             epoch,
-            pop: NONE,
             popped: false,
             pending: true,
-            unsettled: (start, end),
             ..self.sweep.links[l]
         };
         self.sweep.dirty.push(link);
@@ -490,7 +493,7 @@ impl MaxMin {
         }
         self.sweep.ahead = ahead;
         debug_assert!(pop >= now, "link {link}'s pop fell below the sweep");
-        self.sweep.links[link as usize].pop = pop;
+        self.sweep.pops[link as usize] = pop;
         if pop != NONE {
             self.sweep.heap.push(Reverse(pop << 1 | POP));
         }
@@ -550,7 +553,7 @@ impl MaxMin {
     /// be evaluated.
     fn pass_old_key(&mut self, link: LinkId, at: Key) {
         self.sweep.now = self.sweep.now.max(at);
-        let (start, end) = self.sweep.links[link as usize].unsettled;
+        let (start, end) = self.sweep.unsettled_of[link as usize];
         for i in start..end {
             let slot = self.sweep.unsettled[i as usize];
             if self.sweep.flows[slot as usize].settled {
@@ -566,9 +569,10 @@ impl MaxMin {
     fn commit(&mut self, changed: &mut Vec<(u32, u64)>) {
         let s = &mut self.sweep;
         for &l in &s.dirty {
-            let sl = &s.links[l as usize];
+            let sl = &mut s.links[l as usize];
             let link = &mut self.links[l as usize];
-            link.key = if sl.popped { sl.pop } else { NONE };
+            self.keys[l as usize] = if sl.popped { s.pops[l as usize] } else { NONE };
+            sl.fixed_some = sl.popped;
             if sl.seen == s.epoch {
                 link.load = (link.load as i64 + sl.delta) as u64;
             }
