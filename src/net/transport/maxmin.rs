@@ -627,6 +627,11 @@ impl MaxMin {
                 f.rate = rate;
             }
         }
+        // `remove` keeps the loads; nothing else here reads them.
+        for l in 0..self.links.len() {
+            let flows = &self.links[l].flows;
+            self.links[l].load = flows.iter().map(|&s| self.flows[s as usize].rate).sum();
+        }
     }
 }
 
