@@ -452,11 +452,9 @@ impl<M: Payload> Sim<M> {
                         p
                     }
                     None => {
-                        match st.queue.peek_time() {
-                            Some(t) if t <= horizon => {}
-                            _ => return Ok(()),
-                        }
-                        let (at, event) = st.queue.pop().expect("peeked");
+                        let Some((at, event)) = st.queue.pop_until(horizon) else {
+                            return Ok(());
+                        };
                         st.now = at;
                         st.events += 1;
                         match event {

@@ -1,13 +1,22 @@
 //! The event queue: pending events keyed by (time, insertion sequence), earliest first.
 //!
-//! Heap entries are 16 bytes: time (64 bits), sequence (40 bits) and the event's slot in a
-//! side slab (24 bits) packed into one u128, in a 4-ary heap (dary_heap crate: half the depth
-//! of a binary heap, so fewer cache lines touched per pop), so sifting moves little memory; event bodies stay
-//! put in the slab, whose freed slots are reused first (they are warm in cache).
-//! Owns ordering only; must never look at what an event means.
+//! Keys are 16 bytes: time (64 bits), sequence (40 bits) and the event's slot in a side slab
+//! (24 bits) packed into one u128, so every key is distinct and their order is the events'.
+//! They are held in one of two structures, chosen by how many are pending:
+//! - up to tens of thousands, a 4-ary heap (dary_heap crate: half the depth of a binary heap,
+//!   so fewer cache lines touched per pop), which is fastest while it fits in cache;
+//! - beyond that, a radix heap: a simulation never schedules before the last event it took,
+//!   so the keys taken out only rise, a push is an append to a bucket and a key moves a few
+//!   times at most instead of sifting through a heap of a million.
+//!
+//! Both give the same order (the keys'), so the switch is invisible to the simulation.
+//! Event bodies stay put in a side slab, whose freed slots are reused first (warm in cache).
+//! Owns ordering only; must never look at what an event means, and never accepts a key below
+//! the last one taken (that would break the radix heap's order; it panics instead).
+
+use std::cmp::Reverse;
 
 use dary_heap::QuaternaryHeap;
-use std::cmp::Reverse;
 
 use crate::units::SimTime;
 
@@ -16,7 +25,7 @@ const SEQ_BITS: u32 = 64 - SLOT_BITS;
 
 /// Pending events, earliest first, FIFO among equal times.
 pub struct EventQueue<E> {
-    heap: QuaternaryHeap<Reverse<u128>>,
+    keys: Keys,
     slots: Vec<Option<E>>,
     free: Vec<u32>,
     next_seq: u64,
@@ -25,7 +34,7 @@ pub struct EventQueue<E> {
 impl<E> Default for EventQueue<E> {
     fn default() -> Self {
         EventQueue {
-            heap: QuaternaryHeap::new(),
+            keys: Keys::default(),
             slots: Vec::new(),
             free: Vec::new(),
             next_seq: 0,
@@ -34,16 +43,27 @@ impl<E> Default for EventQueue<E> {
 }
 
 impl<E> EventQueue<E> {
+    /// A queue that moves its keys into a radix heap past `to_radix` pending and back below
+    /// `to_heap` (tests use small numbers to cross both often).
+    #[cfg(test)]
+    fn with_thresholds(to_radix: usize, to_heap: usize) -> Self {
+        EventQueue {
+            keys: Keys::with_thresholds(to_radix, to_heap),
+            ..EventQueue::default()
+        }
+    }
+
     pub fn with_capacity(n: usize) -> Self {
         EventQueue {
-            heap: QuaternaryHeap::with_capacity(n),
+            keys: Keys::default(),
             slots: Vec::with_capacity(n),
             free: Vec::new(),
             next_seq: 0,
         }
     }
 
-    /// Schedules `event` at `at`, after every event already scheduled at `at`.
+    /// Schedules `event` at `at`, after every event already scheduled at `at`; `at` must not
+    /// be earlier than the last event taken.
     pub fn push(&mut self, at: SimTime, event: E) {
         let slot = match self.free.pop() {
             Some(s) => {
@@ -63,12 +83,16 @@ impl<E> EventQueue<E> {
         );
         let low = (self.next_seq << SLOT_BITS) | slot as u64;
         self.next_seq += 1;
-        self.heap
-            .push(Reverse(((at.ps() as u128) << 64) | low as u128));
+        self.keys.push(((at.ps() as u128) << 64) | low as u128);
     }
 
     pub fn pop(&mut self) -> Option<(SimTime, E)> {
-        let Reverse(key) = self.heap.pop()?;
+        self.pop_until(SimTime::MAX)
+    }
+
+    /// Takes the earliest event if it is due at or before `horizon`.
+    pub fn pop_until(&mut self, horizon: SimTime) -> Option<(SimTime, E)> {
+        let key = self.keys.pop_if(|key| (key >> 64) as u64 <= horizon.ps())?;
         let slot = (key as u64 & ((1 << SLOT_BITS) - 1)) as u32;
         let event = self.slots[slot as usize]
             .take()
@@ -77,18 +101,232 @@ impl<E> EventQueue<E> {
         Some((SimTime::from_ps((key >> 64) as u64), event))
     }
 
+    #[cfg(test)]
     pub fn peek_time(&self) -> Option<SimTime> {
-        self.heap
+        self.keys
             .peek()
-            .map(|Reverse(key)| SimTime::from_ps((key >> 64) as u64))
+            .map(|key| SimTime::from_ps((key >> 64) as u64))
     }
 
     pub fn len(&self) -> usize {
-        self.heap.len()
+        self.keys.len()
     }
 
     pub fn is_empty(&self) -> bool {
-        self.heap.is_empty()
+        self.keys.len() == 0
+    }
+}
+
+/// Pending keys in a 4-ary heap while they are few, in a radix heap while they are many (the
+/// thresholds apart, so a queue hovering near one does not flip back and forth).
+struct Keys {
+    store: Store,
+    /// The last key taken: the radix heap's floor when the keys move into one.
+    last: u128,
+    to_radix: usize,
+    to_heap: usize,
+}
+
+enum Store {
+    Heap(QuaternaryHeap<Reverse<u128>>),
+    Radix(RadixHeap),
+}
+
+impl Default for Keys {
+    fn default() -> Self {
+        Keys::with_thresholds(1 << 16, 1 << 12)
+    }
+}
+
+impl Keys {
+    fn with_thresholds(to_radix: usize, to_heap: usize) -> Keys {
+        Keys {
+            store: Store::Heap(QuaternaryHeap::new()),
+            last: 0,
+            to_radix,
+            to_heap,
+        }
+    }
+
+    fn len(&self) -> usize {
+        match &self.store {
+            Store::Heap(h) => h.len(),
+            Store::Radix(r) => r.len,
+        }
+    }
+
+    fn push(&mut self, key: u128) {
+        match &mut self.store {
+            Store::Heap(h) => {
+                assert!(
+                    key >= self.last,
+                    "an event scheduled before the last one taken"
+                );
+                h.push(Reverse(key));
+                if h.len() > self.to_radix {
+                    let mut radix = RadixHeap::starting_at(self.last);
+                    for Reverse(k) in std::mem::take(h).into_vec() {
+                        radix.push(k);
+                    }
+                    self.store = Store::Radix(radix);
+                }
+            }
+            Store::Radix(r) => r.push(key),
+        }
+    }
+
+    #[cfg(test)]
+    fn peek(&self) -> Option<u128> {
+        match &self.store {
+            Store::Heap(h) => h.peek().map(|Reverse(k)| *k),
+            Store::Radix(r) => r.peek(),
+        }
+    }
+
+    fn pop_if(&mut self, take: impl FnOnce(u128) -> bool) -> Option<u128> {
+        let key = match &mut self.store {
+            Store::Heap(h) => {
+                let Reverse(min) = *h.peek()?;
+                if !take(min) {
+                    return None;
+                }
+                h.pop();
+                min
+            }
+            Store::Radix(r) => {
+                let min = r.pop_if(take)?;
+                if r.len < self.to_heap {
+                    self.store = Store::Heap(r.drain().map(Reverse).collect());
+                }
+                min
+            }
+        };
+        self.last = key;
+        Some(key)
+    }
+}
+
+/// A monotone min-queue of distinct u128 keys, a radix heap in base 16: a key other than
+/// `last` (the last key taken) lives in bucket (level, digit), where level is the highest hex
+/// digit in which it differs from `last` and digit its value there. Buckets in (level, digit)
+/// order hold ever larger keys, and taking the smallest key of the first bucket moves that
+/// bucket's other keys to lower levels only, so a key moves at most once per level its
+/// distance from the front spans (five times for a microsecond in picoseconds). (The
+/// radix-heap crate has no peek and is binary, which moves a key once per bit.)
+struct RadixHeap {
+    last: u128,
+    /// `LEVELS * 16` buckets, level-major.
+    buckets: Vec<Vec<u128>>,
+    /// Bit `d` of `digits[level]` set when bucket (level, d) is not empty.
+    digits: [u16; LEVELS],
+    /// Bit `level` set when some bucket of that level is not empty.
+    levels: u32,
+    /// The key equal to `last`: only ever the first key pushed, when it is 0.
+    at_last: Option<u128>,
+    len: usize,
+}
+
+const LEVELS: usize = 32;
+
+impl RadixHeap {
+    /// An empty heap that takes keys from `last` up.
+    fn starting_at(last: u128) -> Self {
+        RadixHeap {
+            last,
+            buckets: (0..LEVELS * 16).map(|_| Vec::new()).collect(),
+            digits: [0; LEVELS],
+            levels: 0,
+            at_last: None,
+            len: 0,
+        }
+    }
+
+    /// Empties the heap, in no particular order.
+    fn drain(&mut self) -> impl Iterator<Item = u128> + '_ {
+        self.len = 0;
+        self.digits = [0; LEVELS];
+        self.levels = 0;
+        self.at_last
+            .take()
+            .into_iter()
+            .chain(self.buckets.iter_mut().flat_map(|b| b.drain(..)))
+    }
+
+    fn push(&mut self, key: u128) {
+        assert!(
+            key > self.last || key == self.last && self.at_last.is_none(),
+            "an event scheduled before the last one taken"
+        );
+        self.len += 1;
+        if key == self.last {
+            self.at_last = Some(key);
+        } else {
+            self.file(key);
+        }
+    }
+
+    /// Puts `key` (above `last`) in its bucket.
+    fn file(&mut self, key: u128) {
+        let level = (127 - (key ^ self.last).leading_zeros()) as usize / 4;
+        let digit = (key >> (4 * level)) as usize & 15;
+        self.buckets[level * 16 + digit].push(key);
+        self.digits[level] |= 1 << digit;
+        self.levels |= 1 << level;
+    }
+
+    /// The first non-empty bucket: every key in it is below every key of later buckets.
+    fn first_bucket(&self) -> Option<usize> {
+        if self.levels == 0 {
+            return None;
+        }
+        let level = self.levels.trailing_zeros() as usize;
+        Some(level * 16 + self.digits[level].trailing_zeros() as usize)
+    }
+
+    #[cfg(test)]
+    fn peek(&self) -> Option<u128> {
+        if self.at_last.is_some() {
+            return self.at_last;
+        }
+        let b = self.first_bucket()?;
+        self.buckets[b].iter().min().copied()
+    }
+
+    /// Takes the smallest key if `take` accepts it.
+    fn pop_if(&mut self, take: impl FnOnce(u128) -> bool) -> Option<u128> {
+        if let Some(key) = self.at_last {
+            if !take(key) {
+                return None;
+            }
+            self.len -= 1;
+            return self.at_last.take();
+        }
+        let b = self.first_bucket()?;
+        let min = *self.buckets[b]
+            .iter()
+            .min()
+            .expect("first bucket is occupied");
+        if !take(min) {
+            return None;
+        }
+        self.len -= 1;
+        let mut keys = std::mem::take(&mut self.buckets[b]);
+        let (level, digit) = (b / 16, b % 16);
+        self.digits[level] &= !(1 << digit);
+        if self.digits[level] == 0 {
+            self.levels &= !(1 << level);
+        }
+        self.last = min;
+        // The other keys of the bucket agree with `min` from its level up, so each moves to
+        // a lower level.
+        for &k in &keys {
+            if k != min {
+                self.file(k);
+            }
+        }
+        keys.clear();
+        self.buckets[b] = keys;
+        Some(min)
     }
 }
 
@@ -111,14 +349,86 @@ mod tests {
     #[test]
     fn slots_are_reused_without_disturbing_order() {
         let mut q = EventQueue::default();
+        let mut now = 0;
         for i in 0..100u64 {
-            q.push(SimTime::from_ps(1000 - i), i);
+            q.push(SimTime::from_ps(now + (i * 7919) % 100), i);
             if i % 3 == 0 {
-                q.pop();
+                now = q.pop().expect("pushed").0.ps();
             }
         }
         let times: Vec<u64> = std::iter::from_fn(|| q.pop().map(|(t, _)| t.ps())).collect();
         assert!(times.windows(2).all(|w| w[0] <= w[1]));
         assert_eq!(times.len(), 100 - 34);
+    }
+
+    #[test]
+    #[should_panic(expected = "before the last one taken")]
+    fn refuses_an_event_before_the_last_one_taken() {
+        let mut q = EventQueue::default();
+        q.push(SimTime::from_ps(10), ());
+        q.pop();
+        q.push(SimTime::from_ps(9), ());
+    }
+
+    #[test]
+    fn a_horizon_leaves_later_events_queued_and_earlier_ones_welcome() {
+        let mut q = EventQueue::default();
+        q.push(SimTime::from_ps(50), 'a');
+        assert_eq!(q.pop_until(SimTime::from_ps(40)), None);
+        // Nothing was taken, so an event before the one waiting is still in order.
+        q.push(SimTime::from_ps(45), 'b');
+        assert_eq!(
+            q.pop_until(SimTime::from_ps(50)),
+            Some((SimTime::from_ps(45), 'b'))
+        );
+        assert_eq!(q.pop(), Some((SimTime::from_ps(50), 'a')));
+        assert!(q.is_empty());
+    }
+
+    use std::cmp::Reverse;
+
+    proptest::proptest! {
+        /// Any monotone schedule (each push at or after the last event taken, with many equal
+        /// times), taken with horizons that are often too early, comes out exactly as from a
+        /// binary heap of (time, insertion order), in whichever structure the keys are.
+        #[test]
+        fn equals_a_binary_heap_on_monotone_schedules(
+            steps in proptest::collection::vec(
+                (0u64..4, 0u64..1 << 40, 0usize..3, 0u64..1 << 30), 1..400),
+            to_heap in 1usize..20,
+            gap in 1usize..20,
+        ) {
+            let mut q = EventQueue::with_thresholds(to_heap + gap, to_heap);
+            let mut reference = std::collections::BinaryHeap::new();
+            let (mut now, mut seq) = (0u64, 0u64);
+            for (i, &(spread, delay, pops, ahead)) in steps.iter().enumerate() {
+                // Delays of every magnitude, and often none, so ties are common.
+                let at = now + (delay >> (10 * spread));
+                q.push(SimTime::from_ps(at), i);
+                reference.push(Reverse((at, seq, i)));
+                seq += 1;
+                for _ in 0..pops {
+                    let horizon = now + ahead;
+                    let want = match reference.peek() {
+                        Some(&Reverse((t, _, e))) if t <= horizon => {
+                            reference.pop();
+                            now = t;
+                            Some((SimTime::from_ps(t), e))
+                        }
+                        _ => None,
+                    };
+                    proptest::prop_assert_eq!(q.pop_until(SimTime::from_ps(horizon)), want);
+                }
+                proptest::prop_assert_eq!(q.len(), reference.len());
+                proptest::prop_assert_eq!(
+                    q.peek_time(),
+                    reference.peek().map(|Reverse((t, _, _))| SimTime::from_ps(*t))
+                );
+            }
+            while let Some(Reverse((t, _, e))) = reference.pop() {
+                proptest::prop_assert_eq!(q.pop(), Some((SimTime::from_ps(t), e)));
+            }
+            proptest::prop_assert!(q.pop().is_none());
+        }
     }
 }
