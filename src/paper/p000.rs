@@ -12,9 +12,11 @@ use crate::algo::reference::{raster_options, viewport};
 use crate::algo::RunResult;
 use crate::raster::aa::{
     adapt, AaStats, AdaptiveConfig, AdaptiveTarget, Grid, SupersampleTarget, PIXEL_BYTES,
-    SUBPIXEL_BYTES,
+    RECLAIM_SPREAD, SUBPIXEL_BYTES,
 };
-use crate::raster::{draw_mesh, draw_screen_triangles, ScreenTriangle, ScreenVertex, Viewport};
+use crate::raster::{
+    draw_mesh, draw_screen_triangles, Depth, ScreenTriangle, ScreenVertex, Sub, Viewport,
+};
 use crate::report::plot::{ChartOptions, Series};
 use crate::scene::{FrameGeometry, Scene};
 
@@ -27,6 +29,7 @@ pub fn measure(options: &PaperOptions, data: &PaperData) -> Result<Measurements,
     let mut m = Measurements::default();
     memory_layout_rows(&mut m)?;
     pool_share_rows(&mut m)?;
+    reclaim_rule_row(&mut m)?;
     figure_6_rows(&options.root, data, &mut m)?;
     parallel_rows(options, &mut m)?;
     Ok(m)
@@ -116,6 +119,66 @@ fn pool_share_rows(m: &mut Measurements) -> Result<(), String> {
             ),
         );
     }
+    Ok(())
+}
+
+/// Section 4.2's rule on Figure 3's case: two flat rectangles meet on x = 1.5 inside pixel
+/// (1, 1). Reclaimed when they share a colour and their depths differ by less than one unit
+/// (`RECLAIM_SPREAD` raw steps); kept at exactly one unit, or when the colours differ.
+fn reclaim_rule_row(m: &mut Measurements) -> Result<(), String> {
+    let vp = Viewport::new(4, 4).ok_or("a 4 x 4 viewport")?;
+    let vertex = |x: f64, y: f64, z: u32, rgb: [u8; 3]| -> Result<ScreenVertex, String> {
+        Ok(ScreenVertex {
+            x: Sub::snap(x).ok_or("x on the subpixel grid")?,
+            y: Sub::snap(y).ok_or("y on the subpixel grid")?,
+            z: Depth::from_raw(z).ok_or("a raw depth")?,
+            rgb,
+        })
+    };
+    let rect = |x0: f64, x1: f64, z: u32, rgb: [u8; 3], prim: u32| -> Result<_, String> {
+        let (a, b) = (vertex(x0, -10.0, z, rgb)?, vertex(x1, -10.0, z, rgb)?);
+        let (c, d) = (vertex(x1, 14.0, z, rgb)?, vertex(x0, 14.0, z, rgb)?);
+        Ok([
+            ScreenTriangle::new([a, b, c], prim),
+            ScreenTriangle::new([a, c, d], prim + 1),
+        ]
+        .into_iter()
+        .flatten()
+        .collect::<Vec<_>>())
+    };
+    let (red, blue) = ([255, 0, 0], [0, 0, 255]);
+    let mut holds = true;
+    let mut seen = Vec::new();
+    for (gap, right, reclaim) in [
+        (RECLAIM_SPREAD - 1, red, true),
+        (RECLAIM_SPREAD, red, false),
+        (0, blue, false),
+    ] {
+        let mut tris = rect(0.0, 1.5, 1_000_000, red, 0)?;
+        tris.extend(rect(1.5, 4.0, 1_000_000 + gap, right, 2)?);
+        let mut config = AdaptiveConfig::for_pixels(vp.pixels() as u64);
+        config.grid = Grid::X4;
+        let mut t = AdaptiveTarget::full_screen(vp, config, [0; 3]);
+        draw_screen_triangles(&tris, &mut t);
+        let reclaimed = !t.is_super(1, 1);
+        holds &= reclaimed == reclaim;
+        seen.push(format!(
+            "depth gap {gap}/{RECLAIM_SPREAD}, {}: {}",
+            if right == red {
+                "one colour"
+            } else {
+                "two colours"
+            },
+            if reclaimed { "reclaimed" } else { "kept" }
+        ));
+    }
+    m.put(
+        "reclaim-rule",
+        Measured::shape(
+            holds,
+            format!("4x4 adaptive target, pixel (1, 1): {}", seen.join("; ")),
+        ),
+    );
     Ok(())
 }
 

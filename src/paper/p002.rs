@@ -7,6 +7,9 @@
 
 use std::path::Path;
 
+use crate::algo::reference::viewport;
+use crate::algo::sort_middle::assign::Assignment;
+use crate::algo::sort_middle::regions::RegionGrid;
 use crate::algo::sort_middle::two_step::Groups;
 use crate::algo::sort_middle::utilization::{self, CountsMode};
 use crate::algo::sort_middle::DEFAULT_BUFFER;
@@ -16,6 +19,7 @@ use crate::report::plot::{ChartOptions, Series};
 use crate::scene::summary::summary;
 use crate::scene::Scene;
 use crate::spec::machine::load_machine;
+use crate::units::SimTime;
 
 use super::runs::{frame_s, mean, run_jobs, triangles_per_s, Job};
 use super::{paper_value, Chart, Measured, Measurements, PaperData, PaperOptions};
@@ -41,6 +45,7 @@ pub fn measure(options: &PaperOptions, data: &PaperData) -> Result<Measurements,
     delta_rows(&machine, root, &mut m)?;
     model_rows(root, &mut m)?;
     two_step_rows(&mut m);
+    assignment_rows(&machine, root, &mut m)?;
     utilization_rows(options, &machine, &mut m)?;
     figure_9_rows(options, &machine, data, &mut m)?;
     Ok(m)
@@ -152,6 +157,66 @@ fn model_rows(root: &Path, m: &mut Measurements) -> Result<(), String> {
     Ok(())
 }
 
+/// The load-balancing rules of the Implementation section, checked on the grids Figure 9's
+/// runs use (ratio 8) and, for the greedy packing, on a real frame's polygon counts.
+fn assignment_rows(
+    machine: &MachineConfig,
+    root: &Path,
+    m: &mut Measurements,
+) -> Result<(), String> {
+    const RATIO: u32 = 8;
+    let scene = Scene::load(&root.join("scenes").join(PLB)).map_err(|e| e.to_string())?;
+    let vp = viewport(&scene.frame(1).map_err(|e| e.to_string())?);
+    let grid = |n: u32| {
+        RegionGrid::with_count(vp, n * RATIO).ok_or(format!("{} regions on the screen", n * RATIO))
+    };
+    let mut interleaved = true;
+    for n in PROCS {
+        let a = Assignment::interleaved(grid(n)?.count(), n);
+        interleaved &= a.owner.iter().enumerate().all(|(r, &p)| p == r as u32 % n);
+    }
+    m.put(
+        "first-frame-interleaved",
+        Measured::shape(
+            interleaved,
+            format!("Assignment::interleaved on {PROCS:?} processors x {RATIO} regions"),
+        ),
+    );
+    let prices = utilization::Prices::of(machine);
+    let profile = utilization::FrameProfile::new(&scene, 1, &prices).map_err(|e| e.to_string())?;
+    let mut greedy = true;
+    for n in PROCS {
+        let counts = profile.counts(&grid(n)?);
+        let costs: Vec<SimTime> = counts.iter().map(|&c| SimTime::from_ps(c as u64)).collect();
+        let owner = Assignment::greedy(&costs, &vec![SimTime::ZERO; n as usize]).owner;
+        greedy &= packs_largest_first_to_lightest(&costs, &owner, n);
+    }
+    m.put(
+        "greedy-largest-first",
+        Measured::shape(
+            greedy,
+            format!(
+                "Assignment::greedy on the PLB head stand-in's frame 1 counts, {PROCS:?} processors x {RATIO} regions: each region, taken in decreasing count, went to a processor with the least load so far"
+            ),
+        ),
+    );
+    Ok(())
+}
+
+/// Whether `owner` is what assigning regions in decreasing cost, each to a least-loaded
+/// processor, gives: replays the order and checks every choice against the loads so far.
+fn packs_largest_first_to_lightest(costs: &[SimTime], owner: &[u32], n: u32) -> bool {
+    let mut order: Vec<usize> = (0..costs.len()).collect();
+    order.sort_by_key(|&r| (std::cmp::Reverse(costs[r]), r));
+    let mut loads = vec![SimTime::ZERO; n as usize];
+    order.into_iter().all(|r| {
+        let p = owner[r] as usize;
+        let lightest = loads.iter().all(|&l| loads[p] <= l);
+        loads[p] += costs[r];
+        lightest
+    })
+}
+
 fn two_step_rows(m: &mut Measurements) {
     m.put(
         "two-step-messages-256",
@@ -247,6 +312,39 @@ fn utilization_rows(
     m.put(
         "util-previous-drop-512",
         Measured::value(drop, frames_note.clone()),
+    );
+    let other_frames: Vec<u32> = if options.quick {
+        vec![1]
+    } else {
+        vec![1, 20, 39]
+    };
+    let mut other = Vec::new();
+    for file in ["terrain-standin.json", "ct-head-standin.json"] {
+        let outcome = simulate(file, &other_frames)?;
+        let u = |g: u32, mode| {
+            outcome
+                .cell(512, g, mode)
+                .map_or(f64::NAN, |c| c.utilization)
+        };
+        let drop = [4, 8, 12]
+            .iter()
+            .map(|&g| 100.0 * (u(g, CountsMode::Current) - u(g, CountsMode::Previous)))
+            .fold(f64::MIN, f64::max);
+        other.push((file, drop));
+    }
+    m.put(
+        "util-previous-drop-other-512",
+        Measured::value(
+            other.iter().map(|o| o.1).fold(f64::MIN, f64::max),
+            format!(
+                "frames {other_frames:?}: {}",
+                other
+                    .iter()
+                    .map(|(f, d)| format!("{f} {d:.1}"))
+                    .collect::<Vec<_>>()
+                    .join(", ")
+            ),
+        ),
     );
     let polio = simulate(POLIO, &polio_frames)?;
     for (id, outcome, note) in [
