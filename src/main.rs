@@ -305,7 +305,10 @@ fn render(scene: &Path, frame: u32, out: &Path) -> Result<(), Failure> {
     let (image, counters) = reference::render(&geometry);
     let png = png_bytes(&image)?;
     write_bytes(out, &png)?;
-    println!("{}", to_json(&counters_json(&counters)).trim_end());
+    println!(
+        "{}",
+        to_json(&sortsim::scene::summary::counters_json(&counters)).trim_end()
+    );
     println!(
         "wrote {} ({}x{})",
         out.display(),
@@ -313,22 +316,6 @@ fn render(scene: &Path, frame: u32, out: &Path) -> Result<(), Failure> {
         geometry.height
     );
     Ok(())
-}
-
-fn counters_json(c: &sortsim::raster::Counters) -> serde_json::Value {
-    serde_json::json!({
-        "triangles_in": c.triangles_in,
-        "culled_invalid": c.culled_invalid,
-        "culled_outside": c.culled_outside,
-        "culled_backface": c.culled_backface,
-        "culled_zero_area": c.culled_zero_area,
-        "clipped": c.clipped,
-        "triangles_set_up": c.triangles_set_up,
-        "spans": c.spans,
-        "pixels_tested": c.pixels_tested,
-        "pixels_written": c.pixels_written,
-        "bytes_touched": c.bytes_touched,
-    })
 }
 
 fn scene_stats(
@@ -355,28 +342,7 @@ fn scene_stats(
             }
             continue;
         }
-        let r = &s.raster;
-        let paper = s.reference.map(|p| {
-            serde_json::json!({"paper": p.paper, "source": p.source, "triangles": p.triangles,
-                "mean_area_px": p.mean_area_px, "depth_complexity": p.depth_complexity, "tolerance": p.tolerance})
-        });
-        let value = serde_json::json!({
-            "scene": s.scene,
-            "frame": frame,
-            "width": s.width,
-            "height": s.height,
-            "triangles_in": r.counters.triangles_in,
-            "triangles_after_culling_and_clipping": r.counters.triangles_set_up,
-            "mean_area_px": r.mean_area_px,
-            "geometric_mean_area_px": s.geometric.mean_area_px,
-            "depth_complexity": r.depth_complexity,
-            "p_d": r.p_d(s.width, s.height),
-            "active_pixels": r.active_pixels,
-            "overlap_factor": overlap,
-            "overlap_region_px": [rw, rh],
-            "raster": counters_json(&r.counters),
-            "paper": paper,
-        });
+        let value = s.to_json(overlap, (rw, rh));
         println!("{}", serde_json::to_string(&value).expect("JSON"));
     }
     Ok(())
@@ -745,38 +711,8 @@ fn utilization(args: &cli::UtilizationArgs) -> Result<(), Failure> {
         if outcome.prices.fallback { " (it prices no rasterization operation: documented fallback costs used, see utilization.json)" } else { "" }
     );
     println!();
-    print!(
-        "{}",
-        outcome.table(
-            &modes,
-            "Expected rasterization utilization (%)",
-            1,
-            |c| 100.0 * c.utilization
-        )
-    );
-    let figure5 = if modes.contains(&CountsMode::Previous) {
-        CountsMode::Previous
-    } else {
-        CountsMode::Current
-    };
-    print!(
-        "{}",
-        outcome.table(
-            &[figure5],
-            "Relative execution time (performance model)",
-            3,
-            |c| c.relative_time
-        )
-    );
-    print!(
-        "{}",
-        outcome.table(
-            &[CountsMode::Interleaved],
-            "Baseline utilization (%)",
-            1,
-            |c| 100.0 * c.utilization
-        )
-    );
+    let figure5 = sortsim::report::utilization::figure_5_mode(&modes);
+    print!("{}", sortsim::report::utilization::tables(&outcome, &modes));
     if let Some(dir) = &args.out {
         let (scene, machine) = (
             args.scene.display().to_string(),

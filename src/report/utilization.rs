@@ -1,6 +1,6 @@
 //! The utilization report (`sortsim utilization -o DIR`, paper 002's Figures 4 and 5):
 //! utilization.csv and utilization.json (every cell), figure4.csv and figure5.csv (the
-//! charts' points) and the two charts as SVG and PNG.
+//! charts' points) and the two charts as SVG and PNG; and the tables the command prints.
 //!
 //! Owns the files of this report kind. Must never simulate (it is handed the outcome) and
 //! never write except through `write_atomic`.
@@ -14,6 +14,38 @@ use crate::algo::sort_middle::utilization::{CountsMode, Outcome};
 /// Writes the report of `outcome` under `dir`: `modes` are the counts modes shown in Figure 4,
 /// `figure5` the one whose relative times Figure 5 shows; `files` = (scene, machine) as named
 /// in utilization.json.
+/// Figure 5's count mode among those asked for: the previous frame's counts when present (as
+/// in the paper), else the current frame's.
+pub fn figure_5_mode(modes: &[CountsMode]) -> CountsMode {
+    if modes.contains(&CountsMode::Previous) {
+        CountsMode::Previous
+    } else {
+        CountsMode::Current
+    }
+}
+
+/// The tables `sortsim utilization` prints: utilization in each count mode asked for, the
+/// performance model's relative times (Figure 5) and the interleaved baseline.
+pub fn tables(outcome: &Outcome, modes: &[CountsMode]) -> String {
+    let percent = |c: &crate::algo::sort_middle::utilization::Cell| 100.0 * c.utilization;
+    [
+        outcome.table(modes, "Expected rasterization utilization (%)", 1, percent),
+        outcome.table(
+            &[figure_5_mode(modes)],
+            "Relative execution time (performance model)",
+            3,
+            |c| c.relative_time,
+        ),
+        outcome.table(
+            &[CountsMode::Interleaved],
+            "Baseline utilization (%)",
+            1,
+            percent,
+        ),
+    ]
+    .concat()
+}
+
 pub fn write(
     dir: &Path,
     outcome: &Outcome,

@@ -1,7 +1,7 @@
 //! What `sortsim scene-stats` prints: one frame's geometric and rasterized statistics next
 //! to the paper's numbers for the scene it stands in for (from `paper::REFERENCES`).
 //!
-//! Owns assembling and formatting that summary. Must never compute statistics itself (that
+//! Owns assembling and formatting that summary, as text and as JSON. Must never compute statistics itself (that
 //! is `stats`) nor hold paper numbers (that is `paper`).
 
 use std::fmt;
@@ -141,4 +141,50 @@ impl fmt::Display for Summary {
             if p_d.len() > 9 { " ..." } else { "" }
         )
     }
+}
+
+impl Summary {
+    /// The summary as `scene-stats --json` prints it: `overlap` is the overlap factor for
+    /// regions of `region` pixels.
+    pub fn to_json(&self, overlap: f64, region: (u32, u32)) -> serde_json::Value {
+        let r = &self.raster;
+        let paper = self.reference.map(|p| {
+            serde_json::json!({"paper": p.paper, "source": p.source, "triangles": p.triangles,
+                "mean_area_px": p.mean_area_px, "depth_complexity": p.depth_complexity, "tolerance": p.tolerance})
+        });
+        serde_json::json!({
+            "scene": self.scene,
+            "frame": self.frame,
+            "width": self.width,
+            "height": self.height,
+            "triangles_in": r.counters.triangles_in,
+            "triangles_after_culling_and_clipping": r.counters.triangles_set_up,
+            "mean_area_px": r.mean_area_px,
+            "geometric_mean_area_px": self.geometric.mean_area_px,
+            "depth_complexity": r.depth_complexity,
+            "p_d": r.p_d(self.width, self.height),
+            "active_pixels": r.active_pixels,
+            "overlap_factor": overlap,
+            "overlap_region_px": [region.0, region.1],
+            "raster": counters_json(&r.counters),
+            "paper": paper,
+        })
+    }
+}
+
+/// A frame's raster counters as `render` and `scene-stats --json` print them.
+pub fn counters_json(c: &crate::raster::Counters) -> serde_json::Value {
+    serde_json::json!({
+        "triangles_in": c.triangles_in,
+        "culled_invalid": c.culled_invalid,
+        "culled_outside": c.culled_outside,
+        "culled_backface": c.culled_backface,
+        "culled_zero_area": c.culled_zero_area,
+        "clipped": c.clipped,
+        "triangles_set_up": c.triangles_set_up,
+        "spans": c.spans,
+        "pixels_tested": c.pixels_tested,
+        "pixels_written": c.pixels_written,
+        "bytes_touched": c.bytes_touched,
+    })
 }
