@@ -14,6 +14,7 @@ use std::sync::{Arc, Mutex, OnceLock};
 
 use sortsim::algo::{reference, run, RunResult};
 use sortsim::raster::{draw_mesh, CountingTarget, ACTIVE_PIXEL_BYTES};
+use sortsim::scene::planes::back_to_front_planes;
 use sortsim::scene::Scene;
 use sortsim::spec::run::RunSpec;
 use sortsim::spec::scene::SceneSpec;
@@ -241,32 +242,13 @@ fn reductions_against_d_times_a_are_in_the_papers_ranges() {
 #[test]
 fn back_to_front_planes_broadcast_n_times_a() {
     for n in [1u32, 4, 9] {
-        let planes: Vec<String> = (0..n)
-            .map(|k| {
-                format!(
-                    r#"{{ "generator": {{ "kind": "big-triangle" }}, "color": [{c}, 0.5, 0.5],
-                         "transform": {{ "scale": [10, 1, 10], "translate": [0, {y}, 0] }} }}"#,
-                    c = k as f32 / n as f32,
-                    y = 0.1 * k as f32
-                )
-            })
-            .collect();
-        let json = format!(
-            r#"{{ "resolution": [64, 48], "cull_backfaces": false,
-                 "camera": {{ "kind": "perspective", "eye": [0, 5, 0], "target": [0, 0, 0],
-                             "up": [0, 0, -1], "fov_deg": 40, "near": 0.1, "far": 100 }},
-                 "geometry": [{}] }}"#,
-            planes.join(",")
-        );
-        let file = std::env::temp_dir().join(format!(
-            "sortsim-sl003-planes-{}-{n}.json",
-            std::process::id()
-        ));
+        let json = back_to_front_planes(n);
+        let dir = tempfile::tempdir().unwrap();
+        let file = dir.path().join(format!("back-to-front-planes-{n}.json"));
         std::fs::write(&file, &json).unwrap();
         let spec: SceneSpec = serde_json::from_str(&json).unwrap();
         let scene = Arc::new(Scene::from_spec(&file, spec).unwrap());
         let r = simulate_scene(&scene, &file, "sort-last/snooping", n, &[]);
-        std::fs::remove_file(&file).ok();
         let area = 64 * 48;
         let broadcast = r.frames[0].bytes.get() / ACTIVE_PIXEL_BYTES;
         assert_eq!(broadcast, n as u64 * area, "n = {n}");

@@ -216,13 +216,19 @@ impl FrameRecord {
             .iter()
             .map(|&t| t.saturating_sub(self.start).as_secs_f64())
             .collect();
-        let longest = times.iter().cloned().fold(0.0, f64::max);
-        if longest <= 0.0 {
-            return 0.0;
-        }
-        let mean = times.iter().sum::<f64>() / times.len() as f64;
-        100.0 * (longest - mean) / longest
+        load_imbalance_pct(&times)
     }
+}
+
+/// Paper 001's load imbalance of some finishing times: (longest - mean) / longest, in
+/// percent; 0 when nothing took any time.
+pub fn load_imbalance_pct(finishes: &[f64]) -> f64 {
+    let longest = finishes.iter().cloned().fold(0.0, f64::max);
+    if longest <= 0.0 {
+        return 0.0;
+    }
+    let mean = finishes.iter().sum::<f64>() / finishes.len() as f64;
+    100.0 * (longest - mean) / longest
 }
 
 /// What a run produced: the machine's statistics, per-frame records, the last frame's image.

@@ -10,6 +10,7 @@ use std::path::Path;
 
 use crate::raster::ACTIVE_PIXEL_BYTES;
 use crate::report::plot::{ChartOptions, Series};
+use crate::scene::planes::{back_to_front_planes, PLANES_SCREEN};
 use crate::scene::Scene;
 use crate::spec::scene::SceneSpec;
 use crate::trace::record_scene;
@@ -346,30 +347,14 @@ fn worst_case_row(m: &mut Measurements) -> Result<(), String> {
     let mut ok = true;
     let mut seen = Vec::new();
     for n in [1u32, 4, 9] {
-        let planes: Vec<String> = (0..n)
-            .map(|k| {
-                format!(
-                    r#"{{ "generator": {{ "kind": "big-triangle" }}, "color": [{c}, 0.5, 0.5],
-                         "transform": {{ "scale": [10, 1, 10], "translate": [0, {y}, 0] }} }}"#,
-                    c = k as f32 / n as f32,
-                    y = 0.1 * k as f32
-                )
-            })
-            .collect();
-        let json = format!(
-            r#"{{ "resolution": [64, 48], "cull_backfaces": false,
-                 "camera": {{ "kind": "perspective", "eye": [0, 5, 0], "target": [0, 0, 0],
-                             "up": [0, 0, -1], "fov_deg": 40, "near": 0.1, "far": 100 }},
-                 "geometry": [{}] }}"#,
-            planes.join(",")
-        );
+        let json = back_to_front_planes(n);
         let spec: SceneSpec = serde_json::from_str(&json).map_err(|e| e.to_string())?;
         let scene = Scene::from_spec(Path::new("back-to-front-planes.json"), spec)
             .map_err(|e| e.to_string())?;
         let trace = record_scene(&scene, 0).map_err(|e| e.to_string())?;
         let replay = Replay::new(&trace);
         let sent = snoop(&replay, Assign::Scatter, &[n], 1)[0];
-        let area = 64 * 48;
+        let area = (PLANES_SCREEN.0 * PLANES_SCREEN.1) as u64;
         ok &= sent == n as u64 * area;
         seen.push(format!("n = {n}: {sent} = {} A", sent as f64 / area as f64));
     }

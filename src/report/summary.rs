@@ -120,14 +120,12 @@ impl Summary {
             })
             .collect();
         let finishes: Vec<f64> = stats.nodes.iter().map(|n| n.finish.as_secs_f64()).collect();
-        let longest = finishes.iter().cloned().fold(0.0, f64::max);
-        let mean = finishes.iter().sum::<f64>() / finishes.len().max(1) as f64;
         let totals = Totals {
             sent_bytes: stats.nodes.iter().map(|n| n.bytes_sent.get()).sum(),
             sent_messages: stats.nodes.iter().map(|n| n.messages_sent).sum(),
             busy_s: stats.nodes.iter().map(|n| n.busy().as_secs_f64()).sum(),
             comm_s: stats.nodes.iter().map(|n| n.comm.as_secs_f64()).sum(),
-            load_imbalance_pct: pct(longest - mean, longest),
+            load_imbalance_pct: crate::algo::load_imbalance_pct(&finishes),
             memory_high_water_max_bytes: stats
                 .memory
                 .iter()

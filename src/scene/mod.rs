@@ -16,6 +16,7 @@ pub mod gen;
 pub mod mesh;
 pub mod obj;
 pub mod paper;
+pub mod planes;
 mod precull;
 pub mod refine;
 pub mod stats;
