@@ -194,12 +194,10 @@ fn netsim(args: &NetsimArgs) -> Result<(), Failure> {
     let clock = Stopwatch::start();
     let report = run_pattern(&network, &pattern).map_err(in_pattern)?;
     let cost = clock.cost(report.messages.len() as u64);
-    let json = to_json(&report);
     if let Some(dir) = &args.out {
-        write_file(dir, "summary.json", &json)?;
-        write_file(dir, "cost.json", &to_json(&cost))?;
+        sortsim::report::netsim::write(dir, &report, &cost)?;
     }
-    print!("{json}");
+    print!("{}", to_json(&report));
     Ok(())
 }
 
@@ -359,10 +357,6 @@ fn write_bytes(path: &Path, bytes: &[u8]) -> Result<(), Failure> {
         .map_err(|e| Failure::BadInput(format!("{}: cannot write: {e}", path.display())))
 }
 
-fn write_file(dir: &Path, name: &str, text: &str) -> Result<(), Failure> {
-    Ok(sortsim::report::write_text(dir, name, text)?)
-}
-
 /// `sortsim sweep`: runs the points, prints the table's file names and any failed point;
 /// returns the table as printed. Bad input is refused before any point runs; a point that
 /// fails is a row with an error.
@@ -519,7 +513,7 @@ fn fidelity(f: FidelityArg) -> Fidelity {
 }
 
 fn bench_scale(quick: bool, frames: Option<u32>, out: &Path) -> Result<(), Failure> {
-    use sortsim::bench::scale::{plots, scale, table, ScaleConfig};
+    use sortsim::bench::scale::{scale, table, ScaleConfig};
     let root = Path::new(env!("CARGO_MANIFEST_DIR"));
     let mut cfg = if quick {
         ScaleConfig::quick(root)
@@ -532,9 +526,7 @@ fn bench_scale(quick: bool, frames: Option<u32>, out: &Path) -> Result<(), Failu
     let report =
         scale(&cfg, &mut |step| eprintln!("measuring: {step}")).map_err(Failure::Internal)?;
     let text = table(&report);
-    write_file(out, "scale.json", &to_json(&report))?;
-    write_file(out, "scale.txt", &text)?;
-    plots(&report, out).map_err(|e| Failure::Internal(e.to_string()))?;
+    sortsim::report::bench::write_scale(out, &report, &text)?;
     print!("{text}");
     Ok(())
 }
@@ -580,8 +572,7 @@ fn bench_phold(args: &PholdArgs) -> Result<String, Failure> {
     };
     let (summary, cost) = phold_report(&cfg)?;
     if let Some(dir) = &args.out {
-        write_file(dir, "summary.json", &to_json(&summary))?;
-        write_file(dir, "cost.json", &to_json(&cost))?;
+        sortsim::report::bench::write_phold(dir, &summary, &cost)?;
     }
     let text = format!("{}{}", to_json(&summary), to_json(&cost));
     print!("{text}");

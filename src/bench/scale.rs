@@ -92,7 +92,8 @@ pub struct ScaleReport {
     pub wall_against_triangles: Vec<CurvePoint>,
 }
 
-const CURVE_FIDELITIES: [Fidelity; 2] = [Fidelity::Hops, Fidelity::Flow];
+/// The fidelities each growth curve compares.
+pub const CURVE_FIDELITIES: [Fidelity; 2] = [Fidelity::Hops, Fidelity::Flow];
 /// The scenes of the triangles curve, smallest first.
 const TRIANGLE_SCENES: [&str; 4] = [
     "plb-head-standin.json",
@@ -427,61 +428,6 @@ pub fn table(report: &ScaleReport) -> String {
         }
     }
     s
-}
-
-/// The three growth charts, one line per fidelity, written under `dir`.
-pub fn plots(report: &ScaleReport, dir: &Path) -> Result<(), String> {
-    use crate::report::plot::{line_chart, ChartOptions, Series};
-    for (stem, title, x_label, curve) in [
-        (
-            "wall-vs-messages",
-            "Wall time against messages (16x32 torus)",
-            "messages",
-            &report.wall_against_messages,
-        ),
-        (
-            "wall-vs-procs",
-            "Wall time against processors (one polio frame)",
-            "processors",
-            &report.wall_against_procs,
-        ),
-        (
-            "wall-vs-triangles",
-            "Wall time against triangles (one frame, 512 nodes)",
-            "triangles",
-            &report.wall_against_triangles,
-        ),
-    ] {
-        let series: Vec<Series> = CURVE_FIDELITIES
-            .iter()
-            .map(|f| {
-                let points = curve
-                    .iter()
-                    .filter(|p| p.fidelity == f.name())
-                    .map(|p| (p.x, p.wall_s))
-                    .collect();
-                Series::new(f.name(), points)
-            })
-            .filter(|s| !s.points.is_empty())
-            .collect();
-        if series.is_empty() {
-            continue;
-        }
-        let options = ChartOptions {
-            log_x: true,
-            y_from_zero: true,
-        };
-        line_chart(
-            &dir.join(stem),
-            title,
-            x_label,
-            "wall (s)",
-            &series,
-            options,
-        )
-        .map_err(|e| e.to_string())?;
-    }
-    Ok(())
 }
 
 #[cfg(test)]

@@ -7,9 +7,11 @@
 //! file: everything goes through `write_atomic`.
 
 pub mod accuracy;
+pub mod bench;
 pub mod calibration;
 pub mod cost;
 pub mod default_job;
+pub mod netsim;
 pub mod page;
 pub mod paper;
 pub mod plot;

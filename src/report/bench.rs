@@ -1,0 +1,79 @@
+//! The simulator's own benchmarks as report folders: `bench scale` (scale.json, scale.txt
+//! and the three growth charts) and `bench phold` (summary.json, the deterministic part;
+//! cost.json, what it took on this host).
+//!
+//! Owns the files of these report kinds. Must never measure anything (it is handed the
+//! reports) and never write except through `write_text` and the plot writer.
+
+use std::path::Path;
+
+use super::plot::{line_chart, ChartOptions, PlotError, Series};
+use super::{to_json, write_text};
+use crate::bench::scale::{ScaleReport, CURVE_FIDELITIES};
+use crate::bench::{PholdCost, PholdSummary};
+
+/// Writes `bench scale`'s folder; `table` is the text it printed.
+pub fn write_scale(dir: &Path, report: &ScaleReport, table: &str) -> Result<(), PlotError> {
+    write_text(dir, "scale.json", &to_json(report))?;
+    write_text(dir, "scale.txt", table)?;
+    scale_plots(report, dir)
+}
+
+/// Writes `bench phold`'s folder.
+pub fn write_phold(dir: &Path, summary: &PholdSummary, cost: &PholdCost) -> Result<(), PlotError> {
+    write_text(dir, "summary.json", &to_json(summary))?;
+    write_text(dir, "cost.json", &to_json(cost))
+}
+
+/// The three growth charts, one line per fidelity, written under `dir`.
+fn scale_plots(report: &ScaleReport, dir: &Path) -> Result<(), PlotError> {
+    for (stem, title, x_label, curve) in [
+        (
+            "wall-vs-messages",
+            "Wall time against messages (16x32 torus)",
+            "messages",
+            &report.wall_against_messages,
+        ),
+        (
+            "wall-vs-procs",
+            "Wall time against processors (one polio frame)",
+            "processors",
+            &report.wall_against_procs,
+        ),
+        (
+            "wall-vs-triangles",
+            "Wall time against triangles (one frame, 512 nodes)",
+            "triangles",
+            &report.wall_against_triangles,
+        ),
+    ] {
+        let series: Vec<Series> = CURVE_FIDELITIES
+            .iter()
+            .map(|f| {
+                let points = curve
+                    .iter()
+                    .filter(|p| p.fidelity == f.name())
+                    .map(|p| (p.x, p.wall_s))
+                    .collect();
+                Series::new(f.name(), points)
+            })
+            .filter(|s| !s.points.is_empty())
+            .collect();
+        if series.is_empty() {
+            continue;
+        }
+        let options = ChartOptions {
+            log_x: true,
+            y_from_zero: true,
+        };
+        line_chart(
+            &dir.join(stem),
+            title,
+            x_label,
+            "wall (s)",
+            &series,
+            options,
+        )?;
+    }
+    Ok(())
+}
