@@ -62,8 +62,9 @@ fn link_of(key: Key) -> LinkId {
 pub struct MaxMin {
     capacity: u64,
     links: Vec<Link>,
-    /// Each link's key in the last solve (`NONE` if it fixed nothing); apart from `links`
-    /// because most visits read only this.
+    /// Each link's key in the last solve (`NONE` if it fixed nothing). Visits that only ask
+    /// whether it fixed anything read `SweepLink::fixed_some` instead, beside the rest of
+    /// what they need.
     keys: Vec<Key>,
     flows: Vec<Flow>,
     /// Links that lost a flow since the last solve.
@@ -132,7 +133,7 @@ struct SweepFlow {
 /// What a visit to a link reads, packed small: settling a flow visits every link it crosses.
 #[derive(Clone, Copy, Default)]
 struct SweepLink {
-    /// It is dirty in the solve of this epoch.
+    /// Equal to the sweep's epoch while the link is dirty in this solve.
     epoch: u64,
     /// `suspect` and `delta` belong to the solve of this epoch.
     seen: u64,
