@@ -77,6 +77,9 @@ pub struct MaxMin {
     /// Flows added since the last solve.
     added: Vec<u32>,
     sweep: Sweep,
+    /// Sweeps run again because a suspect failed its check.
+    #[cfg(test)]
+    reruns: u64,
 }
 
 #[derive(Default)]
@@ -176,6 +179,8 @@ impl MaxMin {
             grown: Vec::new(),
             forced: Vec::new(),
             added: Vec::new(),
+            #[cfg(test)]
+            reruns: 0,
             sweep: Sweep {
                 links: vec![SweepLink::default(); links],
                 pops: vec![NONE; links],
@@ -247,7 +252,12 @@ impl MaxMin {
     /// `(slot, old rate)` for every flow whose rate changed (0 for an added flow), in the
     /// order the filling fixed them.
     pub fn solve(&mut self, changed: &mut Vec<(u32, u64)>) {
-        while !self.sweep_and_check() {}
+        while !self.sweep_and_check() {
+            #[cfg(test)]
+            {
+                self.reruns += 1;
+            }
+        }
         self.commit(changed);
         self.added.clear();
         self.grown.clear();
@@ -772,6 +782,48 @@ mod tests {
         fn equals_progressive_filling_from_scratch_real_capacity(s in steps(24)) {
             check(136_000_000, 24, &s)?;
         }
+    }
+
+    /// A link that fixed nothing must fix a flow after a change elsewhere: its suspect check
+    /// fails and the solve runs again with it in. Capacity 12; X carries a, b, c (share 4);
+    /// W carries e and five more (share 2); Z carries a and e, 6 of 12 used, so it fixes
+    /// nothing. When W's five others end, e could take 12 on W, but on Z only 12 - 4 = 8:
+    /// Z now fixes e at 8.
+    #[test]
+    fn a_link_that_fixed_nothing_and_must_now_is_put_back() {
+        let (x, w, z) = (0, 1, 2);
+        let mut mm = MaxMin::new(12, 3);
+        let routes: Vec<Vec<LinkId>> = vec![
+            vec![x, z], // a
+            vec![x],    // b
+            vec![x],    // c
+            vec![w, z], // e
+            vec![w],
+            vec![w],
+            vec![w],
+            vec![w],
+            vec![w],
+        ];
+        for (slot, route) in routes.iter().enumerate() {
+            mm.add(slot as u32, route);
+        }
+        let mut changed = Vec::new();
+        mm.solve(&mut changed);
+        assert_eq!(mm.rate(0), 4);
+        assert_eq!(mm.rate(3), 2);
+        assert_eq!(mm.keys[z as usize], NONE, "Z fixes nothing at first");
+        for slot in 4..9 {
+            mm.remove(slot);
+        }
+        let reruns = mm.reruns;
+        mm.solve(&mut changed);
+        assert_eq!(mm.reruns, reruns + 1, "Z's check failed once");
+        assert_eq!(mm.rate(3), 8, "e is fixed by Z");
+        assert_eq!(
+            reference_rates(12, 3, &routes[..4]),
+            (0..4).map(|s| mm.rate(s)).collect::<Vec<_>>()
+        );
+        assert!(mm.loads_add_up());
     }
 
     #[test]
