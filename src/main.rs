@@ -702,7 +702,6 @@ fn utilization(args: &cli::UtilizationArgs) -> Result<(), Failure> {
         if outcome.prices.fallback { " (it prices no rasterization operation: documented fallback costs used, see utilization.json)" } else { "" }
     );
     println!();
-    let figure5 = sortsim::report::utilization::figure_5_mode(&modes);
     print!("{}", sortsim::report::utilization::tables(&outcome, &modes));
     if let Some(dir) = &args.out {
         let (scene, machine) = (
@@ -710,7 +709,7 @@ fn utilization(args: &cli::UtilizationArgs) -> Result<(), Failure> {
             machine_path.display().to_string(),
         );
         let files = (scene.as_str(), machine.as_str());
-        sortsim::report::utilization::write(dir, &outcome, &modes, figure5, files)?;
+        sortsim::report::utilization::write(dir, &outcome, &modes, files)?;
         println!("written to {}", dir.display());
     }
     println!("simulated in {wall:.1} s wall");

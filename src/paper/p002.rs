@@ -256,13 +256,17 @@ fn utilization_rows(
     } else {
         vec![1, 28, 55, 82]
     };
-    let simulate = |file: &str, frames: &[u32]| -> Result<utilization::Outcome, String> {
+    let simulate = |file: &str,
+                    procs: &[u32],
+                    granularities: &[u32],
+                    frames: &[u32]|
+     -> Result<utilization::Outcome, String> {
         let scene = Scene::load(&root.join("scenes").join(file)).map_err(|e| e.to_string())?;
         let cfg =
-            utilization::Config::new(&UPROCS, &GRANULARITIES, frames).map_err(|e| e.to_string())?;
+            utilization::Config::new(procs, granularities, frames).map_err(|e| e.to_string())?;
         utilization::simulate(&scene, machine, &cfg).map_err(|e| e.to_string())
     };
-    let plb = simulate(PLB, &plb_frames)?;
+    let plb = simulate(PLB, &UPROCS, &GRANULARITIES, &plb_frames)?;
     let u =
         |n: u32, g: u32, mode: CountsMode| plb.cell(n, g, mode).map_or(f64::NAN, |c| c.utilization);
     let balanced = [CountsMode::Current, CountsMode::Previous];
@@ -305,7 +309,8 @@ fn utilization_rows(
             ),
         ),
     );
-    let drop = [4, 8, 12]
+    const DROP_RATIOS: [u32; 3] = [4, 8, 12];
+    let drop = DROP_RATIOS
         .iter()
         .map(|&g| 100.0 * (u(512, g, CountsMode::Current) - u(512, g, CountsMode::Previous)))
         .fold(f64::MIN, f64::max);
@@ -320,13 +325,14 @@ fn utilization_rows(
     };
     let mut other = Vec::new();
     for file in ["terrain-standin.json", "ct-head-standin.json"] {
-        let outcome = simulate(file, &other_frames)?;
+        // Only the cells the row reads: 512 processors at its three ratios.
+        let outcome = simulate(file, &[512], &DROP_RATIOS, &other_frames)?;
         let u = |g: u32, mode| {
             outcome
                 .cell(512, g, mode)
                 .map_or(f64::NAN, |c| c.utilization)
         };
-        let drop = [4, 8, 12]
+        let drop = DROP_RATIOS
             .iter()
             .map(|&g| 100.0 * (u(g, CountsMode::Current) - u(g, CountsMode::Previous)))
             .fold(f64::MIN, f64::max);
@@ -346,7 +352,7 @@ fn utilization_rows(
             ),
         ),
     );
-    let polio = simulate(POLIO, &polio_frames)?;
+    let polio = simulate(POLIO, &UPROCS, &GRANULARITIES, &polio_frames)?;
     for (id, outcome, note) in [
         ("best-g-head", &plb, frames_note.clone()),
         (

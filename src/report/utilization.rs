@@ -11,9 +11,6 @@ use super::plot::{line_chart, ChartOptions, PlotError, Series};
 use super::{to_json, write_text};
 use crate::algo::sort_middle::utilization::{CountsMode, Outcome};
 
-/// Writes the report of `outcome` under `dir`: `modes` are the counts modes shown in Figure 4,
-/// `figure5` the one whose relative times Figure 5 shows; `files` = (scene, machine) as named
-/// in utilization.json.
 /// Figure 5's count mode among those asked for: the previous frame's counts when present (as
 /// in the paper), else the current frame's.
 pub fn figure_5_mode(modes: &[CountsMode]) -> CountsMode {
@@ -46,13 +43,16 @@ pub fn tables(outcome: &Outcome, modes: &[CountsMode]) -> String {
     .concat()
 }
 
+/// Writes the report of `outcome` under `dir`: `modes` are the counts modes shown in Figure 4
+/// (Figure 5 shows `figure_5_mode` of them); `files` = (scene, machine) as named in
+/// utilization.json.
 pub fn write(
     dir: &Path,
     outcome: &Outcome,
     modes: &[CountsMode],
-    figure5: CountsMode,
     files: (&str, &str),
 ) -> Result<(), PlotError> {
+    let figure5 = figure_5_mode(modes);
     write_text(dir, "utilization.csv", &outcome.csv())?;
     write_text(
         dir,

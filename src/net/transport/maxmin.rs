@@ -62,9 +62,8 @@ fn link_of(key: Key) -> LinkId {
 pub struct MaxMin {
     capacity: u64,
     links: Vec<Link>,
-    /// Each link's key in the last solve (`NONE` if it fixed nothing). Visits that only ask
-    /// whether it fixed anything read `SweepLink::fixed_some` instead, beside the rest of
-    /// what they need.
+    /// Each link's key in the last solve (`NONE` if it fixed nothing); apart from `links`,
+    /// whose flow lists most visits never read.
     keys: Vec<Key>,
     flows: Vec<Flow>,
     /// Links that lost a flow since the last solve.
@@ -146,8 +145,6 @@ struct SweepLink {
     popped: bool,
     pending: bool,
     suspect: bool,
-    /// It fixed flows in the last solve (`MaxMin::keys` is not `NONE`); kept across solves.
-    fixed_some: bool,
 }
 
 const POP: u128 = 0;
@@ -319,12 +316,12 @@ impl MaxMin {
     /// A flow on `link` changed: a link that fixed flows last time is dirty, one that fixed
     /// none is a suspect.
     fn note(&mut self, link: LinkId) {
-        let epoch = self.sweep.epoch;
-        let sl = self.sweep.link_seen(link);
-        if sl.fixed_some {
+        if self.keys[link as usize] != NONE {
             self.mark_dirty(link);
             return;
         }
+        let epoch = self.sweep.epoch;
+        let sl = self.sweep.link_seen(link);
         if sl.epoch != epoch && !sl.suspect {
             sl.suspect = true;
             self.sweep.suspects.push(link);
@@ -583,7 +580,6 @@ impl MaxMin {
             let sl = &mut s.links[l as usize];
             let link = &mut self.links[l as usize];
             self.keys[l as usize] = if sl.popped { s.pops[l as usize] } else { NONE };
-            sl.fixed_some = sl.popped;
             if sl.seen == s.epoch {
                 link.load = (link.load as i64 + sl.delta) as u64;
             }
