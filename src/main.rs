@@ -219,13 +219,7 @@ fn run(args: &RunArgs) -> Result<(), Failure> {
     let cost = clock.cost(result.stats.events);
     let summary = sortsim::report::run::write_report(&args.out, &cfg, &result, &cost)?;
     print!("{}", summary.markdown());
-    println!(
-        "\nreport written to {} (simulated in {:.2} s wall, {} events); page: {}",
-        args.out.display(),
-        cost.wall_s,
-        cost.events,
-        args.out.join("index.html").display()
-    );
+    print!("\n{}", sortsim::report::run::closing_line(&args.out, &cost));
     Ok(())
 }
 
@@ -381,20 +375,9 @@ fn sweep(args: &SweepArgs) -> Result<String, Failure> {
     })?;
     let table = sortsim::sweep::table::format_rows(&outcome.rows);
     print!("{table}");
-    println!(
-        "{} points ({} simulated now, {} already done) in {:.1} s on {jobs} threads",
-        outcome.ran + outcome.skipped,
-        outcome.ran,
-        outcome.skipped,
-        outcome.cost.wall_s
-    );
-    for f in &outcome.failures {
-        println!("point {} failed: {}", f.point, f.message);
-    }
-    println!(
-        "report written to {} (sweep.csv, sweep.json, plots/); page: {}",
-        out.display(),
-        out.join("index.html").display()
+    print!(
+        "{}",
+        sortsim::report::sweep::closing_lines(&outcome, &out, jobs)
     );
     match outcome
         .failures
@@ -688,18 +671,15 @@ fn utilization(args: &cli::UtilizationArgs) -> Result<(), Failure> {
         UtilizationError::Scene(e) => e.into(),
     })?;
     let wall = clock.cost(0).wall_s;
-    println!(
-        "{}: {} of {} frames (frames {}..{} every {}), {:.0} screen triangles and {:.0} pixels tested per frame; costs from {}{}",
-        args.scene.display(),
-        frames.len(),
-        scene.frame_count(),
-        range.start,
-        range.end,
-        args.frame_step,
-        outcome.mean_screen_triangles,
-        outcome.mean_pixels_tested,
-        machine_path.display(),
-        if outcome.prices.fallback { " (it prices no rasterization operation: documented fallback costs used, see utilization.json)" } else { "" }
+    let shown = sortsim::report::utilization::FramesShown {
+        step: args.frame_step,
+        count: frames.len(),
+        of: scene.frame_count(),
+        range,
+    };
+    print!(
+        "{}",
+        sortsim::report::utilization::header(&outcome, &args.scene, &machine_path, &shown)
     );
     println!();
     print!("{}", sortsim::report::utilization::tables(&outcome, &modes));
@@ -729,16 +709,9 @@ fn trace_record(scene: &Path, frame: u32, out: &Path) -> Result<(), Failure> {
     let trace = sortsim::trace::record_scene(&loaded, frame)?;
     let bytes =
         sortsim::trace::write_trace(out, &trace).map_err(|e| Failure::BadInput(e.to_string()))?;
-    let m = trace.meta();
-    println!(
-        "{}: frame {frame}, {}x{}, {} primitives, {} fragments -> {} ({bytes} bytes, {:.2} bytes per fragment)",
-        scene.display(),
-        m.width,
-        m.height,
-        m.primitives,
-        trace.len(),
-        out.display(),
-        bytes as f64 / trace.len().max(1) as f64
+    print!(
+        "{}",
+        sortsim::report::trace::recorded_line(&trace, scene, out, bytes)
     );
     Ok(())
 }

@@ -8,6 +8,7 @@ use std::sync::Arc;
 
 use sortsim::algo::reference::{raster_options, render, viewport};
 use sortsim::algo::{run, RunResult};
+use sortsim::raster::aa::cases::shared_edge_in_one_pixel;
 use sortsim::raster::aa::{
     AdaptiveConfig, AdaptiveTarget, Grid, SupersampleTarget, RECLAIM_SPREAD, SUBPIXEL_BYTES,
 };
@@ -30,31 +31,6 @@ fn v(x: f64, y: f64, z: u32, rgb: [u8; 3]) -> ScreenVertex {
     }
 }
 
-/// The rectangle `[x0, x1] x [y0, y1]` as two triangles (ids `prim`, `prim + 1`), flat depth.
-fn rect(
-    x0: f64,
-    y0: f64,
-    x1: f64,
-    y1: f64,
-    z: u32,
-    rgb: [u8; 3],
-    prim: u32,
-) -> Vec<ScreenTriangle> {
-    let (a, b, c, d) = (
-        v(x0, y0, z, rgb),
-        v(x1, y0, z, rgb),
-        v(x1, y1, z, rgb),
-        v(x0, y1, z, rgb),
-    );
-    [
-        ScreenTriangle::new([a, b, c], prim),
-        ScreenTriangle::new([a, c, d], prim + 1),
-    ]
-    .into_iter()
-    .flatten()
-    .collect()
-}
-
 /// An adaptive target whose pool holds a block for every pixel (these screens are tiny,
 /// and the cases here are not about running out).
 fn adaptive(vp: Viewport, grid: Grid, reclaim: bool) -> AdaptiveTarget {
@@ -73,9 +49,7 @@ fn adaptive(vp: Viewport, grid: Grid, reclaim: bool) -> AdaptiveTarget {
 /// for 3x3 supersampling, whose middle column is also exactly on the edge.
 #[test]
 fn edges_exactly_on_sample_positions_cover_each_sample_once() {
-    let vp = Viewport::new(4, 4).unwrap();
-    let mut tris = rect(0.0, -10.0, 1.5, 14.0, 1000, RED, 0);
-    tris.extend(rect(1.5, -10.0, 4.0, 14.0, 1000, BLUE, 2));
+    let (vp, tris) = shared_edge_in_one_pixel(0, RED, BLUE);
     for grid in Grid::FINEST_FIRST {
         let mut t = adaptive(vp, grid, false);
         draw_screen_triangles(&tris, &mut t);
@@ -173,20 +147,20 @@ fn a_pixel_crossed_by_many_edges_holds_one_block() {
 
 /// Paper 000, section 4.2: reclaiming needs a depth spread "smaller than 1 unit" (strictly).
 /// Two flat polygons of one colour share the edge x = 1.5 in pixel (1, 1); their depths
-/// differ by exactly the threshold (kept) or one less (reclaimed).
+/// differ by exactly the threshold (kept) or one less (reclaimed); two colours are never
+/// reclaimed. The same screen as `sortsim paper 000`'s reclaim-rule row.
 #[test]
 fn depth_spread_exactly_at_the_reclaim_threshold_is_kept() {
-    let vp = Viewport::new(4, 4).unwrap();
-    for (gap, reclaimed) in [
-        (RECLAIM_SPREAD, false),
-        (RECLAIM_SPREAD - 1, true),
-        (0, true),
+    for (gap, right, reclaimed) in [
+        (RECLAIM_SPREAD, RED, false),
+        (RECLAIM_SPREAD - 1, RED, true),
+        (0, RED, true),
+        (0, BLUE, false),
     ] {
-        let mut tris = rect(0.0, -10.0, 1.5, 14.0, 1_000_000, RED, 0);
-        tris.extend(rect(1.5, -10.0, 4.0, 14.0, 1_000_000 + gap, RED, 2));
+        let (vp, tris) = shared_edge_in_one_pixel(gap, RED, right);
         let mut t = adaptive(vp, Grid::X4, true);
         draw_screen_triangles(&tris, &mut t);
-        assert_eq!(!t.is_super(1, 1), reclaimed, "gap {gap}");
+        assert_eq!(!t.is_super(1, 1), reclaimed, "gap {gap}, right {right:?}");
     }
 }
 

@@ -7,13 +7,13 @@
 use std::path::Path;
 use std::sync::Arc;
 
-use sortsim::algo::reference::{raster_options, render, viewport};
+use sortsim::algo::reference::{raster_options, render, render_adaptive_sequence, viewport};
 use sortsim::algo::{run, RunResult};
+use sortsim::raster::aa::cases::every_pixel_an_edge;
 use sortsim::raster::aa::{
-    adapt, AaStats, AdaptiveConfig, AdaptiveTarget, Grid, SupersampleTarget, PIXEL_BYTES,
-    SUBPIXEL_BYTES,
+    AaStats, AdaptiveConfig, AdaptiveTarget, Grid, SupersampleTarget, PIXEL_BYTES, SUBPIXEL_BYTES,
 };
-use sortsim::raster::{draw_mesh, draw_screen_triangles, ScreenTriangle, ScreenVertex, Viewport};
+use sortsim::raster::{draw_mesh, draw_screen_triangles, Viewport};
 use sortsim::scene::Scene;
 use sortsim::spec::run::RunSpec;
 
@@ -27,26 +27,10 @@ fn scene(name: &str) -> Arc<Scene> {
 
 const MB: f64 = 1e6;
 
-/// Renders `frames` of `scene` on one full-screen adaptive target, adapting the resolution
-/// between frames as an algorithm does; returns each frame's statistics.
+/// `frames` of `scene` on one full-screen adaptive target each, adapting between frames.
 fn animate(scene: &Scene, frames: std::ops::Range<u32>, reclaim: bool) -> Vec<AaStats> {
-    let mut grid = Grid::X4;
-    let mut out = Vec::new();
-    for f in frames {
-        let g = scene.frame(f).unwrap();
-        let vp = viewport(&g);
-        let mut config = AdaptiveConfig::for_pixels(vp.pixels() as u64);
-        config.grid = grid;
-        if !reclaim {
-            config.reclaim_spread = None;
-        }
-        let mut t = AdaptiveTarget::full_screen(vp, config, g.background);
-        draw_mesh(&g.vertices, &g.triangles, vp, &raster_options(&g), &mut t);
-        let s = t.stats();
-        grid = adapt(&s);
-        out.push(s);
-    }
-    out
+    let frames: Vec<_> = frames.map(|f| scene.frame(f).unwrap()).collect();
+    render_adaptive_sequence(&frames, reclaim)
 }
 
 fn share(n: u64, s: &AaStats) -> f64 {
@@ -83,39 +67,12 @@ fn a_512_screen_needs_the_papers_memory() {
     assert_eq!(stats.pool_cells * SUBPIXEL_BYTES, pool);
 }
 
-/// A 512x512 mesh of one-pixel squares whose corners sit on pixel centres, each square its
-/// coloured unlike its neighbours: every pixel is cut into four differently coloured quarters, so every pixel
-/// wants a Subpixel block and none can be reclaimed.
-fn all_edge_pixels() -> (Viewport, Vec<ScreenTriangle>) {
-    let vp = Viewport::new(512, 512).unwrap();
-    let mut tris = Vec::new();
-    let v = |x: u32, y: u32, rgb: [f64; 3]| {
-        ScreenVertex::from_pixels(x as f64 + 0.5, y as f64 + 0.5, 0.5, rgb).unwrap()
-    };
-    for y in 0..512u32 {
-        for x in 0..512u32 {
-            // Four colours, so the four quarters of every pixel differ.
-            let rgb = [(x % 2) as f64, (y % 2) as f64, 0.5];
-            let (a, b, c, d) = (
-                v(x, y, rgb),
-                v(x + 1, y, rgb),
-                v(x + 1, y + 1, rgb),
-                v(x, y + 1, rgb),
-            );
-            let prim = 2 * (y * 512 + x);
-            tris.extend(ScreenTriangle::new([a, b, c], prim));
-            tris.extend(ScreenTriangle::new([a, c, d], prim + 1));
-        }
-    }
-    (vp, tris)
-}
-
 /// Paper 000, section 4.1: the 2x2-for-all pool "can be used to supersample 25% of the
 /// total number of pixels in the image at a subpixel resolution of 4x4", "up to 44%" at 3x3
 /// and "100%" at 2x2. Exact: the pool holds 4 cells per pixel, so floor(4 / n^2) of them.
 #[test]
 fn the_pool_supersamples_25_44_and_100_percent_of_pixels() {
-    let (vp, tris) = all_edge_pixels();
+    let (vp, tris) = every_pixel_an_edge(512);
     let pixels = vp.pixels() as u64;
     for (grid, expected) in [(Grid::X4, 0.25), (Grid::X3, 4.0 / 9.0), (Grid::X2, 1.0)] {
         let mut config = AdaptiveConfig::for_pixels(pixels);
@@ -264,24 +221,10 @@ fn three_thousand_tetrahedra_adapt_down_and_stay_in_the_pool() {
 fn a_sudden_view_change_overflows_one_frame_and_recovers_in_the_next() {
     let b = scene("p000-letter-b.json").frame(0).unwrap();
     let t = scene("p000-tetra-3000.json").frame(0).unwrap();
-    let mut grid = Grid::X4;
-    let mut overflowed = Vec::new();
-    for g in [&b, &t, &t] {
-        let vp = viewport(g);
-        let mut config = AdaptiveConfig::for_pixels(vp.pixels() as u64);
-        config.grid = grid;
-        let mut target = AdaptiveTarget::full_screen(vp, config, g.background);
-        draw_mesh(
-            &g.vertices,
-            &g.triangles,
-            vp,
-            &raster_options(g),
-            &mut target,
-        );
-        let s = target.stats();
-        overflowed.push(s.overflowed_pixels);
-        grid = adapt(&s);
-    }
+    let overflowed: Vec<u64> = render_adaptive_sequence([&b, &t, &t], true)
+        .iter()
+        .map(|s| s.overflowed_pixels)
+        .collect();
     assert_eq!(overflowed[0], 0, "the letter B fits at 4x4");
     assert!(
         overflowed[1] > 0,

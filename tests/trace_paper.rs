@@ -13,7 +13,7 @@ use std::path::Path;
 use std::sync::{Mutex, OnceLock};
 
 use sortsim::scene::Scene;
-use sortsim::trace::replay::{harmonic, Algo, Assign, Replay, ReplayConfig};
+use sortsim::trace::replay::{harmonic, Assign, Replay};
 use sortsim::trace::{record_scene, Trace};
 
 /// Records (once per test binary) and prepares a stand-in's frame-0 trace.
@@ -31,18 +31,6 @@ fn replay(name: &str) -> &'static Replay<'static> {
     r
 }
 
-/// Snooping traffic in pixels for each n.
-fn snoop(name: &str, assign: Assign, procs: &[u32], seed: u64) -> Vec<u64> {
-    let report = replay(name).run(&ReplayConfig {
-        algos: vec![Algo::Snooping],
-        procs: procs.to_vec(),
-        assign,
-        seed,
-        local_zbuffer: false,
-    });
-    report.rows.iter().map(|r| r.pixels).collect()
-}
-
 const ALL: [&str; 8] = [
     "bike", "cube", "zinnia", "roses", "washht", "brooks", "capitol", "rad",
 ];
@@ -57,7 +45,7 @@ const ALL: [&str; 8] = [
 fn random_assignment_observed_is_close_to_expected() {
     for name in ALL {
         let stats = replay(name).stats();
-        let observed = snoop(name, Assign::Random, &[1, 4, 16, 64], 1);
+        let observed = replay(name).snooping_pixels(Assign::Random, &[1, 4, 16, 64], 1);
         let ratio = observed[3] as f64 / stats.expected;
         eprintln!(
             "{name}: observed/expected at n=64 {ratio:.4}, observed {observed:?}, expected {:.0}",
@@ -81,7 +69,7 @@ fn random_assignment_observed_is_close_to_expected() {
 #[test]
 fn observed_traffic_rises_then_plateaus() {
     for name in ALL.iter().filter(|&&n| n != "zinnia") {
-        let o = snoop(name, Assign::Scatter, &[1, 16, 64], 1);
+        let o = replay(name).snooping_pixels(Assign::Scatter, &[1, 16, 64], 1);
         let late = o[2] as f64 - o[1] as f64;
         let early = o[1] as f64 - o[0] as f64;
         eprintln!("{name}: climb 16->64 / climb 1->16 = {:.3}", late / early);
@@ -91,7 +79,7 @@ fn observed_traffic_rises_then_plateaus() {
 
 /// d*A over observed traffic on 64 processors, round-robin (the paper's assignment).
 fn reduction(name: &str) -> f64 {
-    let observed = snoop(name, Assign::Scatter, &[64], 1)[0];
+    let observed = replay(name).snooping_pixels(Assign::Scatter, &[64], 1)[0];
     let r = replay(name).stats().fragments as f64 / observed as f64;
     eprintln!("{name}: reduction d*A/observed at n=64 = {r:.3}");
     r
@@ -139,10 +127,11 @@ fn reductions_against_d_times_a_are_in_the_papers_ranges() {
     );
     let mut low = Vec::new();
     for name in ["bike", "capitol", "rad"] {
-        for (n, o) in [4, 16, 64]
-            .into_iter()
-            .zip(snoop(name, Assign::Scatter, &[4, 16, 64], 1))
-        {
+        for (n, o) in [4, 16, 64].into_iter().zip(replay(name).snooping_pixels(
+            Assign::Scatter,
+            &[4, 16, 64],
+            1,
+        )) {
             let r = replay(name).stats().fragments as f64 / o as f64;
             assert!(r < 2.0, "{name} n = {n}: reduction {r:.3}");
         }
@@ -174,8 +163,8 @@ fn zinnia_background_first_exceeds_expected_and_is_fixed() {
     // The background primitive is the first in the database and the largest.
     let big = replay("zinnia").largest().unwrap();
     assert_eq!(big, replay("zinnia").present()[0]);
-    let scatter = snoop("zinnia", Assign::Scatter, &procs, 1);
-    let last = snoop("zinnia", Assign::BackgroundLast, &procs, 1);
+    let scatter = replay("zinnia").snooping_pixels(Assign::Scatter, &procs, 1);
+    let last = replay("zinnia").snooping_pixels(Assign::BackgroundLast, &procs, 1);
     eprintln!("zinnia expected {expected:.0}, scatter {scatter:?}, background-last {last:?}");
     for k in 1..4 {
         assert!(scatter[k] as f64 > 1.04 * expected, "n = {}", procs[k]);
@@ -185,7 +174,7 @@ fn zinnia_background_first_exceeds_expected_and_is_fixed() {
     }
     assert!((last[3] as f64 / expected - 1.0).abs() <= 0.01);
     let random: f64 = (1..=4)
-        .map(|seed| snoop("zinnia", Assign::Random, &[64], seed)[0] as f64)
+        .map(|seed| replay("zinnia").snooping_pixels(Assign::Random, &[64], seed)[0] as f64)
         .sum::<f64>()
         / 4.0;
     eprintln!("zinnia random mean over seeds 1..=4 at n=64: {random:.0}");

@@ -4,6 +4,7 @@
 //!
 //! Must never charge time: it is the host's renderer, not a simulated one.
 
+use crate::raster::aa::{adapt, AaStats, AdaptiveConfig, AdaptiveTarget, Grid};
 use crate::raster::{draw_mesh, Counters, CullMode, Framebuffer, RasterOptions, Viewport};
 use crate::scene::FrameGeometry;
 
@@ -34,4 +35,36 @@ pub fn render(frame: &FrameGeometry) -> (Framebuffer, Counters) {
         &mut fb,
     );
     (fb, counters)
+}
+
+/// Draws each frame on one full-screen adaptive target (paper 000), adapting the subpixel
+/// resolution between frames as the algorithms do; each frame's statistics. Without
+/// `reclaim`, no pixel gives its block back.
+pub fn render_adaptive_sequence<'a>(
+    frames: impl IntoIterator<Item = &'a FrameGeometry>,
+    reclaim: bool,
+) -> Vec<AaStats> {
+    let mut grid = Grid::X4;
+    frames
+        .into_iter()
+        .map(|frame| {
+            let vp = viewport(frame);
+            let mut config = AdaptiveConfig::for_pixels(vp.pixels() as u64);
+            config.grid = grid;
+            if !reclaim {
+                config.reclaim_spread = None;
+            }
+            let mut target = AdaptiveTarget::full_screen(vp, config, frame.background);
+            draw_mesh(
+                &frame.vertices,
+                &frame.triangles,
+                vp,
+                &raster_options(frame),
+                &mut target,
+            );
+            let stats = target.stats();
+            grid = adapt(&stats);
+            stats
+        })
+        .collect()
 }

@@ -8,15 +8,14 @@
 
 use std::path::Path;
 
-use crate::algo::reference::{raster_options, viewport};
+use crate::algo::reference::render_adaptive_sequence;
 use crate::algo::RunResult;
+use crate::raster::aa::cases::{every_pixel_an_edge, shared_edge_in_one_pixel};
 use crate::raster::aa::{
-    adapt, AaStats, AdaptiveConfig, AdaptiveTarget, Grid, SupersampleTarget, PIXEL_BYTES,
-    RECLAIM_SPREAD, SUBPIXEL_BYTES,
+    AaStats, AdaptiveConfig, AdaptiveTarget, Grid, SupersampleTarget, PIXEL_BYTES, RECLAIM_SPREAD,
+    SUBPIXEL_BYTES,
 };
-use crate::raster::{
-    draw_mesh, draw_screen_triangles, Depth, ScreenTriangle, ScreenVertex, Sub, Viewport,
-};
+use crate::raster::{draw_screen_triangles, Viewport};
 use crate::report::plot::{ChartOptions, Series};
 use crate::scene::{FrameGeometry, Scene};
 
@@ -29,7 +28,7 @@ pub fn measure(options: &PaperOptions, data: &PaperData) -> Result<Measurements,
     let mut m = Measurements::default();
     memory_layout_rows(&mut m)?;
     pool_share_rows(&mut m)?;
-    reclaim_rule_row(&mut m)?;
+    reclaim_rule_row(&mut m);
     figure_6_rows(&options.root, data, &mut m)?;
     parallel_rows(options, &mut m)?;
     Ok(m)
@@ -74,34 +73,8 @@ fn memory_layout_rows(m: &mut Measurements) -> Result<(), String> {
     Ok(())
 }
 
-/// A 512 x 512 mesh of one-pixel squares whose corners sit on pixel centres, coloured so that
-/// every pixel's four quarters differ: every pixel wants a Subpixel block, none reclaims.
-fn all_edge_pixels() -> Result<(Viewport, Vec<ScreenTriangle>), String> {
-    let vp = Viewport::new(512, 512).ok_or("a 512 x 512 viewport")?;
-    let mut tris = Vec::new();
-    let v = |x: u32, y: u32, rgb: [f64; 3]| {
-        ScreenVertex::from_pixels(x as f64 + 0.5, y as f64 + 0.5, 0.5, rgb)
-            .ok_or_else(|| format!("vertex {x},{y} off the screen"))
-    };
-    for y in 0..512u32 {
-        for x in 0..512u32 {
-            let rgb = [(x % 2) as f64, (y % 2) as f64, 0.5];
-            let (a, b, c, d) = (
-                v(x, y, rgb)?,
-                v(x + 1, y, rgb)?,
-                v(x + 1, y + 1, rgb)?,
-                v(x, y + 1, rgb)?,
-            );
-            let prim = 2 * (y * 512 + x);
-            tris.extend(ScreenTriangle::new([a, b, c], prim));
-            tris.extend(ScreenTriangle::new([a, c, d], prim + 1));
-        }
-    }
-    Ok((vp, tris))
-}
-
 fn pool_share_rows(m: &mut Measurements) -> Result<(), String> {
-    let (vp, tris) = all_edge_pixels()?;
+    let (vp, tris) = every_pixel_an_edge(512);
     for (grid, key) in [(Grid::X4, "4x4"), (Grid::X3, "3x3"), (Grid::X2, "2x2")] {
         let mut config = AdaptiveConfig::for_pixels(vp.pixels() as u64);
         config.grid = grid;
@@ -125,27 +98,7 @@ fn pool_share_rows(m: &mut Measurements) -> Result<(), String> {
 /// Section 4.2's rule on Figure 3's case: two flat rectangles meet on x = 1.5 inside pixel
 /// (1, 1). Reclaimed when they share a colour and their depths differ by less than one unit
 /// (`RECLAIM_SPREAD` raw steps); kept at exactly one unit, or when the colours differ.
-fn reclaim_rule_row(m: &mut Measurements) -> Result<(), String> {
-    let vp = Viewport::new(4, 4).ok_or("a 4 x 4 viewport")?;
-    let vertex = |x: f64, y: f64, z: u32, rgb: [u8; 3]| -> Result<ScreenVertex, String> {
-        Ok(ScreenVertex {
-            x: Sub::snap(x).ok_or("x on the subpixel grid")?,
-            y: Sub::snap(y).ok_or("y on the subpixel grid")?,
-            z: Depth::from_raw(z).ok_or("a raw depth")?,
-            rgb,
-        })
-    };
-    let rect = |x0: f64, x1: f64, z: u32, rgb: [u8; 3], prim: u32| -> Result<_, String> {
-        let (a, b) = (vertex(x0, -10.0, z, rgb)?, vertex(x1, -10.0, z, rgb)?);
-        let (c, d) = (vertex(x1, 14.0, z, rgb)?, vertex(x0, 14.0, z, rgb)?);
-        Ok([
-            ScreenTriangle::new([a, b, c], prim),
-            ScreenTriangle::new([a, c, d], prim + 1),
-        ]
-        .into_iter()
-        .flatten()
-        .collect::<Vec<_>>())
-    };
+fn reclaim_rule_row(m: &mut Measurements) {
     let (red, blue) = ([255, 0, 0], [0, 0, 255]);
     let mut holds = true;
     let mut seen = Vec::new();
@@ -154,8 +107,7 @@ fn reclaim_rule_row(m: &mut Measurements) -> Result<(), String> {
         (RECLAIM_SPREAD, red, false),
         (0, blue, false),
     ] {
-        let mut tris = rect(0.0, 1.5, 1_000_000, red, 0)?;
-        tris.extend(rect(1.5, 4.0, 1_000_000 + gap, right, 2)?);
+        let (vp, tris) = shared_edge_in_one_pixel(gap, red, right);
         let mut config = AdaptiveConfig::for_pixels(vp.pixels() as u64);
         config.grid = Grid::X4;
         let mut t = AdaptiveTarget::full_screen(vp, config, [0; 3]);
@@ -179,29 +131,6 @@ fn reclaim_rule_row(m: &mut Measurements) -> Result<(), String> {
             format!("4x4 adaptive target, pixel (1, 1): {}", seen.join("; ")),
         ),
     );
-    Ok(())
-}
-
-/// One full-screen adaptive target per frame, adapting the resolution between frames as an
-/// algorithm does; each frame's statistics.
-fn animate(frames: &[FrameGeometry], reclaim: bool) -> Vec<AaStats> {
-    let mut grid = Grid::X4;
-    frames
-        .iter()
-        .map(|g| {
-            let vp = viewport(g);
-            let mut config = AdaptiveConfig::for_pixels(vp.pixels() as u64);
-            config.grid = grid;
-            if !reclaim {
-                config.reclaim_spread = None;
-            }
-            let mut t = AdaptiveTarget::full_screen(vp, config, g.background);
-            draw_mesh(&g.vertices, &g.triangles, vp, &raster_options(g), &mut t);
-            let s = t.stats();
-            grid = adapt(&s);
-            s
-        })
-        .collect()
 }
 
 fn frames_of(root: &Path, name: &str) -> Result<Vec<FrameGeometry>, String> {
@@ -221,7 +150,10 @@ fn mb(s: &AaStats) -> f64 {
 
 fn figure_6_rows(root: &Path, data: &PaperData, m: &mut Measurements) -> Result<(), String> {
     let b = frames_of(root, "p000-letter-b.json")?;
-    let (b_plain, b_reclaimed) = (animate(&b, false), animate(&b, true));
+    let (b_plain, b_reclaimed) = (
+        render_adaptive_sequence(&b, false),
+        render_adaptive_sequence(&b, true),
+    );
     let (plain, reclaimed) = (&b_plain, &b_reclaimed);
     let note = format!(
         "scenes/p000-letter-b.json, {} frames, full-screen adaptive target",
@@ -259,7 +191,10 @@ fn figure_6_rows(root: &Path, data: &PaperData, m: &mut Measurements) -> Result<
     m.put("letter-b-most-reclaimed", Measured::value(most, note));
 
     let t = frames_of(root, "p000-tetra-500.json")?;
-    let (plain, reclaimed) = (animate(&t, false), animate(&t, true));
+    let (plain, reclaimed) = (
+        render_adaptive_sequence(&t, false),
+        render_adaptive_sequence(&t, true),
+    );
     let note = format!("scenes/p000-tetra-500.json, {} frames", t.len());
     m.put(
         "tetra-500-memory",
@@ -322,7 +257,7 @@ fn figure_6_rows(root: &Path, data: &PaperData, m: &mut Measurements) -> Result<
     let mut details = Vec::new();
     let mut most = 0.0f64;
     for reclaim in [false, true] {
-        let s = animate(&many, reclaim);
+        let s = render_adaptive_sequence(&many, reclaim);
         let sides: Vec<u32> = s.iter().map(|s| s.grid_side).collect();
         steps_ok &= s[0].grid_side == 4 && s[0].overflowed_pixels > 0;
         steps_ok &= reclaim || s.get(1).is_some_and(|f| f.grid_side == 2);
@@ -348,7 +283,8 @@ fn figure_6_rows(root: &Path, data: &PaperData, m: &mut Measurements) -> Result<
             format!("scenes/p000-tetra-3000.json, {} frames", many.len()),
         ),
     );
-    let changed = animate(&[b[0].clone(), many[0].clone(), many[0].clone()], false);
+    let changed =
+        render_adaptive_sequence(&[b[0].clone(), many[0].clone(), many[0].clone()], false);
     let overflowed: Vec<u64> = changed.iter().map(|s| s.overflowed_pixels).collect();
     m.put(
         "view-change-recovers",

@@ -51,21 +51,6 @@ impl Standin {
     }
 }
 
-fn snoop(replay: &Replay, assign: Assign, procs: &[u32], seed: u64) -> Vec<u64> {
-    replay
-        .run(&ReplayConfig {
-            algos: vec![Algo::Snooping],
-            procs: procs.to_vec(),
-            assign,
-            seed,
-            local_zbuffer: false,
-        })
-        .rows
-        .iter()
-        .map(|r| r.pixels)
-        .collect()
-}
-
 pub fn measure(options: &PaperOptions, data: &PaperData) -> Result<Measurements, String> {
     let root = &options.root;
     let standins: Vec<Standin> = TRACES
@@ -88,7 +73,7 @@ pub fn measure(options: &PaperOptions, data: &PaperData) -> Result<Measurements,
             "scenes/{}, frame 0 trace, 64 processors, round-robin",
             file(s.key)
         );
-        let observed = snoop(&replay, Assign::Scatter, &[64], 1)[0];
+        let observed = replay.snooping_pixels(Assign::Scatter, &[64], 1)[0];
         // The paper states no reduction for Zinnia (its pathology has rows of its own).
         if s.key != "zinnia" {
             m.put(
@@ -102,13 +87,13 @@ pub fn measure(options: &PaperOptions, data: &PaperData) -> Result<Measurements,
             s.name,
             random_order_writes(&s.trace) as f64 / stats.expected,
         ));
-        let curve = snoop(&replay, Assign::Scatter, &CURVE, 1);
+        let curve = replay.snooping_pixels(Assign::Scatter, &CURVE, 1);
         if s.key != "zinnia" {
             let early = curve[4] as f64 - curve[0] as f64;
             let late = curve[6] as f64 - curve[4] as f64;
             plateau.push((s.name, late / early, early > 0.0 && late < early / 3.0));
         }
-        let random = snoop(&replay, Assign::Random, &[64], 1)[0] as f64 / stats.expected;
+        let random = replay.snooping_pixels(Assign::Random, &[64], 1)[0] as f64 / stats.expected;
         random_close.push((s.name, random));
         let row = replay.run(&ReplayConfig {
             algos: vec![Algo::Snooping],
@@ -302,8 +287,8 @@ fn zinnia_rows(m: &mut Measurements, replay: &Replay) {
     let procs = [4, 16, 32, 64];
     let expected = replay.stats().expected;
     let first_is_largest = replay.largest() == replay.present().first().copied();
-    let scatter = snoop(replay, Assign::Scatter, &procs, 1);
-    let last = snoop(replay, Assign::BackgroundLast, &procs, 1);
+    let scatter = replay.snooping_pixels(Assign::Scatter, &procs, 1);
+    let last = replay.snooping_pixels(Assign::BackgroundLast, &procs, 1);
     let above: Vec<f64> = scatter
         .iter()
         .map(|&o| 100.0 * (o as f64 / expected - 1.0))
@@ -323,7 +308,7 @@ fn zinnia_rows(m: &mut Measurements, replay: &Replay) {
         ),
     );
     let random = (1..=4u64)
-        .map(|seed| snoop(replay, Assign::Random, &[64], seed)[0] as f64)
+        .map(|seed| replay.snooping_pixels(Assign::Random, &[64], seed)[0] as f64)
         .sum::<f64>()
         / 4.0;
     let last_dev = last[3] as f64 / expected - 1.0;
@@ -353,7 +338,7 @@ fn worst_case_row(m: &mut Measurements) -> Result<(), String> {
             .map_err(|e| e.to_string())?;
         let trace = record_scene(&scene, 0).map_err(|e| e.to_string())?;
         let replay = Replay::new(&trace);
-        let sent = snoop(&replay, Assign::Scatter, &[n], 1)[0];
+        let sent = replay.snooping_pixels(Assign::Scatter, &[n], 1)[0];
         let area = (PLANES_SCREEN.0 * PLANES_SCREEN.1) as u64;
         ok &= sent == n as u64 * area;
         seen.push(format!("n = {n}: {sent} = {} A", sent as f64 / area as f64));

@@ -19,6 +19,18 @@ use super::{to_json, write_atomic, write_text};
 use crate::algo::{FrameRecord, RunConfig, RunResult};
 use crate::raster::encode_png;
 
+/// The line `sortsim run` prints after the summary: where the report went and what the
+/// simulation cost.
+pub fn closing_line(dir: &Path, cost: &Cost) -> String {
+    format!(
+        "report written to {} (simulated in {:.2} s wall, {} events); page: {}\n",
+        dir.display(),
+        cost.wall_s,
+        cost.events,
+        dir.join("index.html").display()
+    )
+}
+
 /// Writes a run's report folder; returns its summary (for printing).
 pub fn write_report(
     dir: &Path,

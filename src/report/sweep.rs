@@ -1,5 +1,5 @@
 //! A sweep's page (index.html): its note, the table as the terminal prints it, the plots and
-//! links to sweep.csv, sweep.json and cost.json.
+//! links to sweep.csv, sweep.json and cost.json; and the lines the command prints after it.
 //!
 //! Must never compute a row (that is `sweep::table`); it only lays out what the sweep wrote.
 
@@ -11,6 +11,28 @@ use super::page::{text_block, Page};
 use super::plot::PlotError;
 use crate::sweep::spec::Sweep;
 use crate::sweep::table::{format_rows, Row};
+use crate::sweep::SweepOutcome;
+
+/// What `sortsim sweep` prints after its table: points run and skipped, wall time, each failed
+/// point, and where the report went.
+pub fn closing_lines(outcome: &SweepOutcome, out: &Path, jobs: usize) -> String {
+    let mut text = format!(
+        "{} points ({} simulated now, {} already done) in {:.1} s on {jobs} threads\n",
+        outcome.ran + outcome.skipped,
+        outcome.ran,
+        outcome.skipped,
+        outcome.cost.wall_s
+    );
+    for f in &outcome.failures {
+        text += &format!("point {} failed: {}\n", f.point, f.message);
+    }
+    text += &format!(
+        "report written to {} (sweep.csv, sweep.json, plots/); page: {}\n",
+        out.display(),
+        out.join("index.html").display()
+    );
+    text
+}
 
 pub fn write_page(dir: &Path, sweep: &Sweep, rows: &[Row]) -> Result<(), PlotError> {
     let name = sweep

@@ -1,6 +1,6 @@
 //! The trace replay report (`sortsim trace replay -o DIR`, paper 003): replay.csv and
 //! replay.json (every algorithm and n), and the Figures 5 and 6 style charts, traffic over
-//! d*A and over the minimum against n, as SVG and PNG.
+//! d*A and over the minimum against n, as SVG and PNG; and the line `trace record` prints.
 //!
 //! Owns the files of this report kind. Must never replay (it is handed the report) and never
 //! write except through `write_atomic`.
@@ -10,6 +10,24 @@ use std::path::Path;
 use super::plot::{line_chart, ChartOptions, PlotError};
 use super::{to_json, write_text};
 use crate::trace::replay::{Baseline, Report};
+use crate::trace::Trace;
+
+/// The line `sortsim trace record` prints: what was recorded from which scene frame, and the
+/// file's size per fragment.
+pub fn recorded_line(trace: &Trace, scene: &Path, out: &Path, bytes: u64) -> String {
+    let m = trace.meta();
+    format!(
+        "{}: frame {}, {}x{}, {} primitives, {} fragments -> {} ({bytes} bytes, {:.2} bytes per fragment)\n",
+        scene.display(),
+        m.frame,
+        m.width,
+        m.height,
+        m.primitives,
+        trace.len(),
+        out.display(),
+        bytes as f64 / trace.len().max(1) as f64
+    )
+}
 
 /// Writes the report of `report` under `dir`; `trace` names the trace file in replay.json.
 pub fn write(dir: &Path, report: &Report, trace: &str) -> Result<(), PlotError> {

@@ -21,6 +21,36 @@ pub fn figure_5_mode(modes: &[CountsMode]) -> CountsMode {
     }
 }
 
+/// The line `sortsim utilization` prints before its tables: which frames of which scene, their
+/// mean screen triangles and pixels tested, and where the costs came from.
+pub fn header(outcome: &Outcome, scene: &Path, machine: &Path, frames: &FramesShown) -> String {
+    format!(
+        "{}: {} of {} frames (frames {}..{} every {}), {:.0} screen triangles and {:.0} pixels tested per frame; costs from {}{}\n",
+        scene.display(),
+        frames.count,
+        frames.of,
+        frames.range.start,
+        frames.range.end,
+        frames.step,
+        outcome.mean_screen_triangles,
+        outcome.mean_pixels_tested,
+        machine.display(),
+        if outcome.prices.fallback {
+            " (it prices no rasterization operation: documented fallback costs used, see utilization.json)"
+        } else {
+            ""
+        }
+    )
+}
+
+/// Which of a scene's frames a utilization run looked at.
+pub struct FramesShown {
+    pub range: std::ops::Range<u32>,
+    pub step: u32,
+    pub count: usize,
+    pub of: u32,
+}
+
 /// The tables `sortsim utilization` prints: utilization in each count mode asked for, the
 /// performance model's relative times (Figure 5) and the interleaved baseline.
 pub fn tables(outcome: &Outcome, modes: &[CountsMode]) -> String {

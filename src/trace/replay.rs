@@ -310,6 +310,22 @@ impl<'a> Replay<'a> {
             .collect()
     }
 
+    /// Distributed snooping's traffic in pixels broadcast, for each n of `procs` (no local
+    /// z-buffering): the quantity paper 003's Figures 5 and 6 plot.
+    pub fn snooping_pixels(&self, assign: Assign, procs: &[u32], seed: u64) -> Vec<u64> {
+        self.run(&ReplayConfig {
+            algos: vec![Algo::Snooping],
+            procs: procs.to_vec(),
+            assign,
+            seed,
+            local_zbuffer: false,
+        })
+        .rows
+        .iter()
+        .map(|r| r.pixels)
+        .collect()
+    }
+
     /// Replays every algorithm for every n of `config`.
     pub fn run(&self, config: &ReplayConfig) -> Report {
         let mut rows = Vec::new();

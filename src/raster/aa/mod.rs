@@ -2,6 +2,8 @@
 //! reference it saves memory against), with the record sizes that simulated memory is
 //! charged in.
 //!
+//! * `cases`: paper 000's screens that decide the pool's behaviour (a shared edge inside one
+//!   pixel, every pixel an edge), shared by `sortsim paper 000` and the tests;
 //! * `masks`: the precomputed bitmask table (edge entry/exit -> n x n coverage);
 //! * `adaptive`: [`AdaptiveTarget`], 12-byte Pixels plus a fixed pool of 7-byte Subpixel
 //!   cells for edge pixels only, memory adaptation and reclaiming;
@@ -16,6 +18,7 @@
 //! pool means "sample once and count it", not "grow".
 
 pub mod adaptive;
+pub mod cases;
 pub mod masks;
 pub mod merge;
 pub mod supersample;
