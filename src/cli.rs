@@ -311,9 +311,38 @@ pub struct SweepArgs {
     /// Report folder; reports/sweep-<spec name> when absent.
     #[arg(short, long, value_name = "DIR")]
     pub out: Option<PathBuf>,
-    /// Simulations at a time; the number of cores when absent.
+    /// Simulations at a time; the number of cores when absent (with --slurm: in each array
+    /// task, its --cpus-per-task, 1 when absent).
     #[arg(long, value_name = "J", value_parser = clap::value_parser!(u32).range(1..))]
     pub jobs: Option<u32>,
+    /// Run only shard I of T (0 <= I < T): the points dealt to it, balanced by estimated
+    /// cost; no table (that is --collect's). What each Slurm array task runs.
+    #[arg(long, value_name = "I/T", conflicts_with_all = ["collect", "slurm"])]
+    pub shard: Option<sortsim::sweep::Shard>,
+    /// Build the table, plots and page from the points' files in DIR, written by the shards;
+    /// fails with the list of missing points.
+    #[arg(long, conflicts_with = "slurm")]
+    pub collect: bool,
+    /// Write DIR/slurm/sweep.sbatch (a job array of --tasks shards) and collect.sbatch
+    /// instead of running; DIR and the spec must be on a filesystem every node sees.
+    #[arg(long)]
+    pub slurm: bool,
+    /// Array tasks for --slurm; one per point, at most 32, when absent.
+    #[arg(long, value_name = "T", requires = "slurm", value_parser = clap::value_parser!(u32).range(1..=100_000))]
+    pub tasks: Option<u32>,
+    /// Slurm partition of both jobs.
+    #[arg(long, value_name = "P", requires = "slurm", value_parser = |v: &str| sortsim::sweep::slurm::check_value("--partition", v, "debug"))]
+    pub partition: Option<String>,
+    /// Wall-clock limit of each array task (Slurm's format: 30, 1:30:00, 2-00:00:00).
+    #[arg(long, value_name = "HH:MM:SS", requires = "slurm", value_parser = |v: &str| sortsim::sweep::slurm::check_value("--time", v, "1:30:00"))]
+    pub time: Option<String>,
+    /// Memory of each array task (Slurm's format: 4G, 500M).
+    #[arg(long, value_name = "M", requires = "slurm", value_parser = |v: &str| sortsim::sweep::slurm::check_value("--mem", v, "4G"))]
+    pub mem: Option<String>,
+    /// Submit both jobs with sbatch (the collect job after the whole array succeeds) and
+    /// print their ids.
+    #[arg(long, requires = "slurm")]
+    pub submit: bool,
 }
 
 /// `sortsim run --help`: the example, then every algorithm's options from their structs.

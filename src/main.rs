@@ -351,36 +351,60 @@ fn write_bytes(path: &Path, bytes: &[u8]) -> Result<(), Failure> {
         .map_err(|e| Failure::BadInput(format!("{}: cannot write: {e}", path.display())))
 }
 
-/// `sortsim sweep`: runs the points, prints the table's file names and any failed point;
-/// returns the table as printed. Bad input is refused before any point runs; a point that
-/// fails is a row with an error.
+/// `sortsim sweep`: runs the points (all, or one shard's), or collects the shards' points, or
+/// writes and submits Slurm scripts; prints the table and any failed point; returns the table
+/// as printed. Bad input is refused before any point runs; a point that fails is a row with an
+/// error.
 fn sweep(args: &SweepArgs) -> Result<String, Failure> {
-    use sortsim::sweep::{run_sweep, spec::load_sweep, SweepError, SweepOptions};
+    use sortsim::sweep::{collect, run_shard, run_sweep, spec::load_sweep, SweepOptions};
     let spec = load_sweep(&args.spec)?;
     let out = out_dir(&args.out, &args.spec, "reports/sweep-");
+    if args.slurm {
+        return slurm(args, &spec, &out).map(|()| String::new());
+    }
     let jobs = jobs(args.jobs);
-    let outcome = run_sweep(
-        &spec,
-        &out,
-        SweepOptions {
-            jobs,
-            progress: true,
-        },
-    )
-    .map_err(|e| match e {
-        SweepError::Spec(_) | SweepError::BadSummary { .. } | SweepError::Write { .. } => {
-            Failure::BadInput(e.to_string())
-        }
-        SweepError::Plot(_) | SweepError::Pool { .. } => Failure::Internal(e.to_string()),
-    })?;
+    let options = SweepOptions {
+        jobs,
+        progress: true,
+    };
+    if let Some(shard) = args.shard {
+        let outcome = run_shard(&spec, &out, shard, options).map_err(sweep_failure)?;
+        print!(
+            "{}",
+            sortsim::report::sweep::shard_lines(&outcome, &out, jobs)
+        );
+        return internal_point(&outcome.failures).map(|()| String::new());
+    }
+    let outcome = if args.collect {
+        collect(&spec, &out)
+    } else {
+        run_sweep(&spec, &out, options)
+    }
+    .map_err(sweep_failure)?;
     let table = sortsim::sweep::table::format_rows(&outcome.rows);
     print!("{table}");
     print!(
         "{}",
         sortsim::report::sweep::closing_lines(&outcome, &out, jobs)
     );
-    match outcome
-        .failures
+    internal_point(&outcome.failures).map(|()| table)
+}
+
+fn sweep_failure(e: sortsim::sweep::SweepError) -> Failure {
+    use sortsim::sweep::SweepError;
+    match e {
+        SweepError::Spec(_)
+        | SweepError::BadSummary { .. }
+        | SweepError::Write { .. }
+        | SweepError::Slurm(_)
+        | SweepError::Missing { .. } => Failure::BadInput(e.to_string()),
+        SweepError::Plot(_) | SweepError::Pool { .. } => Failure::Internal(e.to_string()),
+    }
+}
+
+/// A point that failed through a simulator bug makes the command fail (exit 1).
+fn internal_point(failures: &[sortsim::sweep::PointFailure]) -> Result<(), Failure> {
+    match failures
         .iter()
         .find(|f| f.kind == sortsim::sweep::FailureKind::Internal)
     {
@@ -388,8 +412,41 @@ fn sweep(args: &SweepArgs) -> Result<String, Failure> {
             "point {}: {}",
             f.point, f.message
         ))),
-        None => Ok(table),
+        None => Ok(()),
     }
+}
+
+/// `sortsim sweep --slurm`: checks every point, writes the scripts, and with `--submit` hands
+/// them to sbatch.
+fn slurm(args: &SweepArgs, spec: &sortsim::sweep::spec::Sweep, out: &Path) -> Result<(), Failure> {
+    use sortsim::sweep::slurm::{find_sbatch, submit, write_scripts, SlurmOptions};
+    if args.submit && find_sbatch().is_none() {
+        return Err(Failure::BadInput(
+            "--submit: `sbatch` is not on the PATH; install Slurm's client (Debian: slurm-client), or leave out --submit and submit the scripts yourself".into(),
+        ));
+    }
+    let exe = std::env::current_exe()
+        .map_err(|e| Failure::Internal(format!("cannot find the sortsim binary: {e}")))?;
+    let options = SlurmOptions {
+        tasks: args
+            .tasks
+            .unwrap_or_else(|| spec.points.len().clamp(1, 32) as u32),
+        partition: args.partition.clone(),
+        time: args.time.clone(),
+        mem: args.mem.clone(),
+        jobs: args.jobs.unwrap_or(1),
+    };
+    let scripts = write_scripts(spec, out, &exe, &options).map_err(sweep_failure)?;
+    let submitted = if args.submit {
+        Some(submit(&scripts).map_err(|e| Failure::BadInput(e.to_string()))?)
+    } else {
+        None
+    };
+    print!(
+        "{}",
+        sortsim::report::sweep::slurm_lines(&scripts, options.tasks, submitted.as_ref())
+    );
+    Ok(())
 }
 
 /// `sortsim paper`: runs each paper's experiments, writes its folder, prints its headline.
@@ -633,6 +690,14 @@ fn default_sweep(root: &Path, out: &Path) -> Result<String, Failure> {
         spec,
         out: Some(out.to_path_buf()),
         jobs: None,
+        shard: None,
+        collect: false,
+        slurm: false,
+        tasks: None,
+        partition: None,
+        time: None,
+        mem: None,
+        submit: false,
     })
 }
 

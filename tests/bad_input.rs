@@ -2,6 +2,8 @@
 //! binary with exit code 2, one message containing the fragment listed for it in that
 //! folder's EXPECTED.txt, no panic, and no output files written.
 
+mod common;
+
 use std::path::{Path, PathBuf};
 use std::process::{Command, Output};
 
@@ -568,16 +570,29 @@ fn bad_flags_are_refused_with_exit_code_2() {
             ],
             "--set aa-pool=10MB: expected aa=adaptive with it",
         ),
+        (
+            &["sweep", "sweeps/cluster-demo.json", "--shard", "4/3"],
+            "0 <= I < T",
+        ),
+        (
+            &["sweep", "sweeps/cluster-demo.json", "--shard", "3/3"],
+            "0 <= I < T",
+        ),
+        (
+            &["sweep", "sweeps/cluster-demo.json", "--slurm", "--tasks", "0"],
+            "--tasks",
+        ),
+        (
+            &["sweep", "sweeps/cluster-demo.json", "--tasks", "2"],
+            "--slurm",
+        ),
+        (
+            &["sweep", "sweeps/cluster-demo.json", "--slurm", "--time", "1 day"],
+            "--time",
+        ),
     ];
     for (args, fragment) in cases {
-        let out = sortsim(args);
-        let stderr = String::from_utf8_lossy(&out.stderr);
-        assert_eq!(out.status.code(), Some(2), "{args:?}: {stderr}");
-        assert!(
-            stderr.contains(fragment),
-            "{args:?}: expected {fragment:?} in {stderr}"
-        );
-        assert!(!stderr.contains("panicked"), "{stderr}");
+        common::assert_refused(&sortsim(args), &format!("{args:?}"), fragment);
     }
 }
 

@@ -17,6 +17,8 @@
 //! run simulates (that is `algo`), and never write a file except through `write_atomic`.
 
 pub mod plots;
+pub mod shard;
+pub mod slurm;
 pub mod spec;
 pub mod table;
 
@@ -27,7 +29,7 @@ use std::sync::Arc;
 
 use indicatif::{ProgressBar, ProgressDrawTarget, ProgressStyle};
 use rayon::prelude::*;
-use serde::Serialize;
+use serde::{Deserialize, Serialize};
 
 use crate::algo::{RunConfig, RunError};
 use crate::engine::SimError;
@@ -36,7 +38,9 @@ use crate::report::plot::PlotError;
 use crate::report::run::RunSummary;
 use crate::report::{to_json, write_atomic};
 use crate::scene::Scene;
+use crate::spec::run::parse_frames;
 use crate::spec::SpecError;
+pub use shard::Shard;
 use spec::{Point, Sweep};
 use table::{PointMetrics, Row};
 
@@ -62,7 +66,7 @@ pub struct SweepOutcome {
     pub cost: Cost,
 }
 
-#[derive(Debug, Clone, Serialize)]
+#[derive(Debug, Clone, Serialize, Deserialize)]
 pub struct PointFailure {
     pub point: String,
     pub message: String,
@@ -70,7 +74,7 @@ pub struct PointFailure {
 }
 
 /// Whose a failed point is to fix.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize)]
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize)]
 #[serde(rename_all = "kebab-case")]
 pub enum FailureKind {
     /// The machine cannot hold the run (memory): a result in itself, recorded in the row, as
@@ -98,6 +102,36 @@ pub enum SweepError {
     Plot(#[from] PlotError),
     #[error("cannot start {jobs} worker threads: {message}")]
     Pool { jobs: usize, message: String },
+    /// A Slurm option or path that cannot go into a batch script (bad input).
+    #[error("{0}")]
+    Slurm(String),
+    /// `--collect` before every point has a result.
+    #[error("{}", missing_message(dir, missing, *foreign, rerun))]
+    Missing {
+        dir: PathBuf,
+        missing: Vec<String>,
+        /// The command that runs just the missing points.
+        rerun: String,
+        /// Point folders that belong to no point of this sweep.
+        foreign: usize,
+    },
+}
+
+fn missing_message(dir: &Path, missing: &[String], foreign: usize, rerun: &str) -> String {
+    let mut text = format!(
+        "{}: {} point(s) of this sweep have no result (no summary.json or failure.json): {}",
+        dir.display(),
+        missing.len(),
+        missing.join(", ")
+    );
+    if foreign > 0 {
+        text += &format!(
+            "; {} folder(s) under points/ belong to no point of this sweep: the folder holds \
+             another sweep, or this one from before its spec, machine or scene changed",
+            foreign
+        );
+    }
+    text + "; to run just the missing points: " + rerun
 }
 
 /// Runs every point of `sweep` whose `out/points/<name>/summary.json` does not exist yet,
@@ -108,15 +142,109 @@ pub fn run_sweep(
     options: SweepOptions,
 ) -> Result<SweepOutcome, SweepError> {
     let clock = Stopwatch::start();
-    let names: Vec<String> = sweep.points.iter().map(|p| point_name(sweep, p)).collect();
-    let pending: Vec<usize> = (0..sweep.points.len())
+    let names = point_names(sweep);
+    let all: Vec<usize> = (0..sweep.points.len()).collect();
+    let ran = run_points(sweep, out, &names, &all, options)?;
+    let metrics = read_metrics(out, &names, &ran.failures)?;
+    finish(sweep, out, &names, metrics, ran, clock, options.jobs)
+}
+
+/// Runs the points of one shard of `sweep` that have no summary.json yet (a Slurm array
+/// task); writes only those points' folders. The table is `collect`'s to write.
+pub fn run_shard(
+    sweep: &Sweep,
+    out: &Path,
+    shard: Shard,
+    options: SweepOptions,
+) -> Result<ShardOutcome, SweepError> {
+    let clock = Stopwatch::start();
+    let names = point_names(sweep);
+    let shard_of = shard::deal(&estimates(sweep)?, shard.of);
+    let mine: Vec<usize> = (0..sweep.points.len())
+        .filter(|&i| shard_of[i] == shard.index)
+        .collect();
+    let mut ran = run_points(sweep, out, &names, &mine, options)?;
+    ran.failures.sort_by(|a, b| a.point.cmp(&b.point));
+    Ok(ShardOutcome {
+        shard,
+        points: mine.len(),
+        ran: ran.ran,
+        failures: ran.failures,
+        cost: clock.cost(0),
+    })
+}
+
+/// Builds the table, plots and page of `sweep` from its points' files (summary.json, or
+/// failure.json for a point whose run failed), as `run_sweep` would have written them. Fails
+/// with the list of points that have neither.
+pub fn collect(sweep: &Sweep, out: &Path) -> Result<SweepOutcome, SweepError> {
+    let clock = Stopwatch::start();
+    let names = point_names(sweep);
+    let mut failures = Vec::new();
+    let mut missing = Vec::new();
+    for name in &names {
+        if summary_path(out, name).exists() {
+            continue;
+        }
+        match read_failure(out, name)? {
+            Some(f) => failures.push(f),
+            None => missing.push(name.clone()),
+        }
+    }
+    if !missing.is_empty() {
+        return Err(SweepError::Missing {
+            dir: out.to_path_buf(),
+            rerun: rerun_hint(sweep, out, &missing),
+            foreign: foreign_points(out, &names),
+            missing,
+        });
+    }
+    let metrics = read_metrics(out, &names, &failures)?;
+    let ran = Ran { ran: 0, failures };
+    finish(sweep, out, &names, metrics, ran, clock, 1)
+}
+
+/// What running a selection of points did.
+struct Ran {
+    /// Points simulated now (the others of the selection were done already).
+    ran: usize,
+    failures: Vec<PointFailure>,
+}
+
+/// What a shard did.
+#[derive(Debug)]
+pub struct ShardOutcome {
+    pub shard: Shard,
+    /// The shard's points, and those of them simulated now.
+    pub points: usize,
+    pub ran: usize,
+    pub failures: Vec<PointFailure>,
+    pub cost: Cost,
+}
+
+fn point_names(sweep: &Sweep) -> Vec<String> {
+    sweep.points.iter().map(|p| point_name(sweep, p)).collect()
+}
+
+/// Runs the points of `selection` that have no summary.json yet. Bad input (a point that
+/// cannot be set up, a bad option) refuses the whole selection before anything is written.
+fn run_points(
+    sweep: &Sweep,
+    out: &Path,
+    names: &[String],
+    selection: &[usize],
+    options: SweepOptions,
+) -> Result<Ran, SweepError> {
+    let pending: Vec<usize> = selection
+        .iter()
+        .copied()
         .filter(|&i| !summary_path(out, &names[i]).exists())
         .collect();
     // Everything is resolved before anything runs: a bad point is bad input, and must not
     // leave half a sweep behind.
-    let configs = resolve_pending(sweep, &names, &pending)?;
-    let results = run_pending(sweep, out, &names, &pending, configs, options)?;
-    let mut failures: Vec<PointFailure> = results.into_iter().filter_map(Result::err).collect();
+    let configs = resolve_pending(sweep, names, &pending)?;
+    let results = run_pending(sweep, out, names, &pending, configs, options)?;
+    let failures: Vec<PointFailure> = results.into_iter().filter_map(Result::err).collect();
     // Options are checked as a run starts; a bad one fails its points at once, before they
     // simulate anything, and refuses the sweep without a table.
     if let Some(f) = failures.iter().find(|f| f.kind == FailureKind::BadInput) {
@@ -127,23 +255,108 @@ pub fn run_sweep(
             message,
         )));
     }
-    let metrics = read_metrics(out, &names, &failures)?;
-    let rows = table::rows(sweep, &names, &metrics, &failures);
+    Ok(Ran {
+        ran: pending.len(),
+        failures,
+    })
+}
+
+/// The table, plots, page and cost.json over every point.
+fn finish(
+    sweep: &Sweep,
+    out: &Path,
+    names: &[String],
+    metrics: Vec<Option<PointMetrics>>,
+    ran: Ran,
+    clock: Stopwatch,
+    jobs: usize,
+) -> Result<SweepOutcome, SweepError> {
+    let Ran { ran, mut failures } = ran;
+    let rows = table::rows(sweep, names, &metrics, &failures);
     write_reports(sweep, out, &rows)?;
     failures.sort_by(|a, b| a.point.cmp(&b.point));
-    let cost = clock.cost(0);
     let outcome = SweepOutcome {
         rows,
-        ran: pending.len(),
-        skipped: sweep.points.len() - pending.len(),
+        ran,
+        skipped: sweep.points.len() - ran,
         failures,
-        cost,
+        cost: clock.cost(0),
     };
     write(
         &out.join("cost.json"),
-        to_json(&SweepCost::new(&outcome, options)).as_bytes(),
+        to_json(&SweepCost::new(&outcome, jobs)).as_bytes(),
     )?;
     Ok(outcome)
+}
+
+/// Each point's estimated cost for dealing points to shards: processors x triangles x
+/// frames, with each scene loaded once.
+fn estimates(sweep: &Sweep) -> Result<Vec<u64>, SweepError> {
+    let mut scenes: BTreeMap<PathBuf, (usize, u32)> = BTreeMap::new();
+    sweep
+        .points
+        .iter()
+        .map(|p| {
+            let run = &p.run;
+            let (triangles, count) = match scenes.get(&run.scene) {
+                Some(&known) => known,
+                None => {
+                    let scene = Scene::load(&run.scene)
+                        .map_err(|e| SpecError::invalid(&sweep.file, "scene", e.to_string()))?;
+                    let known = (scene.triangle_count(), scene.frame_count());
+                    scenes.insert(run.scene.clone(), known);
+                    known
+                }
+            };
+            let frames = parse_frames(run.frames.as_deref(), count)
+                .map_err(|e| SpecError::invalid(&sweep.file, "frames", e))?;
+            Ok(shard::estimate(run.procs, triangles, frames.len()))
+        })
+        .collect()
+}
+
+/// The shard of each point of `sweep` over `tasks` shards, as `run_shard` deals them.
+pub fn deal(sweep: &Sweep, tasks: u32) -> Result<Vec<(String, u32)>, SweepError> {
+    let shard_of = shard::deal(&estimates(sweep)?, tasks);
+    Ok(point_names(sweep).into_iter().zip(shard_of).collect())
+}
+
+/// The command that runs just `missing`: the array tasks that hold them when the folder has a
+/// shard plan (`--slurm` wrote one), else a local sweep into the same folder (which skips
+/// every point already done).
+fn rerun_hint(sweep: &Sweep, out: &Path, missing: &[String]) -> String {
+    let local = format!(
+        "sortsim sweep {} -o {}",
+        sweep.file.display(),
+        out.display()
+    );
+    let Some(plan) = shard::ShardPlan::read(out) else {
+        return local;
+    };
+    let tasks: Vec<String> = plan
+        .shards
+        .iter()
+        .enumerate()
+        .filter(|(_, points)| points.iter().any(|p| missing.contains(p)))
+        .map(|(i, _)| i.to_string())
+        .collect();
+    if tasks.is_empty() {
+        return local;
+    }
+    format!(
+        "sbatch --array={} {} (or locally: {local})",
+        tasks.join(","),
+        slurm::sweep_script(out).display()
+    )
+}
+
+/// Folders under `out/points` that are not among `names`.
+fn foreign_points(out: &Path, names: &[String]) -> usize {
+    std::fs::read_dir(out.join("points")).map_or(0, |dir| {
+        dir.filter_map(Result::ok)
+            .filter(|e| !names.iter().any(|n| e.file_name() == n.as_str()))
+            .count()
+    })
 }
 
 /// The folder name of a point: its readable values and a hash of its whole run spec as
@@ -312,18 +525,54 @@ fn run_point(
                     FailureKind::BadInput
                 }
             };
-            return Ok(Err(PointFailure {
+            let failure = PointFailure {
                 point: name.to_string(),
                 message: e.to_string(),
                 kind,
-            }));
+            };
+            // Bad input refuses the sweep and leaves nothing; a machine too small or a bug
+            // is this point's result, kept for `--collect`.
+            if kind != FailureKind::BadInput {
+                write(&dir.join(FAILURE), to_json(&failure).as_bytes())?;
+            }
+            return Ok(Err(failure));
         }
     };
     let cost = clock.cost(result.stats.events);
     let summary = RunSummary::new(cfg, &result);
     write(&dir.join("cost.json"), to_json(&cost).as_bytes())?;
     write(&dir.join("summary.json"), to_json(&summary).as_bytes())?;
-    Ok(Ok(()))
+    match std::fs::remove_file(dir.join(FAILURE)) {
+        Err(e) if e.kind() != std::io::ErrorKind::NotFound => Err(SweepError::Write {
+            path: dir.join(FAILURE),
+            source: e,
+        }),
+        _ => Ok(Ok(())),
+    }
+}
+
+/// A failed point's record, read by `--collect`.
+const FAILURE: &str = "failure.json";
+
+/// The failure recorded for point `name`, if its run failed.
+fn read_failure(out: &Path, name: &str) -> Result<Option<PointFailure>, SweepError> {
+    let path = out.join("points").join(name).join(FAILURE);
+    let text = match std::fs::read_to_string(&path) {
+        Ok(text) => text,
+        Err(e) if e.kind() == std::io::ErrorKind::NotFound => return Ok(None),
+        Err(e) => {
+            return Err(SweepError::BadSummary {
+                path,
+                message: format!("cannot read: {e}"),
+            })
+        }
+    };
+    serde_json::from_str(&text)
+        .map(Some)
+        .map_err(|e| SweepError::BadSummary {
+            path,
+            message: format!("not a point failure record: {e}"),
+        })
 }
 
 /// Every point's metrics, read back from its summary.json (or None for a failed point).
@@ -383,10 +632,10 @@ struct SweepCost<'a> {
 }
 
 impl<'a> SweepCost<'a> {
-    fn new(o: &'a SweepOutcome, options: SweepOptions) -> SweepCost<'a> {
+    fn new(o: &'a SweepOutcome, jobs: usize) -> SweepCost<'a> {
         SweepCost {
             wall_s: o.cost.wall_s,
-            jobs: options.jobs.max(1),
+            jobs: jobs.max(1),
             points_run: o.ran,
             points_skipped: o.skipped,
             peak_host_memory_bytes: o.cost.peak_host_memory_bytes,

@@ -4,6 +4,7 @@
 
 use std::collections::BTreeMap;
 use std::path::Path;
+use std::process::Output;
 use std::sync::Arc;
 
 use sortsim::algo::{run, RunError, RunResult};
@@ -114,4 +115,72 @@ pub fn installed(binary: &str, packages: &[&str]) -> std::path::PathBuf {
     install.extend(packages);
     apt(&install);
     find().unwrap_or_else(|| panic!("{packages:?} installed, yet {binary} is not on the PATH"))
+}
+
+/// A one-node Slurm cluster started by scripts/slurm-test-cluster.sh (Debian's slurm-wlm and
+/// munge, installed through [`installed`] when missing), stopped when dropped, also when the
+/// test fails. Its state lives in a fresh temporary folder.
+pub struct SlurmCluster {
+    dir: tempfile::TempDir,
+}
+
+impl SlurmCluster {
+    pub fn start() -> SlurmCluster {
+        installed("slurmctld", &["slurm-wlm", "munge"]);
+        installed("munged", &["munge"]);
+        let dir = tempfile::Builder::new()
+            .prefix("sortsim-slurm-")
+            .tempdir()
+            .expect("a temporary folder");
+        let cluster = SlurmCluster { dir };
+        let out = cluster.script("start");
+        assert!(
+            out.status.success(),
+            "the test cluster did not start:\n{}{}",
+            String::from_utf8_lossy(&out.stdout),
+            String::from_utf8_lossy(&out.stderr)
+        );
+        cluster
+    }
+
+    /// SLURM_CONF for the cluster's clients (sbatch, squeue, sortsim --submit).
+    pub fn conf(&self) -> std::path::PathBuf {
+        self.dir.path().join("slurm.conf")
+    }
+
+    /// True while `job` is queued or running.
+    pub fn job_active(&self, job: &str) -> bool {
+        let out = std::process::Command::new("squeue")
+            .args(["-h", "-j", job, "-o", "%T"])
+            .env("SLURM_CONF", self.conf())
+            .output()
+            .expect("squeue runs");
+        out.status.success() && !String::from_utf8_lossy(&out.stdout).trim().is_empty()
+    }
+
+    fn script(&self, verb: &str) -> Output {
+        std::process::Command::new(root().join("scripts/slurm-test-cluster.sh"))
+            .arg(verb)
+            .env("SORTSIM_SLURM_DIR", self.dir.path())
+            .output()
+            .expect("the cluster script runs")
+    }
+}
+
+impl Drop for SlurmCluster {
+    fn drop(&mut self) {
+        let _ = self.script("stop");
+    }
+}
+
+/// Asserts that a command was refused as bad input: exit code 2, `fragment` in its message,
+/// no panic. `what` names the case in a failure.
+pub fn assert_refused(out: &Output, what: &str, fragment: &str) {
+    let stderr = String::from_utf8_lossy(&out.stderr);
+    assert_eq!(out.status.code(), Some(2), "{what}: {stderr}");
+    assert!(
+        stderr.contains(fragment),
+        "{what}: expected {fragment:?} in {stderr}"
+    );
+    assert!(!stderr.contains("panicked"), "{what}: {stderr}");
 }
