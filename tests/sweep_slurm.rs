@@ -234,3 +234,37 @@ fn a_submission_without_sbatch_and_a_foreign_folder_are_refused() {
         "belong to no point of this sweep",
     );
 }
+
+/// A point whose machine cannot hold the run is a row with its error in a local sweep; run in
+/// a shard, it leaves failure.json, and `--collect` gives the same table.
+#[test]
+fn a_point_too_big_for_its_machine_collects_as_its_local_row() {
+    use sortsim::sweep::spec::parse_sweep;
+    use sortsim::sweep::{collect, run_shard, run_sweep, FailureKind, Shard, SweepOptions};
+    let root = Path::new(env!("CARGO_MANIFEST_DIR"));
+    let json = r#"{"machine": "machines/delta.json", "scene": "scenes/plb-head-standin.json",
+        "algo": "sort-middle/ellsworth", "procs": [1, 4], "frames": "0..1",
+        "vary": {"machine.memory.capacity_per_node": ["64KB", "16MB"]}}"#;
+    let sweep = parse_sweep(&root.join("test-sweep.json"), json).unwrap_or_else(|e| panic!("{e}"));
+    let tmp = tempfile::tempdir().unwrap();
+    let (local, sharded) = (tmp.path().join("local"), tmp.path().join("sharded"));
+    let options = SweepOptions {
+        jobs: 1,
+        progress: false,
+    };
+    let outcome = run_sweep(&sweep, &local, options).unwrap();
+    assert!(
+        outcome
+            .failures
+            .iter()
+            .any(|f| f.kind == FailureKind::Machine),
+        "the 64 KB points do not fit: {:?}",
+        outcome.failures
+    );
+    for index in 0..2 {
+        run_shard(&sweep, &sharded, Shard { index, of: 2 }, options).unwrap();
+    }
+    let collected = collect(&sweep, &sharded).unwrap();
+    assert_eq!(collected.failures.len(), outcome.failures.len());
+    same_report(&sharded, &report_files(&local), "with failed points");
+}
