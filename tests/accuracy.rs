@@ -3,7 +3,9 @@
 //! it, the study's guaranteed fidelity relation, and the command end to end (files written,
 //! accuracy.json byte-identical across runs, modes the algorithm lacks refused with exit 2).
 
-use std::path::{Path, PathBuf};
+mod common;
+
+use std::path::Path;
 use std::process::{Command, Output};
 
 use glam::{Vec3, Vec4};
@@ -231,10 +233,8 @@ fn sortsim(args: &[&str]) -> Output {
         .expect("sortsim runs")
 }
 
-fn temp_dir(name: &str) -> PathBuf {
-    let dir = std::env::temp_dir().join(format!("sortsim-acc-{name}-{}", std::process::id()));
-    let _ = std::fs::remove_dir_all(&dir);
-    dir
+fn temp_dir(name: &str) -> common::Scratch {
+    common::scratch(name)
 }
 
 fn accuracy_args<'a>(modes: &'a str, out: &'a str) -> Vec<&'a str> {
@@ -294,8 +294,6 @@ fn accuracy_command_writes_a_deterministic_report() {
     assert!(v["modes"][0]["mae_levels"].as_f64().unwrap() > 0.0);
     assert_eq!(v["fidelities"].as_array().unwrap().len(), 2);
     assert!(!String::from_utf8_lossy(&json).contains("wall"));
-    let _ = std::fs::remove_dir_all(&a);
-    let _ = std::fs::remove_dir_all(&b);
 }
 
 #[test]
@@ -369,5 +367,4 @@ fn a_sort_last_study_prices_adaptive_supersampling() {
         field(1, "mean_frame_s") > field(0, "mean_frame_s"),
         "{json}"
     );
-    let _ = std::fs::remove_dir_all(&dir);
 }

@@ -1,6 +1,8 @@
 //! The command line end to end: bundled specs validate, outputs are byte-identical across
 //! runs of the same inputs.
 
+mod common;
+
 use std::path::PathBuf;
 use std::process::{Command, Output};
 
@@ -18,10 +20,8 @@ fn sortsim(args: &[&str]) -> Output {
     out
 }
 
-fn temp_dir(name: &str) -> PathBuf {
-    let dir = std::env::temp_dir().join(format!("sortsim-{name}-{}", std::process::id()));
-    let _ = std::fs::remove_dir_all(&dir);
-    dir
+fn temp_dir(name: &str) -> common::Scratch {
+    common::scratch(name)
 }
 
 #[test]
@@ -204,5 +204,4 @@ fn a_run_spec_may_name_its_schema() {
     .unwrap();
     let out = sortsim(&["check", file.to_str().unwrap()]);
     assert!(String::from_utf8_lossy(&out.stdout).starts_with("OK"));
-    std::fs::remove_dir_all(&dir).unwrap();
 }

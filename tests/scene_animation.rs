@@ -1,16 +1,13 @@
 //! Cameras and animation: orbit, recorded views, per-object spin and tumble move the
 //! geometry as specified, and a static transform places it.
 
-use std::path::PathBuf;
+mod common;
 
 use sortsim::scene::{FrameGeometry, Scene};
 
 fn scene(name: &str, json: &str) -> Scene {
-    let path: PathBuf = std::env::temp_dir().join(format!(
-        "sortsim-scene-anim-{}-{name}.json",
-        std::process::id()
-    ));
-    std::fs::write(&path, json).unwrap();
+    let path = common::scratch(&format!("{name}.json"));
+    std::fs::write(&*path, json).unwrap();
     Scene::load(&path).unwrap_or_else(|e| panic!("{e}"))
 }
 

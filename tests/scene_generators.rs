@@ -2,6 +2,8 @@
 //! parameters and seed, closed solids face outward, and `triangles` refinement is exact,
 //! conforming and area-preserving. Also the frame pipeline: winding convention and speed.
 
+mod common;
+
 use std::collections::BTreeMap;
 use std::path::Path;
 
@@ -397,8 +399,7 @@ fn refinement_is_exact_conforming_and_keeps_area() {
 fn outward_faces_are_front_facing_under_perspective() {
     let spec = r#"{ "resolution": [200, 200], "camera": { "kind": "perspective", "eye": [0, 0, 40], "target": [0, 0, 0], "fov_deg": 4, "near": 0.1, "far": 100 },
                    "geometry": [ { "generator": { "kind": "uv-sphere", "rings": 20, "segments": 20 } } ] }"#;
-    let path =
-        std::env::temp_dir().join(format!("sortsim-scene-winding-{}.json", std::process::id()));
+    let path = common::scratch("winding.json");
     std::fs::write(&path, spec).unwrap();
     let frame = Scene::load(&path).unwrap().frame(0).unwrap();
     let s = geometric(&frame);
@@ -421,20 +422,13 @@ fn outward_faces_are_front_facing_under_perspective() {
     );
 }
 
-/// The largest stand-in (paper 002's polio shell, 806,640 triangles) must be generated and
-/// one frame transformed well under 1 s in release builds.
+/// The largest stand-in (paper 002's polio shell) has the paper's 806,640 triangles in every
+/// frame. (How long building it takes is measured in benches/scene.rs, not here.)
 #[test]
-#[cfg(not(debug_assertions))]
-fn polio_shell_builds_and_transforms_quickly() {
+fn polio_shell_has_the_papers_triangle_count() {
     let file = Path::new(env!("CARGO_MANIFEST_DIR")).join("scenes/polio-standin.json");
-    let t = std::time::Instant::now();
     let scene = Scene::load(&file).unwrap();
-    let frame = scene.frame(37).unwrap();
-    let took = t.elapsed();
-    assert_eq!(frame.triangles.len(), 806_640);
-    // Budget 1 s for load plus one frame on a shared 2-core machine; typical is far less.
-    eprintln!("polio shell: load + one frame {took:?}");
-    assert!(took.as_secs_f64() < 1.0, "polio shell took {took:?}");
+    assert_eq!(scene.frame(37).unwrap().triangles.len(), 806_640);
 }
 
 mod properties {

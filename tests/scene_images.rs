@@ -2,6 +2,8 @@
 //! renderer) must produce the z-buffer's image bit for bit, and `sortsim render` must write
 //! that image as a PNG that decodes to the same pixels.
 
+mod common;
+
 use std::path::Path;
 
 use sortsim::algo::reference;
@@ -48,7 +50,7 @@ fn scanline_zbuffer_equals_zbuffer_on_every_bundled_scene() {
 
 #[test]
 fn render_writes_the_reference_image() {
-    let out = std::env::temp_dir().join(format!("sortsim-render-{}.png", std::process::id()));
+    let out = common::scratch("render.png");
     let status = std::process::Command::new(env!("CARGO_BIN_EXE_sortsim"))
         .current_dir(env!("CARGO_MANIFEST_DIR"))
         .args([

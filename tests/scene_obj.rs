@@ -2,18 +2,18 @@
 //! colours and normals are kept, and bad coordinates or indices are refused with file and
 //! line. Also the `screen` camera: OBJ pixels and colours come out unchanged.
 
-use std::path::{Path, PathBuf};
+mod common;
+
+use std::path::Path;
 
 use glam::Vec3;
 use sortsim::raster::{draw_mesh, fixed::channel_to_u8, Framebuffer, RasterOptions, Viewport};
 use sortsim::scene::{obj, Scene, SceneError};
 
-/// Writes `text` to a fresh file under the system temp dir and returns its path.
-fn obj_file(name: &str, text: &str) -> PathBuf {
-    let dir = std::env::temp_dir().join(format!("sortsim-scene-obj-{}", std::process::id()));
-    std::fs::create_dir_all(&dir).unwrap();
-    let path = dir.join(name);
-    std::fs::write(&path, text).unwrap();
+/// Writes `text` to a fresh temporary file, deleted when the returned path is dropped.
+fn obj_file(name: &str, text: &str) -> common::Scratch {
+    let path = common::scratch(name);
+    std::fs::write(&*path, text).unwrap();
     path
 }
 

@@ -242,8 +242,8 @@ fn a_t800_holds_the_pixels_only_with_a_small_pool() {
 /// the per-node statistics follow the (time, sequence) order only.
 #[test]
 fn adaptive_sort_last_reports_are_byte_identical() {
-    let out =
-        |k: u32| std::env::temp_dir().join(format!("sortsim-sl-aa-{k}-{}", std::process::id()));
+    let dirs = [common::scratch("a"), common::scratch("b")];
+    let out = |k: u32| dirs[k as usize].to_path_buf();
     for k in 0..2 {
         let status = std::process::Command::new(env!("CARGO_BIN_EXE_sortsim"))
             .args([

@@ -2,8 +2,10 @@
 //! are what the algorithm's structure dictates, outputs are deterministic, and the event
 //! count follows messages, not pixels.
 
+mod common;
+
 use std::collections::BTreeMap;
-use std::path::{Path, PathBuf};
+use std::path::Path;
 use std::sync::Arc;
 
 use sortsim::algo::{reference, run, RunResult};
@@ -108,9 +110,7 @@ fn with_buffers_large_enough_every_stream_is_one_message() {
 
 #[test]
 fn two_runs_write_byte_identical_summaries() {
-    let out =
-        |name: &str| std::env::temp_dir().join(format!("sortsim-sm-{name}-{}", std::process::id()));
-    let (a, b): (PathBuf, PathBuf) = (out("a"), out("b"));
+    let (a, b) = (common::scratch("a"), common::scratch("b"));
     for dir in [&a, &b] {
         let status = std::process::Command::new(env!("CARGO_BIN_EXE_sortsim"))
             .current_dir(env!("CARGO_MANIFEST_DIR"))
@@ -169,8 +169,8 @@ fn events_follow_messages_not_pixels() {
         serde_json::from_slice(&std::fs::read(root.join("scenes/spd-teapot.json")).unwrap())
             .unwrap();
     scene["resolution"] = serde_json::json!([1024, 1024]);
-    let big = std::env::temp_dir().join(format!("sortsim-teapot-1024-{}.json", std::process::id()));
-    std::fs::write(&big, serde_json::to_vec(&scene).unwrap()).unwrap();
+    let big = common::scratch("teapot-1024.json");
+    std::fs::write(&*big, serde_json::to_vec(&scene).unwrap()).unwrap();
     let small = simulate(&spec(
         "delta.json",
         "spd-teapot.json",
@@ -185,7 +185,7 @@ fn events_follow_messages_not_pixels() {
         8,
         &[],
     );
-    large_spec.scene = big;
+    large_spec.scene = big.to_path_buf();
     let large = simulate(&large_spec);
     let pixels = |r: &RunResult| {
         r.stats

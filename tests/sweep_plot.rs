@@ -2,14 +2,12 @@
 //! byte-identical for identical input, a PNG is a real PNG of the stated size, and odd data
 //! (empty series, one point, NaN, x <= 0 on a log axis) draws without failing.
 
-use std::path::PathBuf;
+mod common;
 
 use sortsim::report::plot::{line_chart, ChartOptions, LineChart, Series};
 
-fn out_dir(name: &str) -> PathBuf {
-    let dir = PathBuf::from(env!("CARGO_TARGET_TMPDIR")).join(name);
-    let _ = std::fs::remove_dir_all(&dir);
-    dir
+fn out_dir(name: &str) -> common::Scratch {
+    common::scratch(name)
 }
 
 /// The text content of every `<text>` element.

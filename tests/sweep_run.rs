@@ -3,6 +3,8 @@
 //! finished points, and speedup is the triangles/s ratio to the one-processor point (run
 //! implicitly when the sweep does not list it).
 
+mod common;
+
 use std::path::{Path, PathBuf};
 
 use sortsim::sweep::spec::{parse_sweep, Sweep};
@@ -12,14 +14,9 @@ fn root() -> &'static Path {
     Path::new(env!("CARGO_MANIFEST_DIR"))
 }
 
-fn out_dir(name: &str) -> PathBuf {
-    let dir = PathBuf::from(env!("CARGO_TARGET_TMPDIR"))
-        .join("sweep-run")
-        .join(name);
-    let _ = std::fs::remove_dir_all(&dir);
-    dir
+fn out_dir(name: &str) -> common::Scratch {
+    common::scratch(name)
 }
-
 /// Both sort-middle algorithms on the Delta, PLB head stand-in, two frames. The cpu costs are
 /// set here so that the test does not depend on the Delta's calibration (and a one-processor
 /// run takes time).

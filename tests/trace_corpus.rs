@@ -3,6 +3,8 @@
 //! and containing the fragment EXPECTED.txt lists for it, no panic and no report written.
 //! Bad command lines for `trace record` and `trace replay` get the same treatment.
 
+mod common;
+
 use std::path::{Path, PathBuf};
 use std::process::{Command, Output};
 
@@ -58,7 +60,7 @@ fn check_refusal(out: &Output, name: &str, fragment: &str) {
 fn every_bad_trace_is_refused_with_its_message() {
     let cases = corpus();
     assert!(cases.len() >= 13);
-    let out_dir = std::env::temp_dir().join(format!("sortsim-trace-corpus-{}", std::process::id()));
+    let out_dir = common::scratch("trace-corpus");
     for (file, fragment) in cases {
         let out = sortsim(&[
             "trace",
@@ -114,7 +116,7 @@ fn missing_trace_and_bad_flags_are_refused() {
 
 #[test]
 fn recording_a_bad_scene_or_frame_is_refused() {
-    let out_file = std::env::temp_dir().join(format!("sortsim-trace-{}.trace", std::process::id()));
+    let out_file = common::scratch("recorded.trace");
     let out = sortsim(&[
         "trace",
         "record",

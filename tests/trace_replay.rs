@@ -4,6 +4,8 @@
 //! back-to-front planes worst case is n*A (section 7), snooping's merged image is the
 //! sequential z-buffer's, and replays are deterministic.
 
+mod common;
+
 use std::collections::BTreeSet;
 use std::path::Path;
 use std::process::Command;
@@ -222,7 +224,7 @@ fn shipped_trace_matches_a_fresh_recording() {
 /// byte-identical across runs (the PNG is only checked to exist).
 #[test]
 fn cli_replay_writes_identical_reports() {
-    let base = std::env::temp_dir().join(format!("sortsim-trace-replay-{}", std::process::id()));
+    let base = common::scratch("trace-replay");
     let mut outputs = Vec::new();
     for run in ["a", "b"] {
         let dir = base.join(run);

@@ -3,7 +3,8 @@
 //!
 //! Must never check numbers (tests/utilization_paper.rs does): only the command's contract.
 
-use std::path::PathBuf;
+mod common;
+
 use std::process::{Command, Output};
 
 fn sortsim(args: &[&str]) -> Output {
@@ -15,10 +16,8 @@ fn sortsim(args: &[&str]) -> Output {
         .expect("sortsim runs")
 }
 
-fn temp_dir(name: &str) -> PathBuf {
-    let dir = std::env::temp_dir().join(format!("sortsim-{name}-{}", std::process::id()));
-    let _ = std::fs::remove_dir_all(&dir);
-    dir
+fn temp_dir(name: &str) -> common::Scratch {
+    common::scratch(name)
 }
 
 const SCENE: &str = "scenes/plb-head-standin.json";

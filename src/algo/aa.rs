@@ -7,6 +7,8 @@ use super::options::{choice_option, quantity_option, string_option, OnOff};
 use super::{bad_option as bad, Options, RunConfig, RunError};
 use crate::machine::Op;
 use crate::raster::aa::{AaMethod, Grid};
+use crate::raster::screen::MAX_VIEWPORT;
+use crate::raster::Viewport;
 use crate::units::{Bytes, SimTime};
 
 /// The anti-aliasing options of a run.
@@ -157,4 +159,23 @@ pub(crate) fn check_prices(cfg: &RunConfig, aa: &AaSettings) -> Result<(), RunEr
         aa.method.name(),
         names.join(", ")
     )))
+}
+
+/// The grid of samples a `supersample:N` run renders (or merges) on: the screen sqrt N times
+/// finer in each direction. Refused, before anything is allocated, past `MAX_VIEWPORT` samples
+/// per side: the host holds every sample (7 bytes each) whatever memory the simulated machine has.
+pub fn sample_grid(cfg: &RunConfig, screen: Viewport, side: u32) -> Result<Viewport, RunError> {
+    Viewport::new(screen.width() * side, screen.height() * side).ok_or_else(|| {
+        let samples = u64::from(screen.width() * side) * u64::from(screen.height() * side);
+        RunError::Unsupported(format!(
+            "{}x{} pixels at {side}x{side} samples is a {}x{} sample grid (about {:.1} GB of \
+             host memory); {} works on sample grids of at most {MAX_VIEWPORT} per side",
+            screen.width(),
+            screen.height(),
+            screen.width() * side,
+            screen.height() * side,
+            samples as f64 * crate::raster::aa::SUBPIXEL_BYTES as f64 / 1e9,
+            cfg.algo.id()
+        ))
+    })
 }

@@ -316,7 +316,8 @@ pub fn calibrate(
         .ok_or_else(|| bad("the machine has no file name".into()))?;
     // The candidates live beside copies of every bundled machine, since a paper's experiments
     // may use several.
-    let work = tempdir_for_candidates(root).map_err(CalibrationError::Failed)?;
+    let dir = tempdir_for_candidates(root).map_err(CalibrationError::Failed)?;
+    let work = dir.path().to_path_buf();
     let objective = Objective {
         spec,
         machine: machine.clone(),
@@ -331,9 +332,7 @@ pub fn calibrate(
         file_name,
         evaluations: Mutex::new(0),
     };
-    let result = fit(&objective, &data);
-    let _ = std::fs::remove_dir_all(&work);
-    result
+    fit(&objective, &data)
 }
 
 fn fit(
@@ -444,19 +443,19 @@ fn fit(
     })
 }
 
-/// A fresh folder holding a copy of every bundled machine.
-fn tempdir_for_candidates(root: &Path) -> Result<PathBuf, String> {
-    static NEXT: std::sync::atomic::AtomicUsize = std::sync::atomic::AtomicUsize::new(0);
-    let k = NEXT.fetch_add(1, std::sync::atomic::Ordering::Relaxed);
-    let dir = std::env::temp_dir().join(format!("sortsim-calibrate-{}-{k}", std::process::id()));
-    let _ = std::fs::remove_dir_all(&dir);
-    std::fs::create_dir_all(&dir).map_err(|e| format!("{}: {e}", dir.display()))?;
+/// A fresh temporary folder holding a copy of every bundled machine, deleted when dropped
+/// (also when the fit fails).
+fn tempdir_for_candidates(root: &Path) -> Result<tempfile::TempDir, String> {
+    let dir = tempfile::Builder::new()
+        .prefix("sortsim-calibrate-")
+        .tempdir()
+        .map_err(|e| format!("cannot make a temporary folder: {e}"))?;
     let machines = root.join("machines");
     let entries =
         std::fs::read_dir(&machines).map_err(|e| format!("{}: {e}", machines.display()))?;
     for e in entries.filter_map(|e| e.ok()) {
         if e.path().extension().is_some_and(|x| x == "json") {
-            std::fs::copy(e.path(), dir.join(e.file_name()))
+            std::fs::copy(e.path(), dir.path().join(e.file_name()))
                 .map_err(|err| format!("{}: {err}", e.path().display()))?;
         }
     }

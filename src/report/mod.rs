@@ -25,7 +25,8 @@ use std::io::Write;
 use std::path::Path;
 
 /// Writes `bytes` to `path` through a temporary file in the same folder and a rename, so a
-/// reader (or an interrupted run) never sees a partial file.
+/// reader (or an interrupted run) never sees a partial file; temporaries of writers killed
+/// before their rename are removed once the file is whole again.
 pub fn write_atomic(path: &Path, bytes: &[u8]) -> std::io::Result<()> {
     let dir = path
         .parent()
@@ -41,7 +42,24 @@ pub fn write_atomic(path: &Path, bytes: &[u8]) -> std::io::Result<()> {
     file.write_all(bytes)?;
     file.sync_all()?;
     drop(file);
-    std::fs::rename(&tmp, path)
+    std::fs::rename(&tmp, path)?;
+    remove_stale_temporaries(dir, &name);
+    Ok(())
+}
+
+/// Deletes the temporary files an earlier writer of `dir/name` left when it was killed
+/// between creating and renaming one (their names carry that writer's process id). Best
+/// effort: the report is already whole, so a failure here is not an error.
+fn remove_stale_temporaries(dir: &Path, name: &str) {
+    let prefix = format!(".{name}.tmp");
+    let Ok(entries) = std::fs::read_dir(dir) else {
+        return;
+    };
+    for e in entries.filter_map(Result::ok) {
+        if e.file_name().to_string_lossy().starts_with(&prefix) {
+            let _ = std::fs::remove_file(e.path());
+        }
+    }
 }
 
 /// Writes `text` to `dir/name` through [`write_atomic`]; a failure names the file (reported as

@@ -125,11 +125,30 @@ pub fn load_machine(path: &Path) -> Result<MachineConfig, SpecError> {
     validate(path, spec)
 }
 
+/// The most nodes a machine may have: every node and link is host memory, allocated when the
+/// network is built.
+pub const MAX_NODES: u32 = 1 << 20;
+
+/// Host memory of a node's network state, as measured (`sortsim check` on a 2^20-node ring:
+/// 310 MB); for the refusal's estimate only.
+const HOST_BYTES_PER_NODE: u64 = 300;
+
 /// Checks every rule a machine must satisfy and builds its `MachineConfig`.
 pub fn validate(path: &Path, spec: MachineSpec) -> Result<MachineConfig, SpecError> {
     let invalid = |field: &str, msg: String| SpecError::invalid(path, field, msg);
     if spec.nodes == 0 {
         return Err(invalid("nodes", "a machine needs at least 1 node".into()));
+    }
+    if spec.nodes > MAX_NODES {
+        return Err(invalid(
+            "nodes",
+            format!(
+                "at most {MAX_NODES} nodes, got {} (its network alone would take about {:.0} GB \
+                 of host memory, at about {HOST_BYTES_PER_NODE} B per node)",
+                spec.nodes,
+                spec.nodes as f64 * HOST_BYTES_PER_NODE as f64 / 1e9
+            ),
+        ));
     }
     let mut costs = CostTable::default();
     for (name, &cost) in &spec.cpu.costs {

@@ -184,3 +184,33 @@ pub fn assert_refused(out: &Output, what: &str, fragment: &str) {
     );
     assert!(!stderr.contains("panicked"), "{what}: {stderr}");
 }
+
+/// A path `name` inside a fresh temporary folder that is deleted, with everything under it,
+/// when this value is dropped (also when the test fails). The path itself does not exist yet,
+/// so a command can be asked to create it.
+pub struct Scratch {
+    _dir: tempfile::TempDir,
+    path: std::path::PathBuf,
+}
+
+pub fn scratch(name: &str) -> Scratch {
+    let dir = tempfile::Builder::new()
+        .prefix("sortsim-test-")
+        .tempdir()
+        .expect("a temporary folder");
+    let path = dir.path().join(name);
+    Scratch { _dir: dir, path }
+}
+
+impl std::ops::Deref for Scratch {
+    type Target = std::path::PathBuf;
+    fn deref(&self) -> &std::path::PathBuf {
+        &self.path
+    }
+}
+
+impl AsRef<Path> for Scratch {
+    fn as_ref(&self) -> &Path {
+        &self.path
+    }
+}

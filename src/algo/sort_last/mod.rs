@@ -48,7 +48,6 @@ use crate::engine::{Node, Payload, SimError};
 use crate::machine::{Counts, Op};
 use crate::net::Network;
 use crate::raster::aa::{downsample, AaMethod, PIXEL_BYTES};
-use crate::raster::screen::MAX_VIEWPORT;
 use crate::raster::{Framebuffer, RasterOptions, Viewport};
 use crate::scene::FrameGeometry;
 use crate::units::Bytes;
@@ -473,29 +472,12 @@ fn settings(cfg: &RunConfig, variant: Variant) -> Result<Settings, RunError> {
     })
 }
 
-/// The grid nodes render and merge on: the screen, or with `supersample:N` a grid sqrt N
-/// times finer in each direction, one sample per grid pixel at the sample positions of
-/// [`crate::raster::aa::SupersampleTarget`].
-fn sample_grid(cfg: &RunConfig, screen: Viewport, side: u32) -> Result<Viewport, RunError> {
-    Viewport::new(screen.width() * side, screen.height() * side).ok_or_else(|| {
-        RunError::Unsupported(format!(
-            "{}x{} pixels at {side}x{side} samples is a {}x{} sample grid; {} merges samples \
-             on grids of at most {MAX_VIEWPORT} per side",
-            screen.width(),
-            screen.height(),
-            screen.width() * side,
-            screen.height() * side,
-            cfg.algo.id()
-        ))
-    })
-}
-
 /// Checks a variant's options and machine against `cfg` without running it.
 pub fn check(cfg: &RunConfig, variant: Variant) -> Result<(), RunError> {
     requirements(cfg, variant)?;
     let settings = settings(cfg, variant)?;
     let first = cfg.scene.frame(cfg.frames.start)?;
-    sample_grid(cfg, super::reference::viewport(&first), settings.side).map(|_| ())
+    super::aa::sample_grid(cfg, super::reference::viewport(&first), settings.side).map(|_| ())
 }
 
 /// Runs a sort-last variant.
@@ -504,7 +486,7 @@ pub fn run(cfg: &RunConfig, variant: Variant) -> Result<RunResult, RunError> {
     let settings = settings(cfg, variant)?;
     let first = cfg.scene.frame(cfg.frames.start)?;
     let screen = super::reference::viewport(&first);
-    let viewport = sample_grid(cfg, screen, settings.side)?;
+    let viewport = super::aa::sample_grid(cfg, screen, settings.side)?;
     let n = cfg.machine.nodes;
     let ctx = Rc::new(Ctx {
         aa: aa::AaState::new(&settings.aa, n, viewport.pixels() as u64, first.background),

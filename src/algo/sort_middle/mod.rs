@@ -40,7 +40,7 @@ use super::frames::FrameBook;
 use super::{bad_option as bad, simulate, FrameRecord, RunConfig, RunError, RunResult};
 use crate::engine::{Filter, Node, Payload, SimError};
 use crate::machine::{Counts, Op};
-use crate::raster::aa::{adapt, Grid};
+use crate::raster::aa::{adapt, AaMethod, Grid};
 use crate::raster::{
     draw_screen_triangles, setup_subset, Framebuffer, RasterOptions, RegionSet, ScreenTriangle,
     Viewport,
@@ -525,6 +525,9 @@ fn settings(cfg: &RunConfig, variant: Variant, viewport: Viewport) -> Result<Set
     };
     let aa = aa_settings(o, &aa)?;
     super::aa::check_prices(cfg, &aa)?;
+    if let AaMethod::Supersample { side } = aa.method {
+        super::aa::sample_grid(cfg, viewport, side)?;
+    }
     Ok(Settings {
         variant,
         grid,
