@@ -37,7 +37,7 @@ pub struct PatternMessage {
 #[serde(deny_unknown_fields)]
 pub struct Pattern {
     /// The JSON Schema this file follows, for editors (`schemas/`); sortsim ignores it.
-    #[serde(rename = "$schema", default, skip_serializing)]
+    #[serde(rename = "$schema", default, skip_serializing_if = "Option::is_none")]
     pub schema: Option<String>,
     pub messages: Vec<PatternMessage>,
 }

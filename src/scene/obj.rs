@@ -18,7 +18,12 @@ pub fn load(path: &Path) -> Result<Mesh, SceneError> {
         file: path.to_path_buf(),
         message: e.to_string(),
     })?;
-    scan(path, &text)?;
+    parse(path, &text)
+}
+
+/// Reads OBJ `text` as one mesh; `path` names the file in errors.
+pub fn parse(path: &Path, text: &str) -> Result<Mesh, SceneError> {
+    scan(path, text)?;
     let options = tobj::LoadOptions {
         single_index: true,
         triangulate: true,

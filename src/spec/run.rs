@@ -22,7 +22,7 @@ use crate::scene::{Scene, SceneError};
 #[serde(deny_unknown_fields)]
 pub struct RunSpec {
     /// The JSON Schema this file follows, for editors (`schemas/`); sortsim ignores it.
-    #[serde(rename = "$schema", default, skip_serializing)]
+    #[serde(rename = "$schema", default, skip_serializing_if = "Option::is_none")]
     pub schema: Option<String>,
     pub machine: PathBuf,
     pub scene: PathBuf,
