@@ -570,6 +570,16 @@ fn bad_flags_are_refused_with_exit_code_2() {
             ],
             "--set aa-pool=10MB: expected aa=adaptive with it",
         ),
+        // A device would be read without end: only regular files are inputs.
+        (&["check", "/dev/zero"], "/dev/zero: cannot read: not a regular file"),
+        (
+            &["trace", "replay", "/dev/zero"],
+            "/dev/zero: cannot read: not a regular file",
+        ),
+        (
+            &["netsim", "machines/delta.json", "/dev/zero"],
+            "not a regular file",
+        ),
         (
             &["sweep", "sweeps/cluster-demo.json", "--shard", "4/3"],
             "0 <= I < T",

@@ -109,7 +109,7 @@ pub fn load_spec(path: &Path) -> Result<CalibrationSpec, CalibrationError> {
         file: path.to_path_buf(),
         message,
     };
-    let text = std::fs::read_to_string(path).map_err(|e| fail(e.to_string()))?;
+    let text = crate::spec::read_input(path).map_err(|e| fail(e.to_string()))?;
     let de = &mut serde_json::Deserializer::from_str(&text);
     let mut spec: CalibrationSpec = serde_path_to_error::deserialize(de)
         .map_err(|e| fail(format!("at {}: {}", e.path(), e.inner())))?;
@@ -299,7 +299,7 @@ pub fn calibrate(
             Some(_) => {}
         }
     }
-    let text = std::fs::read_to_string(&spec.machine)
+    let text = crate::spec::read_input(&spec.machine)
         .map_err(|e| bad(format!("{}: {e}", spec.machine.display())))?;
     let machine: serde_json::Value =
         crate::spec::parse_json(&spec.machine, &text).map_err(|e| bad(e.to_string()))?;

@@ -14,7 +14,7 @@ use super::SceneError;
 
 /// Loads `path` as one mesh (all its objects and groups together, one part).
 pub fn load(path: &Path) -> Result<Mesh, SceneError> {
-    let text = std::fs::read_to_string(path).map_err(|e| SceneError::ObjRead {
+    let text = crate::spec::read_input(path).map_err(|e| SceneError::ObjRead {
         file: path.to_path_buf(),
         message: e.to_string(),
     })?;

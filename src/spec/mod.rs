@@ -79,11 +79,29 @@ impl SpecError {
 /// unknown field, a missing field or a bad value as its path (serde's message lists the valid
 /// fields or variants).
 pub fn load_json<T: DeserializeOwned>(path: &Path) -> Result<T, SpecError> {
-    let text = std::fs::read_to_string(path).map_err(|source| SpecError::Io {
+    let text = read_input(path).map_err(|source| SpecError::Io {
         file: path.to_path_buf(),
         source,
     })?;
     parse_json(path, &text)
+}
+
+/// The bytes of an input file. Only a regular file is read: a device such as /dev/zero, a pipe
+/// or a folder would be read without end or not at all.
+pub fn read_input_bytes(path: &Path) -> std::io::Result<Vec<u8>> {
+    if !std::fs::metadata(path)?.is_file() {
+        return Err(std::io::Error::new(
+            std::io::ErrorKind::InvalidInput,
+            "not a regular file (a device, pipe or folder cannot be an input)",
+        ));
+    }
+    std::fs::read(path)
+}
+
+/// The text of an input file (UTF-8), read as [`read_input_bytes`] does.
+pub fn read_input(path: &Path) -> std::io::Result<String> {
+    String::from_utf8(read_input_bytes(path)?)
+        .map_err(|e| std::io::Error::new(std::io::ErrorKind::InvalidData, e))
 }
 
 /// As `load_json`, for text already in memory; `path` is only used in messages.

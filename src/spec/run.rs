@@ -103,7 +103,7 @@ impl RunSpec {
 
     /// The machine spec with every `machine.` key of `set` applied, validated.
     fn machine_with_overrides(&self) -> Result<crate::machine::MachineConfig, RunSpecError> {
-        let text = std::fs::read_to_string(&self.machine).map_err(|source| SpecError::Io {
+        let text = super::read_input(&self.machine).map_err(|source| SpecError::Io {
             file: self.machine.clone(),
             source,
         })?;

@@ -403,7 +403,7 @@ fn sanitize(s: &str) -> String {
 /// The hash of a file's bytes; 0 for a file that cannot be read (resolving the point will
 /// then report it).
 fn file_hash(path: &Path) -> u64 {
-    std::fs::read(path).map_or(0, |b| fnv1a(&b))
+    crate::spec::read_input_bytes(path).map_or(0, |b| fnv1a(&b))
 }
 
 fn fnv1a(bytes: &[u8]) -> u64 {

@@ -504,7 +504,7 @@ pub fn read_trace(path: &Path) -> Result<Trace, TraceError> {
         file: path.to_path_buf(),
         kind,
     };
-    let bytes = std::fs::read(path).map_err(|e| err(TraceErrorKind::Read(e)))?;
+    let bytes = crate::spec::read_input_bytes(path).map_err(|e| err(TraceErrorKind::Read(e)))?;
     decode(&bytes).map_err(|e| err(e.into()))
 }
 
