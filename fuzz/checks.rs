@@ -13,6 +13,23 @@ use sortsim::spec::parse_json;
 use sortsim::spec::run::RunSpec;
 use sortsim::spec::scene::SceneSpec;
 
+/// Spec and OBJ readers take text: other bytes are not a case for them.
+fn utf8(data: &[u8]) -> Option<&str> {
+    std::str::from_utf8(data).ok()
+}
+
+/// Reads `text` as a `T`; if it reads, writes it back and asserts it reads back equal.
+fn round_trip<T>(name: &str, text: &str)
+where
+    T: serde::de::DeserializeOwned + serde::Serialize + PartialEq + std::fmt::Debug,
+{
+    if let Ok(value) = parse_json::<T>(file(name), text) {
+        let again = serde_json::to_string(&value).expect("what was read serializes");
+        let back: T = parse_json(file(name), &again).expect("what was written reads");
+        assert_eq!(back, value, "{name}: written and read back");
+    }
+}
+
 /// The file name errors carry; relative paths inside a spec resolve beside it (nothing there).
 fn file(name: &str) -> &'static Path {
     match name {
@@ -26,7 +43,7 @@ fn file(name: &str) -> &'static Path {
 }
 
 pub fn machine(data: &[u8]) {
-    let Ok(text) = std::str::from_utf8(data) else {
+    let Some(text) = utf8(data) else {
         return;
     };
     if let Ok(spec) = parse_json::<MachineSpec>(file("machine"), text) {
@@ -35,7 +52,7 @@ pub fn machine(data: &[u8]) {
 }
 
 pub fn scene(data: &[u8]) {
-    let Ok(text) = std::str::from_utf8(data) else {
+    let Some(text) = utf8(data) else {
         return;
     };
     if let Ok(spec) = parse_json::<SceneSpec>(file("scene"), text) {
@@ -44,25 +61,21 @@ pub fn scene(data: &[u8]) {
 }
 
 pub fn run(data: &[u8]) {
-    let Ok(text) = std::str::from_utf8(data) else {
+    let Some(text) = utf8(data) else {
         return;
     };
-    if let Ok(spec) = parse_json::<RunSpec>(file("run"), text) {
-        let again = serde_json::to_string(&spec).expect("a run spec serializes");
-        let back: RunSpec = parse_json(file("run"), &again).expect("a written run spec reads");
-        assert_eq!(back, spec, "a run spec written and read back");
-    }
+    round_trip::<RunSpec>("run", text);
 }
 
 pub fn sweep(data: &[u8]) {
-    let Ok(text) = std::str::from_utf8(data) else {
+    let Some(text) = utf8(data) else {
         return;
     };
     let _ = sortsim::sweep::spec::parse_sweep(file("sweep"), text);
 }
 
 pub fn obj(data: &[u8]) {
-    let Ok(text) = std::str::from_utf8(data) else {
+    let Some(text) = utf8(data) else {
         return;
     };
     let _ = sortsim::scene::obj::parse(file("obj"), text);
@@ -77,12 +90,8 @@ pub fn trace(data: &[u8]) {
 }
 
 pub fn pattern(data: &[u8]) {
-    let Ok(text) = std::str::from_utf8(data) else {
+    let Some(text) = utf8(data) else {
         return;
     };
-    if let Ok(p) = parse_json::<Pattern>(file("pattern"), text) {
-        let again = serde_json::to_string(&p).expect("a pattern serializes");
-        let back: Pattern = parse_json(file("pattern"), &again).expect("a written pattern reads");
-        assert_eq!(back, p, "a pattern written and read back");
-    }
+    round_trip::<Pattern>("pattern", text);
 }

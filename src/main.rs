@@ -422,7 +422,7 @@ fn slurm(args: &SweepArgs, spec: &sortsim::sweep::spec::Sweep, out: &Path) -> Re
     use sortsim::sweep::slurm::{find_sbatch, submit, write_scripts, SlurmOptions};
     if args.submit && find_sbatch().is_none() {
         return Err(Failure::BadInput(
-            "--submit: `sbatch` is not on the PATH; install Slurm's client (Debian: slurm-client), or leave out --submit and submit the scripts yourself".into(),
+            sortsim::sweep::slurm::SubmitError::NoSbatch.to_string(),
         ));
     }
     let exe = std::env::current_exe()

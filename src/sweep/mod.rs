@@ -144,7 +144,7 @@ pub fn run_sweep(
     let clock = Stopwatch::start();
     let names = point_names(sweep);
     let all: Vec<usize> = (0..sweep.points.len()).collect();
-    let ran = run_points(sweep, out, &names, &all, options)?;
+    let ran = run_points(sweep, out, &names, &all, options, &mut Scenes::default())?;
     let metrics = read_metrics(out, &names, &ran.failures)?;
     finish(sweep, out, &names, metrics, ran, clock, options.jobs)
 }
@@ -159,11 +159,12 @@ pub fn run_shard(
 ) -> Result<ShardOutcome, SweepError> {
     let clock = Stopwatch::start();
     let names = point_names(sweep);
-    let shard_of = shard::deal(&estimates(sweep)?, shard.of);
+    let mut scenes = Scenes::default();
+    let shard_of = shard::deal(&estimates(sweep, &mut scenes)?, shard.of);
     let mine: Vec<usize> = (0..sweep.points.len())
         .filter(|&i| shard_of[i] == shard.index)
         .collect();
-    let mut ran = run_points(sweep, out, &names, &mine, options)?;
+    let mut ran = run_points(sweep, out, &names, &mine, options, &mut scenes)?;
     ran.failures.sort_by(|a, b| a.point.cmp(&b.point));
     Ok(ShardOutcome {
         shard,
@@ -234,6 +235,7 @@ fn run_points(
     names: &[String],
     selection: &[usize],
     options: SweepOptions,
+    scenes: &mut Scenes,
 ) -> Result<Ran, SweepError> {
     let pending: Vec<usize> = selection
         .iter()
@@ -242,7 +244,7 @@ fn run_points(
         .collect();
     // Everything is resolved before anything runs: a bad point is bad input, and must not
     // leave half a sweep behind.
-    let configs = resolve_pending(sweep, names, &pending)?;
+    let configs = resolve_pending(sweep, names, &pending, scenes)?;
     let results = run_pending(sweep, out, names, &pending, configs, options)?;
     let failures: Vec<PointFailure> = results.into_iter().filter_map(Result::err).collect();
     // Options are checked as a run starts; a bad one fails its points at once, before they
@@ -291,33 +293,27 @@ fn finish(
 
 /// Each point's estimated cost for dealing points to shards: processors x triangles x
 /// frames, with each scene loaded once.
-fn estimates(sweep: &Sweep) -> Result<Vec<u64>, SweepError> {
-    let mut scenes: BTreeMap<PathBuf, (usize, u32)> = BTreeMap::new();
+fn estimates(sweep: &Sweep, scenes: &mut Scenes) -> Result<Vec<u64>, SweepError> {
     sweep
         .points
         .iter()
         .map(|p| {
             let run = &p.run;
-            let (triangles, count) = match scenes.get(&run.scene) {
-                Some(&known) => known,
-                None => {
-                    let scene = Scene::load(&run.scene)
-                        .map_err(|e| SpecError::invalid(&sweep.file, "scene", e.to_string()))?;
-                    let known = (scene.triangle_count(), scene.frame_count());
-                    scenes.insert(run.scene.clone(), known);
-                    known
-                }
-            };
-            let frames = parse_frames(run.frames.as_deref(), count)
+            let scene = scenes.get(sweep, &run.scene)?;
+            let frames = parse_frames(run.frames.as_deref(), scene.frame_count())
                 .map_err(|e| SpecError::invalid(&sweep.file, "frames", e))?;
-            Ok(shard::estimate(run.procs, triangles, frames.len()))
+            Ok(shard::estimate(
+                run.procs,
+                scene.triangle_count(),
+                frames.len(),
+            ))
         })
         .collect()
 }
 
 /// The shard of each point of `sweep` over `tasks` shards, as `run_shard` deals them.
 pub fn deal(sweep: &Sweep, tasks: u32) -> Result<Vec<(String, u32)>, SweepError> {
-    let shard_of = shard::deal(&estimates(sweep)?, tasks);
+    let shard_of = shard::deal(&estimates(sweep, &mut Scenes::default())?, tasks);
     Ok(point_names(sweep).into_iter().zip(shard_of).collect())
 }
 
@@ -416,27 +412,36 @@ fn summary_path(out: &Path, name: &str) -> PathBuf {
     out.join("points").join(name).join("summary.json")
 }
 
-/// Loads each scene the pending points use once, and resolves every pending point.
+/// The scenes a sweep's points use, each loaded once (a stand-in's geometry can take a second
+/// to build), shared by the shard deal and the points' resolution.
+#[derive(Default)]
+struct Scenes(BTreeMap<PathBuf, Arc<Scene>>);
+
+impl Scenes {
+    fn get(&mut self, sweep: &Sweep, path: &Path) -> Result<Arc<Scene>, SpecError> {
+        if let Some(s) = self.0.get(path) {
+            return Ok(s.clone());
+        }
+        let s = Arc::new(
+            Scene::load(path)
+                .map_err(|e| SpecError::invalid(&sweep.file, "scene", e.to_string()))?,
+        );
+        self.0.insert(path.to_path_buf(), s.clone());
+        Ok(s)
+    }
+}
+
+/// Resolves every pending point, loading each scene once.
 fn resolve_pending(
     sweep: &Sweep,
     names: &[String],
     pending: &[usize],
+    scenes: &mut Scenes,
 ) -> Result<Vec<RunConfig>, SpecError> {
-    let mut scenes: BTreeMap<PathBuf, Arc<Scene>> = BTreeMap::new();
     let mut configs = Vec::with_capacity(pending.len());
     for &i in pending {
         let run = &sweep.points[i].run;
-        let scene = match scenes.get(&run.scene) {
-            Some(s) => s.clone(),
-            None => {
-                let s = Arc::new(
-                    Scene::load(&run.scene)
-                        .map_err(|e| SpecError::invalid(&sweep.file, "scene", e.to_string()))?,
-                );
-                scenes.insert(run.scene.clone(), s.clone());
-                s
-            }
-        };
+        let scene = scenes.get(sweep, &run.scene)?;
         let cfg = run
             .resolve(Some(scene))
             .map_err(|e| SpecError::invalid(&sweep.file, "", format!("point {}: {e}", names[i])))?;

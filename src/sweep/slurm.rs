@@ -137,8 +137,8 @@ fn quote(path: &Path) -> String {
 /// Why a submission failed.
 #[derive(Debug, thiserror::Error)]
 pub enum SubmitError {
-    #[error("--submit: `sbatch` is not on the PATH; install Slurm's client (Debian: slurm-client), or leave out --submit and submit {} yourself", script.display())]
-    NoSbatch { script: PathBuf },
+    #[error("--submit: `sbatch` is not on the PATH; install Slurm's client (Debian: slurm-client), or leave out --submit and submit the scripts yourself")]
+    NoSbatch,
     #[error("sbatch {}: {message}", script.display())]
     Sbatch { script: PathBuf, message: String },
 }
@@ -159,9 +159,7 @@ pub fn find_sbatch() -> Option<PathBuf> {
 
 /// Submits the array job, then the collect job with `afterok` on the whole array.
 pub fn submit(scripts: &Scripts) -> Result<Submitted, SubmitError> {
-    let sbatch = find_sbatch().ok_or_else(|| SubmitError::NoSbatch {
-        script: scripts.sweep.clone(),
-    })?;
+    let sbatch = find_sbatch().ok_or(SubmitError::NoSbatch)?;
     let array = sbatch_run(&sbatch, &[], &scripts.sweep)?;
     let dependency = format!("--dependency=afterok:{array}");
     let collect = sbatch_run(&sbatch, &[&dependency], &scripts.collect)?;
