@@ -87,6 +87,12 @@ pub enum Command {
         after_help = "Example:\n  sortsim calibrate sweeps/calibrate-multicluster.json -o reports/calibrate\n\nThe spec names the machine, the paper, the target rows of papers/NNN.json and the\nparameters: groups of machine fields (times or bandwidths) scaled by one factor each,\nwithin a range, e.g. {\"name\": \"cpu costs\", \"fields\": [\"cpu.costs.*\"], \"range\": [0.5, 2]}."
     )]
     Calibrate(CalibrateArgs),
+    /// Check sortsim against independent programs: its `flow` network model against SimGrid's
+    /// max-min model (CM02), its rasterizer against Mesa's llvmpipe (OpenGL), case by case.
+    #[command(
+        after_help = "Examples:\n  sortsim validate network -o reports/validate\n  sortsim validate all --quick\n\nNeeds Python 3 with Debian's python3-simgrid (network) and python3-moderngl with Mesa's\nEGL and llvmpipe (raster): apt-get install python3-simgrid python3-moderngl libgl1-mesa-dri\nlibegl1. SORTSIM_PYTHON names another interpreter. Exits with 1 when an answer differs\nbeyond the stated tolerance."
+    )]
+    Validate(ValidateArgs),
     /// Simulate a list of messages on a machine's network and print each completion time.
     #[command(
         after_help = "Example:\n  sortsim netsim machines/multicluster-torus.json tests/patterns/hot-spot-4x4.json --fidelity flow\n  sortsim netsim machines/delta.json tests/patterns/complement-16x32.json --compare"
@@ -363,6 +369,19 @@ pub struct CalibrateArgs {
     /// Simulations at a time; the number of cores when absent.
     #[arg(long, value_name = "J", value_parser = clap::value_parser!(u32).range(1..))]
     pub jobs: Option<u32>,
+}
+
+#[derive(Args, Debug)]
+pub struct ValidateArgs {
+    /// What to check: network (flow against SimGrid), raster (against llvmpipe) or all.
+    #[arg(default_value = "all", value_parser = ["network", "raster", "all"])]
+    pub what: String,
+    /// The smaller half of the cases (seconds instead of a minute).
+    #[arg(long)]
+    pub quick: bool,
+    /// Report folder.
+    #[arg(short, long, value_name = "DIR", default_value = "reports/validate")]
+    pub out: PathBuf,
 }
 
 #[derive(Args, Debug)]

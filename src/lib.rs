@@ -32,3 +32,4 @@ pub mod spec;
 pub mod sweep;
 pub mod trace;
 pub mod units;
+pub mod validate;

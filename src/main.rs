@@ -139,6 +139,7 @@ fn main() -> ExitCode {
         Some(Command::Sweep(args)) => sweep(&args).map(|_| ()),
         Some(Command::Paper(args)) => paper(&args),
         Some(Command::Calibrate(args)) => calibrate(&args),
+        Some(Command::Validate(args)) => validate(&args),
     };
     match outcome {
         Ok(()) => ExitCode::SUCCESS,
@@ -509,6 +510,44 @@ fn calibrate(args: &cli::CalibrateArgs) -> Result<(), Failure> {
         out.join("index.html").display()
     );
     Ok(())
+}
+
+fn validate(args: &cli::ValidateArgs) -> Result<(), Failure> {
+    use sortsim::report::validate::{markdown, write, Validation};
+    use sortsim::validate::{network, raster, ToolError};
+    let to_failure = |e: ToolError| {
+        if e.is_missing_tool() {
+            Failure::BadInput(e.to_string())
+        } else {
+            Failure::Internal(e.to_string())
+        }
+    };
+    std::fs::create_dir_all(&args.out)
+        .map_err(|e| Failure::BadInput(format!("{}: cannot write: {e}", args.out.display())))?;
+    let work = tempfile::tempdir()
+        .map_err(|e| Failure::Internal(format!("cannot make a temporary folder: {e}")))?;
+    let mut result = Validation::default();
+    if args.what != "raster" {
+        let cases = network::cases(args.quick);
+        result.network = Some(network::validate(&cases, work.path()).map_err(to_failure)?);
+    }
+    if args.what != "network" {
+        let cases = raster::cases(args.quick);
+        result.raster = Some(raster::validate(&cases, work.path()).map_err(to_failure)?);
+    }
+    write(&args.out, &result)?;
+    print!("{}", markdown(&result));
+    println!("report: {}", args.out.join("validate.md").display());
+    let agrees = result.network.as_ref().is_none_or(|(n, _)| n.pass)
+        && result.raster.as_ref().is_none_or(|(r, _)| r.pass);
+    if agrees {
+        Ok(())
+    } else {
+        Err(Failure::Internal(
+            "sortsim and a reference program disagree beyond the stated tolerance (see the report)"
+                .into(),
+        ))
+    }
 }
 
 fn jobs(given: Option<u32>) -> usize {

@@ -192,3 +192,32 @@ fn the_fidelity_table_has_one_row_per_level_and_contention_only_slows() {
     let text = format_table(&rows);
     assert_eq!(text.lines().count(), 5, "{text}");
 }
+
+#[test]
+fn bit_complement_and_random_permutations_send_once_and_receive_once() {
+    use sortsim::net::pattern::{bit_complement, random_permutations};
+    use sortsim::units::{Bytes, SimTime};
+    let c = bit_complement(8, Bytes::new(64));
+    let pairs: Vec<(u32, Option<u32>)> = c.messages.iter().map(|m| (m.src, m.dst)).collect();
+    assert_eq!(pairs, (0..8).map(|s| (s, Some(7 - s))).collect::<Vec<_>>());
+    // An odd count leaves the middle node out.
+    assert_eq!(bit_complement(5, Bytes::new(64)).messages.len(), 4);
+
+    let sizes = [Bytes::new(4096), Bytes::new(65536)];
+    let p = random_permutations(16, 20, &sizes, SimTime::from_us(100), 9);
+    assert_eq!(p.messages.len(), 16 * 20);
+    for round in p.messages.chunks(16) {
+        let mut received = [0; 16];
+        for (src, m) in round.iter().enumerate() {
+            assert_eq!(m.src, src as u32);
+            let dst = m.dst.unwrap();
+            assert_ne!(dst, m.src, "no fixed points");
+            received[dst as usize] += 1;
+        }
+        assert!(received.iter().all(|&r| r == 1), "{received:?}");
+    }
+    assert_eq!(
+        p,
+        random_permutations(16, 20, &sizes, SimTime::from_us(100), 9)
+    );
+}

@@ -240,6 +240,63 @@ pub fn random_pairs(nodes: u32, k: u32, bytes: Bytes, seed: u64) -> Pattern {
     Pattern::new(messages)
 }
 
+/// Bit complement: node `i` sends to node `(nodes - 1) - i` (for a power-of-two node count
+/// that is `i` with every bit flipped), all at time 0; a middle node of an odd count sends
+/// nothing.
+pub fn bit_complement(nodes: u32, bytes: Bytes) -> Pattern {
+    let messages = (0..nodes)
+        .map(|s| (s, nodes - 1 - s))
+        .filter(|(s, d)| s != d)
+        .map(|(s, d)| PatternMessage::new(s, d, bytes, SimTime::ZERO))
+        .collect();
+    Pattern::new(messages)
+}
+
+/// `rounds` random permutations without fixed points: in each, every node sends one message
+/// and receives one. Sizes are drawn from `sizes` and start instants uniformly from
+/// `[0, spread)` (whole nanoseconds), all from one ChaCha8 stream seeded by `seed`. Panics if
+/// `nodes < 2` or `sizes` is empty.
+pub fn random_permutations(
+    nodes: u32,
+    rounds: u32,
+    sizes: &[Bytes],
+    spread: SimTime,
+    seed: u64,
+) -> Pattern {
+    use rand::seq::SliceRandom;
+    use rand::Rng;
+    assert!(
+        nodes >= 2 && !sizes.is_empty(),
+        "random_permutations needs 2 nodes and a size"
+    );
+    let mut rng = ChaCha8Rng::seed_from_u64(seed);
+    let spread_ns = (spread.ps() / 1000).max(1);
+    let mut messages = Vec::new();
+    for _ in 0..rounds {
+        let mut dst: Vec<u32> = (0..nodes).collect();
+        dst.shuffle(&mut rng);
+        // Rotating the fixed points among themselves leaves a permutation without any.
+        let fixed: Vec<usize> = (0..nodes as usize)
+            .filter(|&i| dst[i] == i as u32)
+            .collect();
+        match fixed.len() {
+            0 => {}
+            1 => dst.swap(fixed[0], (fixed[0] + 1) % nodes as usize),
+            n => {
+                for k in 0..n {
+                    dst[fixed[k]] = fixed[(k + 1) % n] as u32;
+                }
+            }
+        }
+        for (src, &d) in dst.iter().enumerate() {
+            let bytes = sizes[rng.gen_range(0..sizes.len())];
+            let start = SimTime::from_ns(rng.gen_range(0..spread_ns));
+            messages.push(PatternMessage::new(src as u32, d, bytes, start));
+        }
+    }
+    Pattern::new(messages)
+}
+
 /// `count` messages between random distinct nodes, each of a size drawn from `sizes`, with
 /// start instants drawn uniformly from `[0, spread)` (whole nanoseconds), all from one
 /// ChaCha8 stream seeded by `seed`: traffic that keeps flows starting and ending while others

@@ -20,6 +20,7 @@ pub mod summary;
 pub mod sweep;
 pub mod trace;
 pub mod utilization;
+pub mod validate;
 
 use std::io::Write;
 use std::path::Path;

@@ -231,6 +231,13 @@ pub enum GeneratorSpec {
     BigTriangle,
     /// UV sphere of radius 1: 2 * segments * (rings - 1) triangles.
     UvSphere { rings: u32, segments: u32 },
+    /// Torus around the y axis, tube centre at radius 1, tube radius `minor`: `rings` tube
+    /// circles of `segments` vertices, 2 * rings * segments triangles.
+    Torus {
+        rings: u32,
+        segments: u32,
+        minor: f32,
+    },
     /// A count_x x count_y x count_z lattice of UV spheres of radius `radius` in the cube
     /// [-1, 1]^3.
     SphereLattice {
@@ -514,6 +521,15 @@ impl GeneratorSpec {
             GeneratorSpec::UvSphere { rings, segments } => {
                 count("rings", *rings, 2, 4096)?;
                 count("segments", *segments, 3, 4096)
+            }
+            GeneratorSpec::Torus {
+                rings,
+                segments,
+                minor,
+            } => {
+                count("rings", *rings, 3, 4096)?;
+                count("segments", *segments, 3, 4096)?;
+                real("minor", *minor as f64, 1e-6, 0.999)
             }
             GeneratorSpec::SphereLattice {
                 count: c,

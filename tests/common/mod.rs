@@ -84,7 +84,6 @@ pub fn run_sort_last(
 /// the PATH. A failed install fails the calling test with apt-get's output: a test never
 /// passes because a tool was missing.
 pub fn installed(binary: &str, packages: &[&str]) -> std::path::PathBuf {
-    static INSTALL: std::sync::Mutex<()> = std::sync::Mutex::new(());
     let find = || {
         std::env::var_os("PATH").and_then(|paths| {
             std::env::split_paths(&paths)
@@ -92,19 +91,50 @@ pub fn installed(binary: &str, packages: &[&str]) -> std::path::PathBuf {
                 .find(|p| p.is_file())
         })
     };
+    ensure(binary, packages, || find().is_some());
+    find().unwrap_or_else(|| panic!("{packages:?} installed, yet {binary} is not on the PATH"))
+}
+
+/// Makes sure Debian's Python 3 (`/usr/bin/python3`, the interpreter `sortsim validate` uses)
+/// can import `module`, installing the Debian `packages` when it cannot; as [`installed`].
+pub fn python_module(module: &str, packages: &[&str]) {
+    let python = installed("python3", &["python3"]);
+    let debian = std::path::Path::new("/usr/bin/python3");
+    let python = if debian.is_file() {
+        debian.to_path_buf()
+    } else {
+        python
+    };
+    let imports = || {
+        std::process::Command::new(&python)
+            .args(["-c", &format!("import {module}")])
+            .output()
+            .is_ok_and(|o| o.status.success())
+    };
+    ensure(&format!("Python module {module}"), packages, imports);
+    assert!(
+        imports(),
+        "{packages:?} installed, yet {} cannot import {module}",
+        python.display()
+    );
+}
+
+/// Runs apt-get to install `packages` unless `present` already holds (one install at a time).
+fn ensure(what: &str, packages: &[&str], present: impl Fn() -> bool) {
+    static INSTALL: std::sync::Mutex<()> = std::sync::Mutex::new(());
     let _one_at_a_time = INSTALL.lock().unwrap_or_else(|e| e.into_inner());
-    if let Some(p) = find() {
-        return p;
+    if present() {
+        return;
     }
     let apt = |args: &[&str]| {
         let out = std::process::Command::new("apt-get")
             .args(args)
             .env("DEBIAN_FRONTEND", "noninteractive")
             .output()
-            .unwrap_or_else(|e| panic!("{binary} is missing and apt-get cannot run: {e}"));
+            .unwrap_or_else(|e| panic!("{what} is missing and apt-get cannot run: {e}"));
         assert!(
             out.status.success(),
-            "{binary} is missing and `apt-get {}` failed:\n{}{}",
+            "{what} is missing and `apt-get {}` failed:\n{}{}",
             args.join(" "),
             String::from_utf8_lossy(&out.stdout),
             String::from_utf8_lossy(&out.stderr)
@@ -114,7 +144,6 @@ pub fn installed(binary: &str, packages: &[&str]) -> std::path::PathBuf {
     let mut install = vec!["install", "-y", "--no-install-recommends"];
     install.extend(packages);
     apt(&install);
-    find().unwrap_or_else(|| panic!("{packages:?} installed, yet {binary} is not on the PATH"))
 }
 
 /// A one-node Slurm cluster started by scripts/slurm-test-cluster.sh (Debian's slurm-wlm and

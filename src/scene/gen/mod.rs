@@ -43,6 +43,11 @@ pub fn build(spec: &GeneratorSpec, ctx: GenContext) -> Mesh {
         GeneratorSpec::Plane => primitives::plane(),
         GeneratorSpec::BigTriangle => primitives::big_triangle(),
         GeneratorSpec::UvSphere { rings, segments } => primitives::uv_sphere(*rings, *segments, 0),
+        GeneratorSpec::Torus {
+            rings,
+            segments,
+            minor,
+        } => primitives::torus(*rings, *segments, *minor),
         GeneratorSpec::SphereLattice {
             count,
             radius,

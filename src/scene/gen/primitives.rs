@@ -1,4 +1,4 @@
-//! Simple shapes: a floor plane, one big triangle, UV spheres and lattices of them.
+//! Simple shapes: a floor plane, one big triangle, UV spheres and lattices of them, a torus.
 //!
 //! Owns these shapes only. Must never place or light them.
 
@@ -72,6 +72,35 @@ pub fn uv_surface(rings: u32, segments: u32, part: u32, f: impl Fn(Vec3) -> Vec3
     m
 }
 
+/// Torus around the y axis: the tube's centre circle has radius 1, the tube radius `minor`
+/// (< 1). `rings` circles of the tube, `segments` vertices each; 2 * rings * segments
+/// triangles, every edge shared by two of them.
+pub fn torus(rings: u32, segments: u32, minor: f32) -> Mesh {
+    let mut m = Mesh::new();
+    for r in 0..rings {
+        let phi = std::f32::consts::TAU * r as f32 / rings as f32;
+        let (out, y_axis) = (Vec3::new(phi.cos(), 0.0, -phi.sin()), Vec3::Y);
+        for s in 0..segments {
+            let theta = std::f32::consts::TAU * s as f32 / segments as f32;
+            m.vertex(
+                out * (1.0 + minor * theta.cos()) + y_axis * (minor * theta.sin()),
+                0,
+            );
+        }
+    }
+    let at = |r: u32, s: u32| (r % rings) * segments + (s % segments);
+    for r in 0..rings {
+        for s in 0..segments {
+            // phi runs counter-clockwise seen from +y and theta from the outside up over the
+            // top, so (a, c, d) and (a, d, b) face away from the tube's centre circle.
+            let (a, b, c, d) = (at(r, s), at(r, s + 1), at(r + 1, s), at(r + 1, s + 1));
+            m.tri(a, c, d);
+            m.tri(a, d, b);
+        }
+    }
+    m
+}
+
 /// count[0] x count[1] x count[2] spheres of `radius` evenly spread in [-1, 1]^3, one part each.
 pub fn sphere_lattice(count: [u32; 3], radius: f32, rings: u32, segments: u32) -> Mesh {
     let mut m = Mesh::new();
@@ -91,4 +120,34 @@ pub fn sphere_lattice(count: [u32; 3], radius: f32, rings: u32, segments: u32) -
         }
     }
     m
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn torus_is_closed_and_faces_out() {
+        let (rings, segments, minor) = (12, 8, 0.3);
+        let m = torus(rings, segments, minor);
+        assert_eq!(m.triangles.len() as u32, 2 * rings * segments);
+        let mut edges = std::collections::BTreeMap::new();
+        for t in &m.triangles {
+            for k in 0..3 {
+                *edges.entry((t[k], t[(k + 1) % 3])).or_insert(0) += 1;
+            }
+            let [a, b, c] = t.map(|i| m.positions[i as usize]);
+            let centroid = (a + b + c) / 3.0;
+            let ring = Vec3::new(centroid.x, 0.0, centroid.z).normalize();
+            let normal = (b - a).cross(c - a);
+            assert!(
+                normal.dot(centroid - ring) > 0.0,
+                "{t:?} faces the tube's axis"
+            );
+        }
+        // Closed and consistently wound: every directed edge once, its reverse once.
+        assert!(edges
+            .keys()
+            .all(|&(u, v)| edges.get(&(u, v)) == Some(&1) && edges.get(&(v, u)) == Some(&1)));
+    }
 }

@@ -1,0 +1,142 @@
+//! The report of `sortsim validate`: network.json and raster.json (what was compared and how
+//! far apart the answers are; byte-identical for identical inputs and tool versions),
+//! cost.json (both programs' wall time per case) and validate.md (the tables, wall times
+//! beside them), and the text the command prints.
+//!
+//! Must never run a comparison, and never put a wall time into network.json or raster.json.
+
+use std::fmt::Write as _;
+use std::path::Path;
+
+use serde::Serialize;
+
+use super::plot::PlotError;
+use super::{to_json, write_text};
+use crate::validate::{network, raster};
+
+/// What one `sortsim validate` ran: either part may be absent.
+#[derive(Default)]
+pub struct Validation {
+    pub network: Option<(network::NetworkValidation, Vec<network::CaseCost>)>,
+    pub raster: Option<(raster::RasterValidation, Vec<raster::CaseCost>)>,
+}
+
+#[derive(Serialize)]
+struct Costs<'a> {
+    network: Option<&'a [network::CaseCost]>,
+    raster: Option<&'a [raster::CaseCost]>,
+}
+
+pub fn write(dir: &Path, v: &Validation) -> Result<(), PlotError> {
+    if let Some((n, _)) = &v.network {
+        write_text(dir, "network.json", &to_json(n))?;
+    }
+    if let Some((r, _)) = &v.raster {
+        write_text(dir, "raster.json", &to_json(r))?;
+    }
+    let costs = Costs {
+        network: v.network.as_ref().map(|(_, c)| c.as_slice()),
+        raster: v.raster.as_ref().map(|(_, c)| c.as_slice()),
+    };
+    write_text(dir, "cost.json", &to_json(&costs))?;
+    write_text(dir, "validate.md", &markdown(v))
+}
+
+/// The tables and verdicts, as printed and as validate.md.
+pub fn markdown(v: &Validation) -> String {
+    let mut s = String::new();
+    if let Some((n, costs)) = &v.network {
+        network_table(&mut s, n, costs);
+    }
+    if let Some((r, costs)) = &v.raster {
+        raster_table(&mut s, r, costs);
+    }
+    s
+}
+
+fn network_table(s: &mut String, n: &network::NetworkValidation, costs: &[network::CaseCost]) {
+    let _ = writeln!(
+        s,
+        "## Network: sortsim `flow` against {}\n\nLinks of {}, routes given to SimGrid as sortsim computed them. Difference: \
+         |SimGrid - sortsim| / sortsim over each message's transfer time (completion - start).\n",
+        n.model, n.link_bandwidth
+    );
+    let _ = writeln!(
+        s,
+        "| case | topology | messages | contended | makespan (s) | largest difference | mean difference | sortsim wall (s) | SimGrid wall (s) |"
+    );
+    let _ = writeln!(
+        s,
+        "| --- | --- | ---: | ---: | ---: | ---: | ---: | ---: | ---: |"
+    );
+    for (c, cost) in n.cases.iter().zip(costs) {
+        let dims: Vec<String> = c.dims.iter().map(u32::to_string).collect();
+        let _ = writeln!(
+            s,
+            "| {} | {} {} | {} | {} | {:.6} | {:.2e} | {:.2e} | {:.3} | {:.3} |",
+            c.name,
+            c.topology,
+            dims.join("x"),
+            c.messages,
+            c.contended,
+            c.makespan_s,
+            c.max_rel_diff,
+            c.mean_rel_diff,
+            cost.sortsim_wall_s,
+            cost.simgrid_wall_s
+        );
+    }
+    let _ = writeln!(
+        s,
+        "\nLargest difference over all messages: {:.2e} (tolerance {:.0e}): {}\n",
+        n.max_rel_diff,
+        n.tolerance,
+        verdict(n.pass)
+    );
+}
+
+fn raster_table(s: &mut String, r: &raster::RasterValidation, costs: &[raster::CaseCost]) {
+    let _ = writeln!(
+        s,
+        "## Rasterizer: sortsim against {}\n\nThe same snapped triangles, one flat id each, 512x512; convention {:?}. \
+         A depth tie: both triangles cover the pixel centre and their depths there differ by at most {} (sortsim's 32-bit units).\n",
+        r.renderer, r.convention, r.depth_tie
+    );
+    let _ = writeln!(
+        s,
+        "| case | triangles | crossing the border | pixels covered | coverage differences | depth ties | largest tie gap | other y convention | llvmpipe wall (s) |"
+    );
+    let _ = writeln!(
+        s,
+        "| --- | ---: | ---: | ---: | ---: | ---: | ---: | ---: | ---: |"
+    );
+    for (c, cost) in r.cases.iter().zip(costs) {
+        let _ = writeln!(
+            s,
+            "| {} | {} | {} | {} | {} | {} | {} | {} | {:.3} |",
+            c.name,
+            c.triangles,
+            c.crossing_border,
+            c.covered,
+            c.coverage_differences,
+            c.depth_ties,
+            c.largest_tie_gap,
+            c.other_convention_differences,
+            cost.llvmpipe_wall_s
+        );
+    }
+    let _ = writeln!(
+        s,
+        "\nCoverage differences over all cases: {} (target 0): {}\n",
+        r.coverage_differences,
+        verdict(r.pass)
+    );
+}
+
+fn verdict(pass: bool) -> &'static str {
+    if pass {
+        "agrees"
+    } else {
+        "DIFFERS"
+    }
+}

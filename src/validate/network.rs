@@ -1,0 +1,299 @@
+//! `flow` against SimGrid: the same message patterns on the same meshes and tori, with the
+//! same explicit dimension-order routes, through sortsim's exact max-min solver and through
+//! SimGrid's CM02 model (every refinement off, zero latency); every message's completion
+//! compared.
+//!
+//! Owns the cases (what each pattern exercises), the platform description handed to SimGrid
+//! and the comparison. Must never give SimGrid a route sortsim did not compute, nor compare
+//! anything but each message's transfer time.
+
+use std::collections::BTreeSet;
+use std::ffi::OsStr;
+use std::path::Path;
+use std::time::Instant;
+
+use serde::{Deserialize, Serialize};
+
+use super::python::{self, ToolError, SIMGRID_FLOW};
+use crate::net::pattern::{self, run_pattern, Pattern};
+use crate::net::{Fidelity, Network, NetworkConfig, Switching, TopologyKind};
+use crate::units::{Bytes, SimTime};
+
+/// The largest relative difference allowed between sortsim's and SimGrid's transfer time of
+/// any message: 0.1%. Not 0 because SimGrid solves in f64 (its max-min precision set to 1e-9
+/// here) while sortsim rounds rates down to whole bits per second and completions up to the
+/// picosecond; on these patterns both errors stay far below 1e-6.
+pub const TOLERANCE: f64 = 1e-3;
+
+/// One pattern on one network.
+pub struct Case {
+    pub name: String,
+    pub what: &'static str,
+    pub topology: TopologyKind,
+    pub dims: Vec<u32>,
+    pub pattern: Pattern,
+}
+
+/// What one case showed.
+#[derive(Clone, Debug, PartialEq, Serialize)]
+pub struct CaseResult {
+    pub name: String,
+    pub what: &'static str,
+    pub topology: &'static str,
+    pub dims: Vec<u32>,
+    pub messages: usize,
+    /// Messages that took at least 1% longer than alone on the network: how much sharing
+    /// the case puts to the test.
+    pub contended: usize,
+    pub makespan_s: f64,
+    pub max_rel_diff: f64,
+    pub mean_rel_diff: f64,
+    /// The message with the largest difference: its index, sortsim's and SimGrid's transfer
+    /// time in seconds.
+    pub worst: (usize, f64, f64),
+}
+
+/// Host wall time of both programs on one case (kept apart: it varies from run to run).
+#[derive(Clone, Debug, Serialize)]
+pub struct CaseCost {
+    pub name: String,
+    pub messages: usize,
+    pub sortsim_wall_s: f64,
+    pub simgrid_wall_s: f64,
+}
+
+#[derive(Clone, Debug, PartialEq, Serialize)]
+pub struct NetworkValidation {
+    pub model: &'static str,
+    pub link_bandwidth: String,
+    pub tolerance: f64,
+    pub max_rel_diff: f64,
+    pub pass: bool,
+    pub cases: Vec<CaseResult>,
+}
+
+/// The network every case runs on: the Delta's 17 MB/s links, zero latency, wormhole, flow.
+fn config(topology: TopologyKind, dims: &[u32]) -> NetworkConfig {
+    NetworkConfig {
+        topology,
+        dims: dims.to_vec(),
+        link_bandwidth: "17MB/s".parse().expect("a valid bandwidth"),
+        hop_latency: SimTime::ZERO,
+        switching: Switching::Wormhole,
+        packet_size: Bytes::new(4096),
+        fidelity: Fidelity::Flow,
+    }
+}
+
+/// The patterns the issue of record names, on meshes and tori; `quick` keeps the smaller
+/// half.
+pub fn cases(quick: bool) -> Vec<Case> {
+    let kib = |k: u64| Bytes::new(k * 1024);
+    let mixed = [kib(4), kib(16), kib(64), kib(256), kib(1024)];
+    let ms = SimTime::from_us(1000);
+    let case = |name: &str, what, topology, dims: &[u32], pattern| Case {
+        name: name.to_string(),
+        what,
+        topology,
+        dims: dims.to_vec(),
+        pattern,
+    };
+    use TopologyKind::{Mesh, Torus};
+    let mut all = vec![
+        case(
+            "all-to-all-mesh-4x4",
+            "every node to every other at once, 64 KiB",
+            Mesh,
+            &[4, 4],
+            pattern::all_to_all(16, kib(64)),
+        ),
+        case(
+            "hot-spot-mesh-8x8",
+            "every node to node 27 at once, 256 KiB",
+            Mesh,
+            &[8, 8],
+            pattern::hot_spot(64, 27, kib(256)),
+        ),
+        case(
+            "complement-torus-8x8",
+            "node i to node 63 - i at once, 128 KiB",
+            Torus,
+            &[8, 8],
+            pattern::bit_complement(64, kib(128)),
+        ),
+        case(
+            "permutations-mesh-8x8",
+            "8 random permutations, staggered over 20 ms, 4 KiB to 1 MiB",
+            Mesh,
+            &[8, 8],
+            pattern::random_permutations(64, 8, &mixed, ms.times(20), 1),
+        ),
+    ];
+    if !quick {
+        all.extend([
+            case(
+                "all-to-all-subset-torus-8x8",
+                "every node to 8 random others at once, 16 KiB",
+                Torus,
+                &[8, 8],
+                pattern::random_pairs(64, 8, kib(16), 2),
+            ),
+            case(
+                "transpose-mesh-16x16",
+                "node (x, y) to node (y, x) at once, 1 MiB",
+                Mesh,
+                &[16, 16],
+                pattern::transpose(&[16, 16], kib(1024)),
+            ),
+            case(
+                "complement-mesh-16x32",
+                "node i to node 511 - i at once on the Delta's mesh, 64 KiB",
+                Mesh,
+                &[16, 32],
+                pattern::bit_complement(512, kib(64)),
+            ),
+            case(
+                "permutations-torus-16x32",
+                "4 random permutations, staggered over 40 ms, 4 KiB to 1 MiB",
+                Torus,
+                &[16, 32],
+                pattern::random_permutations(512, 4, &mixed, ms.times(40), 3),
+            ),
+            case(
+                "staggered-torus-16x16",
+                "2,000 random pairs, staggered over 20 ms, 4 KiB to 1 MiB",
+                Torus,
+                &[16, 16],
+                pattern::random_staggered(256, 2000, &mixed, ms.times(20), 4),
+            ),
+        ]);
+    }
+    all
+}
+
+/// What SimGrid is handed: the platform and the messages, routes explicit.
+#[derive(Serialize)]
+struct SimgridInput {
+    nodes: u32,
+    bandwidth_bps: f64,
+    links: usize,
+    routes: Vec<(u32, u32, Vec<u32>)>,
+    messages: Vec<(u32, u32, u64, f64)>,
+}
+
+#[derive(Deserialize)]
+struct SimgridAnswer {
+    completion_s: Vec<f64>,
+    wall_s: f64,
+}
+
+/// Runs every case through both programs (SimGrid's script runs in `work`).
+pub fn validate(
+    cases: &[Case],
+    work: &Path,
+) -> Result<(NetworkValidation, Vec<CaseCost>), ToolError> {
+    let mut results = Vec::new();
+    let mut costs = Vec::new();
+    for (i, case) in cases.iter().enumerate() {
+        let (result, cost) = compare(case, &work.join(format!("case{i}.json")), work)?;
+        results.push(result);
+        costs.push(cost);
+    }
+    let max_rel_diff = results.iter().map(|r| r.max_rel_diff).fold(0.0, f64::max);
+    let validation = NetworkValidation {
+        model: "SimGrid CM02 (crosstraffic 0, TCP-gamma 0, weight-S 0, latency 0)",
+        link_bandwidth: config(TopologyKind::Mesh, &[1]).link_bandwidth.to_string(),
+        tolerance: TOLERANCE,
+        max_rel_diff,
+        pass: max_rel_diff <= TOLERANCE,
+        cases: results,
+    };
+    Ok((validation, costs))
+}
+
+fn compare(case: &Case, input: &Path, work: &Path) -> Result<(CaseResult, CaseCost), ToolError> {
+    let cfg = config(case.topology, &case.dims);
+    let began = Instant::now();
+    let ours = run_pattern(&cfg, &case.pattern).expect("built-in validation cases are valid");
+    let sortsim_wall_s = began.elapsed().as_secs_f64();
+
+    let net = Network::new(&cfg).expect("built-in validation networks are valid");
+    let pairs: BTreeSet<(u32, u32)> = ours
+        .messages
+        .iter()
+        .map(|m| (m.src, m.dst.expect("no broadcasts on meshes and tori")))
+        .collect();
+    let sg_input = SimgridInput {
+        nodes: net.nodes(),
+        bandwidth_bps: cfg.link_bandwidth.bits_per_s() as f64 / 8.0,
+        links: net.link_count(),
+        routes: pairs
+            .iter()
+            .map(|&(s, d)| (s, d, net.route(s, d).expect("every pair is routable")))
+            .collect(),
+        messages: ours
+            .messages
+            .iter()
+            .map(|m| (m.src, m.dst.unwrap_or(0), m.bytes, seconds(m.start_ps)))
+            .collect(),
+    };
+    let text = serde_json::to_string(&sg_input).expect("plain data serializes");
+    std::fs::write(input, text).map_err(|source| ToolError::Io {
+        path: input.to_path_buf(),
+        source,
+    })?;
+    let stdout = python::run(&SIMGRID_FLOW, work, &[OsStr::new(input)])?;
+    let theirs: SimgridAnswer = python::parse(&SIMGRID_FLOW, &stdout)?;
+    if theirs.completion_s.len() != ours.messages.len() {
+        return Err(ToolError::Failed {
+            script: SIMGRID_FLOW.name,
+            detail: format!(
+                "{} completions for {} messages",
+                theirs.completion_s.len(),
+                ours.messages.len()
+            ),
+        });
+    }
+
+    let timing = net.timing();
+    let mut worst = (0, 0.0, 0.0);
+    let (mut max_rel_diff, mut sum, mut contended) = (0.0f64, 0.0, 0);
+    for (i, (m, &done)) in ours.messages.iter().zip(&theirs.completion_s).enumerate() {
+        let ours_s = seconds(m.latency_ps);
+        let theirs_s = done - seconds(m.start_ps);
+        let rel = (theirs_s - ours_s).abs() / ours_s;
+        sum += rel;
+        if rel > max_rel_diff || i == 0 {
+            max_rel_diff = max_rel_diff.max(rel);
+            worst = (i, ours_s, theirs_s);
+        }
+        let alone =
+            timing.contention_free(net.hops(m.src, m.dst.unwrap_or(0)), Bytes::new(m.bytes));
+        if m.latency_ps * 100 >= alone.ps() * 101 {
+            contended += 1;
+        }
+    }
+    let result = CaseResult {
+        name: case.name.clone(),
+        what: case.what,
+        topology: case.topology.name(),
+        dims: case.dims.clone(),
+        messages: ours.messages.len(),
+        contended,
+        makespan_s: ours.makespan_s,
+        max_rel_diff,
+        mean_rel_diff: sum / ours.messages.len().max(1) as f64,
+        worst,
+    };
+    let cost = CaseCost {
+        name: case.name.clone(),
+        messages: ours.messages.len(),
+        sortsim_wall_s,
+        simgrid_wall_s: theirs.wall_s,
+    };
+    Ok((result, cost))
+}
+
+fn seconds(ps: u64) -> f64 {
+    ps as f64 * 1e-12
+}
