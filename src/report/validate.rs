@@ -98,9 +98,10 @@ fn network_table(s: &mut String, n: &network::NetworkValidation, costs: &[networ
 fn raster_table(s: &mut String, r: &raster::RasterValidation, costs: &[raster::CaseCost]) {
     let _ = writeln!(
         s,
-        "## Rasterizer: sortsim against {}\n\nThe same snapped triangles, one flat id each, 512x512; convention {:?}. \
-         A depth tie: both triangles cover the pixel centre and their depths there differ by at most {} (sortsim's 32-bit units).\n",
-        r.renderer, r.convention, r.depth_tie
+        "## Rasterizer: sortsim against {}\n\nThe same snapped triangles, one flat id each, 512x512, {}. \
+         A depth tie: both triangles cover the pixel centre and their depths there differ by at most {} (sortsim's 32-bit units). \
+         \"Other y convention\": pixels that would differ with GL's window y running up instead.\n",
+        r.renderer, r.convention.describe(), r.depth_tie
     );
     let _ = writeln!(
         s,

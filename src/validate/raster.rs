@@ -55,6 +55,13 @@ pub enum Convention {
 }
 
 impl Convention {
+    pub fn describe(self) -> &'static str {
+        match self {
+            Convention::WindowYIsPixelY => "GL's window y = sortsim's pixel y (y down)",
+            Convention::WindowYFlipped => "GL's window y = height - sortsim's pixel y (y up)",
+        }
+    }
+
     fn script_arg(self) -> &'static str {
         match self {
             Convention::WindowYIsPixelY => "1",
