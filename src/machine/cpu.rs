@@ -21,7 +21,12 @@ pub enum Op {
     ByteCopy,
     BucketInsert,
     ActiveListOp,
+    /// Classifying one triangle into one region it touches (and counting it there).
     RegionCount,
+    /// Summing one region's count received from a child of the load-balancing tree: taking
+    /// the count out of the message and adding it (paper 002's collection of per-region
+    /// counts, whose messages grow with processors x granularity).
+    CountSum,
     AssignRegion,
     ClearPixel,
     CoverageMask,
@@ -32,7 +37,7 @@ pub enum Op {
 }
 
 impl Op {
-    pub const ALL: [Op; 19] = [
+    pub const ALL: [Op; 20] = [
         Op::TransformVertex,
         Op::ClipTriangle,
         Op::SetupTriangle,
@@ -45,6 +50,7 @@ impl Op {
         Op::BucketInsert,
         Op::ActiveListOp,
         Op::RegionCount,
+        Op::CountSum,
         Op::AssignRegion,
         Op::ClearPixel,
         Op::CoverageMask,
@@ -68,6 +74,7 @@ impl Op {
             Op::BucketInsert => "bucket_insert",
             Op::ActiveListOp => "active_list_op",
             Op::RegionCount => "region_count",
+            Op::CountSum => "count_sum",
             Op::AssignRegion => "assign_region",
             Op::ClearPixel => "clear_pixel",
             Op::CoverageMask => "coverage_mask",

@@ -309,7 +309,7 @@ async fn sum_counts(node: &Node<Msg>, ctx: &Ctx, frame: u32, mut counts: Vec<u32
         for (a, b) in counts.iter_mut().zip(theirs) {
             *a += b;
         }
-        node.compute(&Counts::of(Op::RegionCount, counts.len() as u64))
+        node.compute(&Counts::of(Op::CountSum, counts.len() as u64))
             .await;
     }
     if me != 0 {
