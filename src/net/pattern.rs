@@ -264,17 +264,11 @@ pub fn random_permutations(
     seed: u64,
 ) -> Pattern {
     use rand::seq::SliceRandom;
-    use rand::Rng;
-    assert!(
-        nodes >= 2 && !sizes.is_empty(),
-        "random_permutations needs 2 nodes and a size"
-    );
-    let mut rng = ChaCha8Rng::seed_from_u64(seed);
-    let spread_ns = (spread.ps() / 1000).max(1);
+    let mut draw = Draw::new(nodes, sizes, spread, seed);
     let mut messages = Vec::new();
     for _ in 0..rounds {
         let mut dst: Vec<u32> = (0..nodes).collect();
-        dst.shuffle(&mut rng);
+        dst.shuffle(&mut draw.rng);
         // Rotating the fixed points among themselves leaves a permutation without any.
         let fixed: Vec<usize> = (0..nodes as usize)
             .filter(|&i| dst[i] == i as u32)
@@ -289,8 +283,7 @@ pub fn random_permutations(
             }
         }
         for (src, &d) in dst.iter().enumerate() {
-            let bytes = sizes[rng.gen_range(0..sizes.len())];
-            let start = SimTime::from_ns(rng.gen_range(0..spread_ns));
+            let (bytes, start) = draw.size_and_start();
             messages.push(PatternMessage::new(src as u32, d, bytes, start));
         }
     }
@@ -309,23 +302,47 @@ pub fn random_staggered(
     seed: u64,
 ) -> Pattern {
     use rand::Rng;
-    assert!(
-        nodes >= 2 && !sizes.is_empty(),
-        "random_staggered needs 2 nodes and a size"
-    );
-    let mut rng = ChaCha8Rng::seed_from_u64(seed);
-    let spread_ns = (spread.ps() / 1000).max(1);
+    let mut draw = Draw::new(nodes, sizes, spread, seed);
     let messages = (0..count)
         .map(|_| {
-            let src = rng.gen_range(0..nodes);
-            let other = rng.gen_range(0..nodes - 1);
+            let src = draw.rng.gen_range(0..nodes);
+            let other = draw.rng.gen_range(0..nodes - 1);
             let dst = if other >= src { other + 1 } else { other };
-            let bytes = sizes[rng.gen_range(0..sizes.len())];
-            let start = SimTime::from_ns(rng.gen_range(0..spread_ns));
+            let (bytes, start) = draw.size_and_start();
             PatternMessage::new(src, dst, bytes, start)
         })
         .collect();
     Pattern::new(messages)
+}
+
+/// The random stream of the staggered generators and what they draw from it.
+struct Draw<'a> {
+    rng: ChaCha8Rng,
+    sizes: &'a [Bytes],
+    spread_ns: u64,
+}
+
+impl<'a> Draw<'a> {
+    /// Panics if `nodes < 2` or `sizes` is empty.
+    fn new(nodes: u32, sizes: &'a [Bytes], spread: SimTime, seed: u64) -> Draw<'a> {
+        assert!(
+            nodes >= 2 && !sizes.is_empty(),
+            "staggered patterns need 2 nodes and a size"
+        );
+        Draw {
+            rng: ChaCha8Rng::seed_from_u64(seed),
+            sizes,
+            spread_ns: (spread.ps() / 1000).max(1),
+        }
+    }
+
+    /// A size from the list, then a start in `[0, spread)` whole nanoseconds.
+    fn size_and_start(&mut self) -> (Bytes, SimTime) {
+        use rand::Rng;
+        let bytes = self.sizes[self.rng.gen_range(0..self.sizes.len())];
+        let start = SimTime::from_ns(self.rng.gen_range(0..self.spread_ns));
+        (bytes, start)
+    }
 }
 
 fn zero_time() -> String {
