@@ -93,7 +93,8 @@ fn request_balancing_options_need_request_balancing() {
     .unwrap();
     let e = check(AlgorithmId::SortLastSnooping, &[("assign", "request")]).unwrap_err();
     assert!(
-        e.to_string().contains("only sort-last/df and sort-last/pc"),
+        e.to_string()
+            .contains("only sort-last/df, sort-last/pc and sort-last/tree"),
         "{e}"
     );
 }

@@ -45,13 +45,14 @@ fn supersampled_reference(scene: &Scene, side: u32) -> Framebuffer {
     downsample(&fb, side)
 }
 
-const ALGOS: [&str; 6] = [
+const ALGOS: [&str; 7] = [
     "sort-last/df",
     "sort-last/pc",
     "sort-last/scanline-flow",
     "sort-last/pixelflow",
     "sort-last/direct-send",
     "sort-last/snooping",
+    "sort-last/tree",
 ];
 
 #[test]

@@ -46,10 +46,12 @@ pub enum AlgorithmId {
     SortLastDirectSend,
     /// Paper 003: sparse, distributed snooping on a broadcast bus.
     SortLastSnooping,
+    /// IceT's reduce tree: whole frames merged in pairs up a binary tree.
+    SortLastTree,
 }
 
 impl AlgorithmId {
-    pub const ALL: [AlgorithmId; 8] = [
+    pub const ALL: [AlgorithmId; 9] = [
         AlgorithmId::SortMiddleStatic,
         AlgorithmId::SortMiddleEllsworth,
         AlgorithmId::SortLastDf,
@@ -58,6 +60,7 @@ impl AlgorithmId {
         AlgorithmId::SortLastPixelFlow,
         AlgorithmId::SortLastDirectSend,
         AlgorithmId::SortLastSnooping,
+        AlgorithmId::SortLastTree,
     ];
 
     pub fn id(self) -> &'static str {
@@ -70,6 +73,7 @@ impl AlgorithmId {
             AlgorithmId::SortLastPixelFlow => "sort-last/pixelflow",
             AlgorithmId::SortLastDirectSend => "sort-last/direct-send",
             AlgorithmId::SortLastSnooping => "sort-last/snooping",
+            AlgorithmId::SortLastTree => "sort-last/tree",
         }
     }
 
@@ -86,6 +90,7 @@ impl AlgorithmId {
             AlgorithmId::SortLastPixelFlow => Family::SortLast(L::PixelFlow),
             AlgorithmId::SortLastDirectSend => Family::SortLast(L::DirectSend),
             AlgorithmId::SortLastSnooping => Family::SortLast(L::Snooping),
+            AlgorithmId::SortLastTree => Family::SortLast(L::Tree),
         }
     }
 
@@ -108,7 +113,7 @@ impl AlgorithmId {
         match self {
             AlgorithmId::SortMiddleStatic => docs::<sort_middle::StaticOptions>(),
             AlgorithmId::SortMiddleEllsworth => docs::<sort_middle::EllsworthOptions>(),
-            AlgorithmId::SortLastDf => docs::<sort_last::DfOptions>(),
+            AlgorithmId::SortLastDf | AlgorithmId::SortLastTree => docs::<sort_last::DfOptions>(),
             AlgorithmId::SortLastPc => docs::<sort_last::PcOptions>(),
             AlgorithmId::SortLastDirectSend => docs::<sort_last::DirectSendOptions>(),
             AlgorithmId::SortLastScanlineFlow
@@ -124,7 +129,9 @@ impl AlgorithmId {
         let own = match self {
             AlgorithmId::SortMiddleStatic => schema_for!(sort_middle::StaticOptions),
             AlgorithmId::SortMiddleEllsworth => schema_for!(sort_middle::EllsworthOptions),
-            AlgorithmId::SortLastDf => schema_for!(sort_last::DfOptions),
+            AlgorithmId::SortLastDf | AlgorithmId::SortLastTree => {
+                schema_for!(sort_last::DfOptions)
+            }
             AlgorithmId::SortLastPc => schema_for!(sort_last::PcOptions),
             AlgorithmId::SortLastDirectSend => schema_for!(sort_last::DirectSendOptions),
             AlgorithmId::SortLastScanlineFlow

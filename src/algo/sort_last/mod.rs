@@ -1,13 +1,15 @@
 //! Sort-last rendering: every processor renders whole primitives of its own share of the
 //! database into a local frame, and the frames are merged by depth over the network.
 //!
-//! Six variants, one module each, reading like their papers:
+//! Seven variants, one module each, reading like their papers:
 //! * full-frame, merging after rendering (paper 001's SLML-full): `df` (distributed frame
 //!   buffer over a torus), `pc` (pipeline composition by scanline chunks);
 //! * full-frame, merging during rendering (SLMF-full): `scanline_flow`;
 //! * paper 003's merges: `pixelflow` (whole frames down a pipeline), `direct_send` (each
 //!   pixel to the node owning its screen location), `snooping` (broadcast on a bus, listeners
-//!   delete what the broadcast hides).
+//!   delete what the broadcast hides);
+//! * beyond the papers, the compositing IceT uses: `tree` (whole frames merged in pairs up a
+//!   binary tree).
 //!
 //! The mechanisms they share live beside them: `pixel` (the pixel a merge ships: an ordinary
 //! active pixel, or with `aa=adaptive` a pixel of paper 000's adaptive buffer carrying its
@@ -35,6 +37,7 @@ mod request;
 mod scanline_flow;
 mod snooping;
 mod sparse;
+mod tree;
 
 use std::cell::RefCell;
 use std::rc::Rc;
@@ -55,7 +58,7 @@ use options::AssignRule;
 pub use options::{DealOptions, DfOptions, DirectSendOptions, PcOptions};
 use pixel::{AaPx, Px, ShippedPixel};
 
-/// The six sort-last algorithms.
+/// The seven sort-last algorithms.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub enum Variant {
     Df,
@@ -64,6 +67,7 @@ pub enum Variant {
     PixelFlow,
     DirectSend,
     Snooping,
+    Tree,
 }
 
 impl Variant {
@@ -78,7 +82,7 @@ impl Variant {
     /// Whether request-based load balancing applies: it runs at the end of the rendering
     /// phase, so only where rendering and merging are consecutive (paper 001, section 4.1).
     fn balances_on_request(self) -> bool {
-        matches!(self, Variant::Df | Variant::Pc)
+        matches!(self, Variant::Df | Variant::Pc | Variant::Tree)
     }
 }
 
@@ -359,6 +363,18 @@ fn requirements(cfg: &RunConfig, variant: Variant) -> Result<(), RunError> {
             )));
         }
     }
+    if variant == Variant::Tree {
+        // Node i sends its frame in round trailing_zeros(i), to i minus its lowest set bit.
+        let mut partners = (1..m.nodes).map(|i| (i, i - (1 << i.trailing_zeros())));
+        if let Some((from, to)) = partners.find(|&(a, b)| !net.can_route(a, b)) {
+            return Err(RunError::Unsupported(format!(
+                "sort-last/tree sends node {from}'s frame to node {to}, but machine '{}' ({}) \
+                 has no route between them; use a torus, mesh, hypercube, crossbar, bus or ring",
+                m.name,
+                m.network.topology.name()
+            )));
+        }
+    }
     if variant == Variant::Snooping && !net.supports_broadcast() {
         return Err(RunError::Unsupported(format!(
             "sort-last/snooping needs a broadcast medium, but machine '{}' is a {}; use a \
@@ -395,7 +411,7 @@ fn settings(cfg: &RunConfig, variant: Variant) -> Result<Settings, RunError> {
             };
             (c, aa)
         }
-        Variant::Df => {
+        Variant::Df | Variant::Tree => {
             let (d, aa) = parse::<DfOptions>(o, algo)?;
             let c = Common {
                 assign: d.assign,
@@ -438,7 +454,8 @@ fn settings(cfg: &RunConfig, variant: Variant) -> Result<Settings, RunError> {
                 o,
                 "assign",
                 "scatter, random or background-last: request balancing runs at the end \
-                 of rendering, so only sort-last/df and sort-last/pc use it (paper 001)",
+                 of rendering, so only sort-last/df, sort-last/pc and sort-last/tree use it \
+                 (paper 001)",
             ))
         }
         AssignRule::Request => Assignment::Request {
@@ -520,6 +537,7 @@ fn simulate_variant<P: ShippedPixel>(
         Variant::ScanlineFlow => simulate(cfg, ctx, scanline_flow::processor::<P>)?,
         Variant::PixelFlow => simulate(cfg, ctx, pixelflow::processor::<P>)?,
         Variant::DirectSend => simulate(cfg, ctx, direct_send::processor::<P>)?,
+        Variant::Tree => simulate(cfg, ctx, tree::processor::<P>)?,
         Variant::Snooping => {
             let shared = Rc::new(snooping::Shared::default());
             simulate(cfg, ctx, move |node, ctx| {

@@ -77,7 +77,8 @@ pub struct PcOptions {
     pub chunk_rows: Scanlines,
 }
 
-/// sort-last/df (paper 001's Distributed Framebuffer).
+/// sort-last/df (paper 001's Distributed Framebuffer) and sort-last/tree (IceT's reduce
+/// tree): the assignment and request balancing.
 #[derive(Clone, Debug, serde::Deserialize, schemars::JsonSchema)]
 #[serde(rename_all = "kebab-case")]
 pub struct DfOptions {

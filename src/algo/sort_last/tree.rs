@@ -1,0 +1,70 @@
+//! `sort-last/tree` (IceT's reduce tree): after rendering, nodes merge whole frames in pairs
+//! up a binary tree, and node 0 ends with the image.
+//!
+//! ```text
+//! render my share into my full frame
+//! for stride s = 1, 2, 4, ... while s < N:
+//!   if my id is an odd multiple of s: send my frame to node id - s; done
+//!   if node id + s exists: receive its frame and z-merge it into mine
+//! node 0 holds the image
+//! ```
+//!
+//! Any N works: a node whose partner id + s does not exist just waits for the next round.
+//! Every merge moves and depth-compares a full frame (A pixels), so a frame costs N - 1
+//! full-frame messages and log2 N rounds on the critical path; the sender's frame travels
+//! as one message.
+//!
+//! Must never hold full frames on the host: frames travel as their active pixels, charged
+//! as full frames.
+
+use super::full_frame::{self, tag, Msg, CHUNK};
+use super::pixel::ShippedPixel;
+use super::{local, request, Ctx};
+use crate::engine::{Filter, Node, SimError};
+use std::rc::Rc;
+
+pub(super) async fn processor<P: ShippedPixel>(
+    node: Node<Msg<P>>,
+    ctx: Rc<Ctx>,
+) -> Result<(), SimError> {
+    let me = node.id();
+    let n = ctx.n;
+    let (w, h) = (ctx.viewport.width(), ctx.viewport.height());
+    for frame in ctx.frames() {
+        full_frame::start_frame(&node, &ctx, frame).await?;
+        node.phase("clear");
+        local::clear_full_frame(&node, &ctx).await?;
+        node.phase("render");
+        let mut pixels = request::render_share(&node, &ctx, frame).await?;
+
+        node.phase("merge");
+        let mut stride = 1;
+        while stride < n {
+            if me % (2 * stride) == stride {
+                full_frame::send_chunk(&node, &ctx, frame, me - stride, (0, h), pixels).await;
+                pixels = Vec::new();
+                break;
+            }
+            if me + stride < n {
+                let input = ctx.rows_bytes(h);
+                node.alloc("input frame", input)?;
+                let env = node
+                    .recv(Filter::tag(tag(CHUNK, frame)).and_source(me + stride))
+                    .await;
+                let Msg::Chunk { pixels: theirs, .. } = env.payload else {
+                    unreachable!("filtered by tag")
+                };
+                let charged = u64::from(w) * u64::from(h);
+                pixels = ctx.merge_rows(&node, &theirs, &pixels, charged).await;
+                node.free("input frame", input)?;
+            }
+            stride *= 2;
+        }
+        local::free_full_frame(&node, &ctx)?;
+        ctx.end_aa(&node, frame)?;
+        if me == 0 {
+            full_frame::end_frame(&node, &ctx, frame, &pixels).await?;
+        }
+    }
+    Ok(())
+}
