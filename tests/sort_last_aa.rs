@@ -45,7 +45,7 @@ fn supersampled_reference(scene: &Scene, side: u32) -> Framebuffer {
     downsample(&fb, side)
 }
 
-const ALGOS: [&str; 7] = [
+const ALGOS: [&str; 8] = [
     "sort-last/df",
     "sort-last/pc",
     "sort-last/scanline-flow",
@@ -53,6 +53,7 @@ const ALGOS: [&str; 7] = [
     "sort-last/direct-send",
     "sort-last/snooping",
     "sort-last/tree",
+    "sort-last/binary-swap",
 ];
 
 #[test]

@@ -50,7 +50,7 @@ fn differing(a: &Framebuffer, b: &Framebuffer, levels: u8) -> usize {
 }
 
 /// Every (algorithm, options) pair that merges adaptive pixels.
-const RUNS: [(&str, &[(&str, &str)]); 8] = [
+const RUNS: [(&str, &[(&str, &str)]); 9] = [
     ("sort-last/df", &[]),
     ("sort-last/pc", &[]),
     ("sort-last/scanline-flow", &[]),
@@ -59,6 +59,7 @@ const RUNS: [(&str, &[(&str, &str)]); 8] = [
     ("sort-last/direct-send", &[("local-zbuffer", "on")]),
     ("sort-last/snooping", &[]),
     ("sort-last/tree", &[]),
+    ("sort-last/binary-swap", &[]),
 ];
 
 /// Without reclaiming (which depends on the order triangles arrive) and with blocks to

@@ -48,10 +48,12 @@ pub enum AlgorithmId {
     SortLastSnooping,
     /// IceT's reduce tree: whole frames merged in pairs up a binary tree.
     SortLastTree,
+    /// Binary swap (Ma et al. 1994): halves of the image exchanged with partners.
+    SortLastBinarySwap,
 }
 
 impl AlgorithmId {
-    pub const ALL: [AlgorithmId; 9] = [
+    pub const ALL: [AlgorithmId; 10] = [
         AlgorithmId::SortMiddleStatic,
         AlgorithmId::SortMiddleEllsworth,
         AlgorithmId::SortLastDf,
@@ -61,6 +63,7 @@ impl AlgorithmId {
         AlgorithmId::SortLastDirectSend,
         AlgorithmId::SortLastSnooping,
         AlgorithmId::SortLastTree,
+        AlgorithmId::SortLastBinarySwap,
     ];
 
     pub fn id(self) -> &'static str {
@@ -74,6 +77,7 @@ impl AlgorithmId {
             AlgorithmId::SortLastDirectSend => "sort-last/direct-send",
             AlgorithmId::SortLastSnooping => "sort-last/snooping",
             AlgorithmId::SortLastTree => "sort-last/tree",
+            AlgorithmId::SortLastBinarySwap => "sort-last/binary-swap",
         }
     }
 
@@ -91,6 +95,7 @@ impl AlgorithmId {
             AlgorithmId::SortLastDirectSend => Family::SortLast(L::DirectSend),
             AlgorithmId::SortLastSnooping => Family::SortLast(L::Snooping),
             AlgorithmId::SortLastTree => Family::SortLast(L::Tree),
+            AlgorithmId::SortLastBinarySwap => Family::SortLast(L::BinarySwap),
         }
     }
 
@@ -113,7 +118,9 @@ impl AlgorithmId {
         match self {
             AlgorithmId::SortMiddleStatic => docs::<sort_middle::StaticOptions>(),
             AlgorithmId::SortMiddleEllsworth => docs::<sort_middle::EllsworthOptions>(),
-            AlgorithmId::SortLastDf | AlgorithmId::SortLastTree => docs::<sort_last::DfOptions>(),
+            AlgorithmId::SortLastDf
+            | AlgorithmId::SortLastTree
+            | AlgorithmId::SortLastBinarySwap => docs::<sort_last::DfOptions>(),
             AlgorithmId::SortLastPc => docs::<sort_last::PcOptions>(),
             AlgorithmId::SortLastDirectSend => docs::<sort_last::DirectSendOptions>(),
             AlgorithmId::SortLastScanlineFlow
@@ -129,9 +136,9 @@ impl AlgorithmId {
         let own = match self {
             AlgorithmId::SortMiddleStatic => schema_for!(sort_middle::StaticOptions),
             AlgorithmId::SortMiddleEllsworth => schema_for!(sort_middle::EllsworthOptions),
-            AlgorithmId::SortLastDf | AlgorithmId::SortLastTree => {
-                schema_for!(sort_last::DfOptions)
-            }
+            AlgorithmId::SortLastDf
+            | AlgorithmId::SortLastTree
+            | AlgorithmId::SortLastBinarySwap => schema_for!(sort_last::DfOptions),
             AlgorithmId::SortLastPc => schema_for!(sort_last::PcOptions),
             AlgorithmId::SortLastDirectSend => schema_for!(sort_last::DirectSendOptions),
             AlgorithmId::SortLastScanlineFlow

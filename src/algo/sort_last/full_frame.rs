@@ -50,6 +50,9 @@ pub enum Msg<P> {
     Credit { frame: u32 },
     /// A hand-off between two programs of one node (a semaphore), never on the network.
     Local { frame: u32 },
+    /// Binary swap: a range of screen positions the receiver knows (raster order), every
+    /// position of it charged.
+    Piece { frame: u32, pixels: Vec<P> },
 }
 
 /// Message kinds, the low bits of a tag.
@@ -62,6 +65,7 @@ pub const PARTITION: u32 = 6;
 pub const CHUNK: u32 = 7;
 pub const CREDIT: u32 = 8;
 pub const LOCAL: u32 = 9;
+pub const PIECE: u32 = 10;
 
 /// The tag of a message of `kind` in `frame`: frames never mix in a mailbox.
 pub fn tag(kind: u32, frame: u32) -> u32 {
@@ -80,6 +84,7 @@ impl<P: ShippedPixel> Payload for Msg<P> {
             Msg::Chunk { frame, .. } => tag(CHUNK, *frame),
             Msg::Credit { frame } => tag(CREDIT, *frame),
             Msg::Local { frame, .. } => tag(LOCAL, *frame),
+            Msg::Piece { frame, .. } => tag(PIECE, *frame),
         }
     }
 }
@@ -145,6 +150,28 @@ pub async fn send_chunk<P: ShippedPixel>(
         pixels,
     };
     ctx.send(node, frame, dst, bytes, msg).await;
+}
+
+/// Sends the screen positions `lo..hi` (`pixels` active among them) to `dst`, sized as
+/// every position of the range.
+pub async fn send_piece<P: ShippedPixel>(
+    node: &Node<Msg<P>>,
+    ctx: &Ctx,
+    frame: u32,
+    dst: u32,
+    (lo, hi): (u32, u32),
+    pixels: Vec<P>,
+) {
+    let bytes = piece_bytes(ctx, hi - lo, &pixels);
+    let msg = Msg::Piece { frame, pixels };
+    ctx.send(node, frame, dst, bytes, msg).await;
+}
+
+/// The bytes of `positions` full-frame pixels shipped with `pixels` active among them: every
+/// record, and the Subpixels of the super pixels among them.
+pub fn piece_bytes<P: ShippedPixel>(ctx: &Ctx, positions: u32, pixels: &[P]) -> Bytes {
+    let extra: u64 = pixels.iter().map(P::extra_bytes).sum();
+    Bytes::new(u64::from(positions) * ctx.record_bytes() + extra)
 }
 
 /// Ends `frame` at the node holding its image (`image`, the merged pixels): shows it

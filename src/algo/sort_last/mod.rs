@@ -1,7 +1,7 @@
 //! Sort-last rendering: every processor renders whole primitives of its own share of the
 //! database into a local frame, and the frames are merged by depth over the network.
 //!
-//! Seven variants, one module each, reading like their papers:
+//! Eight variants, one module each, reading like their papers:
 //! * full-frame, merging after rendering (paper 001's SLML-full): `df` (distributed frame
 //!   buffer over a torus), `pc` (pipeline composition by scanline chunks);
 //! * full-frame, merging during rendering (SLMF-full): `scanline_flow`;
@@ -9,7 +9,8 @@
 //!   pixel to the node owning its screen location), `snooping` (broadcast on a bus, listeners
 //!   delete what the broadcast hides);
 //! * beyond the papers, the compositing IceT uses: `tree` (whole frames merged in pairs up a
-//!   binary tree).
+//!   binary tree), `binary_swap` (halves of the image exchanged with partners, then
+//!   gathered).
 //!
 //! The mechanisms they share live beside them: `pixel` (the pixel a merge ships: an ordinary
 //! active pixel, or with `aa=adaptive` a pixel of paper 000's adaptive buffer carrying its
@@ -25,6 +26,7 @@
 //! broadcast medium) and `requirements` asks the network.
 
 mod aa;
+mod binary_swap;
 mod df;
 mod direct_send;
 mod full_frame;
@@ -58,7 +60,7 @@ use options::AssignRule;
 pub use options::{DealOptions, DfOptions, DirectSendOptions, PcOptions};
 use pixel::{AaPx, Px, ShippedPixel};
 
-/// The seven sort-last algorithms.
+/// The eight sort-last algorithms.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub enum Variant {
     Df,
@@ -68,6 +70,7 @@ pub enum Variant {
     DirectSend,
     Snooping,
     Tree,
+    BinarySwap,
 }
 
 impl Variant {
@@ -82,7 +85,10 @@ impl Variant {
     /// Whether request-based load balancing applies: it runs at the end of the rendering
     /// phase, so only where rendering and merging are consecutive (paper 001, section 4.1).
     fn balances_on_request(self) -> bool {
-        matches!(self, Variant::Df | Variant::Pc | Variant::Tree)
+        matches!(
+            self,
+            Variant::Df | Variant::Pc | Variant::Tree | Variant::BinarySwap
+        )
     }
 }
 
@@ -347,6 +353,24 @@ fn screen_area(g: &FrameGeometry, k: usize) -> u64 {
 }
 
 /// Checks that the machine offers what `variant` needs.
+/// The (sender, receiver) pairs a compositing variant's merge uses on `n` nodes (none for
+/// the others, whose needs are stated below).
+fn partners(variant: Variant, n: u32) -> Vec<(u32, u32)> {
+    match variant {
+        // Node i sends its frame in round trailing_zeros(i), to i minus its lowest set bit.
+        Variant::Tree => (1..n).map(|i| (i, i - (1 << i.trailing_zeros()))).collect(),
+        // The fold to i - k, the swaps with i xor 2^r, the gather to node 0.
+        Variant::BinarySwap => {
+            let k = 1 << n.ilog2();
+            let fold = (k..n).map(|i| (i, i - k));
+            let swaps = (0..k).flat_map(|i| (0..k.ilog2()).map(move |r| (i, i ^ (1 << r))));
+            let gather = (1..k).map(|i| (i, 0));
+            fold.chain(swaps).chain(gather).collect()
+        }
+        _ => Vec::new(),
+    }
+}
+
 fn requirements(cfg: &RunConfig, variant: Variant) -> Result<(), RunError> {
     let m = &cfg.machine;
     let net = Network::new(&m.network).map_err(|e| RunError::Unsupported(e.to_string()))?;
@@ -363,17 +387,17 @@ fn requirements(cfg: &RunConfig, variant: Variant) -> Result<(), RunError> {
             )));
         }
     }
-    if variant == Variant::Tree {
-        // Node i sends its frame in round trailing_zeros(i), to i minus its lowest set bit.
-        let mut partners = (1..m.nodes).map(|i| (i, i - (1 << i.trailing_zeros())));
-        if let Some((from, to)) = partners.find(|&(a, b)| !net.can_route(a, b)) {
-            return Err(RunError::Unsupported(format!(
-                "sort-last/tree sends node {from}'s frame to node {to}, but machine '{}' ({}) \
-                 has no route between them; use a torus, mesh, hypercube, crossbar, bus or ring",
-                m.name,
-                m.network.topology.name()
-            )));
-        }
+    if let Some((from, to)) = partners(variant, m.nodes)
+        .into_iter()
+        .find(|&(a, b)| !net.can_route(a, b))
+    {
+        return Err(RunError::Unsupported(format!(
+            "{} sends from node {from} to node {to}, but machine '{}' ({}) has no route \
+             between them; use a torus, mesh, hypercube, crossbar, bus or ring",
+            cfg.algo.id(),
+            m.name,
+            m.network.topology.name()
+        )));
     }
     if variant == Variant::Snooping && !net.supports_broadcast() {
         return Err(RunError::Unsupported(format!(
@@ -411,7 +435,7 @@ fn settings(cfg: &RunConfig, variant: Variant) -> Result<Settings, RunError> {
             };
             (c, aa)
         }
-        Variant::Df | Variant::Tree => {
+        Variant::Df | Variant::Tree | Variant::BinarySwap => {
             let (d, aa) = parse::<DfOptions>(o, algo)?;
             let c = Common {
                 assign: d.assign,
@@ -454,8 +478,8 @@ fn settings(cfg: &RunConfig, variant: Variant) -> Result<Settings, RunError> {
                 o,
                 "assign",
                 "scatter, random or background-last: request balancing runs at the end \
-                 of rendering, so only sort-last/df, sort-last/pc and sort-last/tree use it \
-                 (paper 001)",
+                 of rendering, so only sort-last/df, sort-last/pc, sort-last/tree and \
+                 sort-last/binary-swap use it (paper 001)",
             ))
         }
         AssignRule::Request => Assignment::Request {
@@ -538,6 +562,7 @@ fn simulate_variant<P: ShippedPixel>(
         Variant::PixelFlow => simulate(cfg, ctx, pixelflow::processor::<P>)?,
         Variant::DirectSend => simulate(cfg, ctx, direct_send::processor::<P>)?,
         Variant::Tree => simulate(cfg, ctx, tree::processor::<P>)?,
+        Variant::BinarySwap => simulate(cfg, ctx, binary_swap::processor::<P>)?,
         Variant::Snooping => {
             let shared = Rc::new(snooping::Shared::default());
             simulate(cfg, ctx, move |node, ctx| {
