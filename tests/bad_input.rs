@@ -658,7 +658,7 @@ fn sort_last_runs_refuse_what_the_machine_or_options_cannot_do() {
             "sort-last/scanline-flow",
             "4",
             &["assign=request"],
-            "only sort-last/df, sort-last/pc, sort-last/tree and sort-last/binary-swap use it",
+            "only sort-last/df, sort-last/pc and the compositing variants (tree, binary-swap, radix-k) use it",
         ),
         (
             "machines/multicluster-pipeline.json",

@@ -94,7 +94,7 @@ fn request_balancing_options_need_request_balancing() {
     let e = check(AlgorithmId::SortLastSnooping, &[("assign", "request")]).unwrap_err();
     assert!(
         e.to_string()
-            .contains("only sort-last/df, sort-last/pc, sort-last/tree and sort-last/binary-swap"),
+            .contains("only sort-last/df, sort-last/pc and the compositing variants"),
         "{e}"
     );
 }

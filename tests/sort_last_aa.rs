@@ -45,7 +45,7 @@ fn supersampled_reference(scene: &Scene, side: u32) -> Framebuffer {
     downsample(&fb, side)
 }
 
-const ALGOS: [&str; 8] = [
+const ALGOS: [&str; 9] = [
     "sort-last/df",
     "sort-last/pc",
     "sort-last/scanline-flow",
@@ -54,6 +54,7 @@ const ALGOS: [&str; 8] = [
     "sort-last/snooping",
     "sort-last/tree",
     "sort-last/binary-swap",
+    "sort-last/radix-k",
 ];
 
 #[test]

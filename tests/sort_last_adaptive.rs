@@ -50,7 +50,7 @@ fn differing(a: &Framebuffer, b: &Framebuffer, levels: u8) -> usize {
 }
 
 /// Every (algorithm, options) pair that merges adaptive pixels.
-const RUNS: [(&str, &[(&str, &str)]); 9] = [
+const RUNS: [(&str, &[(&str, &str)]); 10] = [
     ("sort-last/df", &[]),
     ("sort-last/pc", &[]),
     ("sort-last/scanline-flow", &[]),
@@ -60,6 +60,7 @@ const RUNS: [(&str, &[(&str, &str)]); 9] = [
     ("sort-last/snooping", &[]),
     ("sort-last/tree", &[]),
     ("sort-last/binary-swap", &[]),
+    ("sort-last/radix-k", &[]),
 ];
 
 /// Without reclaiming (which depends on the order triangles arrive) and with blocks to

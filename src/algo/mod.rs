@@ -50,10 +50,12 @@ pub enum AlgorithmId {
     SortLastTree,
     /// Binary swap (Ma et al. 1994): halves of the image exchanged with partners.
     SortLastBinarySwap,
+    /// Radix-k (Peterka et al. 2009): direct send of image parts within groups of k.
+    SortLastRadixK,
 }
 
 impl AlgorithmId {
-    pub const ALL: [AlgorithmId; 10] = [
+    pub const ALL: [AlgorithmId; 11] = [
         AlgorithmId::SortMiddleStatic,
         AlgorithmId::SortMiddleEllsworth,
         AlgorithmId::SortLastDf,
@@ -64,6 +66,7 @@ impl AlgorithmId {
         AlgorithmId::SortLastSnooping,
         AlgorithmId::SortLastTree,
         AlgorithmId::SortLastBinarySwap,
+        AlgorithmId::SortLastRadixK,
     ];
 
     pub fn id(self) -> &'static str {
@@ -78,6 +81,7 @@ impl AlgorithmId {
             AlgorithmId::SortLastSnooping => "sort-last/snooping",
             AlgorithmId::SortLastTree => "sort-last/tree",
             AlgorithmId::SortLastBinarySwap => "sort-last/binary-swap",
+            AlgorithmId::SortLastRadixK => "sort-last/radix-k",
         }
     }
 
@@ -96,6 +100,7 @@ impl AlgorithmId {
             AlgorithmId::SortLastSnooping => Family::SortLast(L::Snooping),
             AlgorithmId::SortLastTree => Family::SortLast(L::Tree),
             AlgorithmId::SortLastBinarySwap => Family::SortLast(L::BinarySwap),
+            AlgorithmId::SortLastRadixK => Family::SortLast(L::RadixK),
         }
     }
 
@@ -121,6 +126,7 @@ impl AlgorithmId {
             AlgorithmId::SortLastDf
             | AlgorithmId::SortLastTree
             | AlgorithmId::SortLastBinarySwap => docs::<sort_last::DfOptions>(),
+            AlgorithmId::SortLastRadixK => docs::<sort_last::RadixKOptions>(),
             AlgorithmId::SortLastPc => docs::<sort_last::PcOptions>(),
             AlgorithmId::SortLastDirectSend => docs::<sort_last::DirectSendOptions>(),
             AlgorithmId::SortLastScanlineFlow
@@ -139,6 +145,7 @@ impl AlgorithmId {
             AlgorithmId::SortLastDf
             | AlgorithmId::SortLastTree
             | AlgorithmId::SortLastBinarySwap => schema_for!(sort_last::DfOptions),
+            AlgorithmId::SortLastRadixK => schema_for!(sort_last::RadixKOptions),
             AlgorithmId::SortLastPc => schema_for!(sort_last::PcOptions),
             AlgorithmId::SortLastDirectSend => schema_for!(sort_last::DirectSendOptions),
             AlgorithmId::SortLastScanlineFlow

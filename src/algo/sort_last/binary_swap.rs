@@ -84,7 +84,7 @@ pub(super) async fn processor<P: ShippedPixel>(
 
 /// Receives `from`'s pixels of the positions `lo..hi` and z-merges them into `own` (the same
 /// range), charging every position.
-async fn receive_and_merge<P: ShippedPixel>(
+pub(super) async fn receive_and_merge<P: ShippedPixel>(
     node: &Node<Msg<P>>,
     ctx: &Ctx,
     frame: u32,
@@ -109,7 +109,7 @@ async fn receive_and_merge<P: ShippedPixel>(
 
 /// Sends a finished piece to node 0 (as a partition: a later, smaller message than a swap
 /// round's may overtake it, so the two never share a tag), sized as every position of it.
-async fn send_to_image<P: ShippedPixel>(
+pub(super) async fn send_to_image<P: ShippedPixel>(
     node: &Node<Msg<P>>,
     ctx: &Ctx,
     frame: u32,
@@ -125,9 +125,14 @@ async fn send_to_image<P: ShippedPixel>(
     ctx.send(node, frame, 0, bytes, msg).await;
 }
 
-/// Node 0 collects the k - 1 other pieces (its own starts at position 0) into the image, in
-/// raster order.
-async fn gather<P: ShippedPixel>(node: &Node<Msg<P>>, frame: u32, k: u32, own: Vec<P>) -> Vec<P> {
+/// Node 0 collects the `k` - 1 other pieces (its own starts at position 0) into the image,
+/// in raster order.
+pub(super) async fn gather<P: ShippedPixel>(
+    node: &Node<Msg<P>>,
+    frame: u32,
+    k: u32,
+    own: Vec<P>,
+) -> Vec<P> {
     let mut pieces = vec![(0, own)];
     for _ in 1..k {
         let env = node.recv(Filter::tag(tag(PARTITION, frame))).await;

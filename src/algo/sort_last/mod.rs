@@ -1,7 +1,7 @@
 //! Sort-last rendering: every processor renders whole primitives of its own share of the
 //! database into a local frame, and the frames are merged by depth over the network.
 //!
-//! Eight variants, one module each, reading like their papers:
+//! Nine variants, one module each, reading like their papers:
 //! * full-frame, merging after rendering (paper 001's SLML-full): `df` (distributed frame
 //!   buffer over a torus), `pc` (pipeline composition by scanline chunks);
 //! * full-frame, merging during rendering (SLMF-full): `scanline_flow`;
@@ -10,7 +10,7 @@
 //!   delete what the broadcast hides);
 //! * beyond the papers, the compositing IceT uses: `tree` (whole frames merged in pairs up a
 //!   binary tree), `binary_swap` (halves of the image exchanged with partners, then
-//!   gathered).
+//!   gathered), `radix_k` (direct send of image parts within groups of k, round by round).
 //!
 //! The mechanisms they share live beside them: `pixel` (the pixel a merge ships: an ordinary
 //! active pixel, or with `aa=adaptive` a pixel of paper 000's adaptive buffer carrying its
@@ -35,6 +35,7 @@ pub mod options;
 mod pc;
 mod pixel;
 mod pixelflow;
+mod radix_k;
 mod request;
 mod scanline_flow;
 mod snooping;
@@ -57,10 +58,10 @@ use crate::raster::{Framebuffer, RasterOptions, Viewport};
 use crate::scene::FrameGeometry;
 use crate::units::Bytes;
 use options::AssignRule;
-pub use options::{DealOptions, DfOptions, DirectSendOptions, PcOptions};
+pub use options::{DealOptions, DfOptions, DirectSendOptions, PcOptions, RadixKOptions};
 use pixel::{AaPx, Px, ShippedPixel};
 
-/// The eight sort-last algorithms.
+/// The nine sort-last algorithms.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub enum Variant {
     Df,
@@ -71,6 +72,7 @@ pub enum Variant {
     Snooping,
     Tree,
     BinarySwap,
+    RadixK,
 }
 
 impl Variant {
@@ -87,7 +89,7 @@ impl Variant {
     fn balances_on_request(self) -> bool {
         matches!(
             self,
-            Variant::Df | Variant::Pc | Variant::Tree | Variant::BinarySwap
+            Variant::Df | Variant::Pc | Variant::Tree | Variant::BinarySwap | Variant::RadixK
         )
     }
 }
@@ -112,6 +114,8 @@ pub struct Settings {
     pub local_zbuffer: bool,
     /// Pipeline composition: scanlines per chunk.
     pub chunk_rows: u32,
+    /// Radix-k: the group size of each round (product: the processors).
+    pub radices: Vec<u32>,
     /// Samples per pixel side (`aa=supersample:N`: sqrt N; 1 otherwise). Nodes render and
     /// merge samples, so every pixel the algorithm moves is a sample.
     pub side: u32,
@@ -355,7 +359,7 @@ fn screen_area(g: &FrameGeometry, k: usize) -> u64 {
 /// Checks that the machine offers what `variant` needs.
 /// The (sender, receiver) pairs a compositing variant's merge uses on `n` nodes (none for
 /// the others, whose needs are stated below).
-fn partners(variant: Variant, n: u32) -> Vec<(u32, u32)> {
+fn partners(variant: Variant, n: u32, radices: &[u32]) -> Vec<(u32, u32)> {
     match variant {
         // Node i sends its frame in round trailing_zeros(i), to i minus its lowest set bit.
         Variant::Tree => (1..n).map(|i| (i, i - (1 << i.trailing_zeros()))).collect(),
@@ -367,11 +371,24 @@ fn partners(variant: Variant, n: u32) -> Vec<(u32, u32)> {
             let gather = (1..k).map(|i| (i, 0));
             fold.chain(swaps).chain(gather).collect()
         }
+        // Every pair within a round's group, and the gather to node 0.
+        Variant::RadixK => {
+            let within = (0..n).flat_map(|i| {
+                (0..radices.len()).flat_map(move |r| {
+                    radix_k::group(i, radices, r)
+                        .into_iter()
+                        .filter(move |&j| j != i)
+                        .map(move |j| (i, j))
+                })
+            });
+            within.chain((1..n).map(|i| (i, 0))).collect()
+        }
         _ => Vec::new(),
     }
 }
 
-fn requirements(cfg: &RunConfig, variant: Variant) -> Result<(), RunError> {
+fn requirements(cfg: &RunConfig, settings: &Settings) -> Result<(), RunError> {
+    let variant = settings.variant;
     let m = &cfg.machine;
     let net = Network::new(&m.network).map_err(|e| RunError::Unsupported(e.to_string()))?;
     if variant.needs_pipeline() {
@@ -387,7 +404,7 @@ fn requirements(cfg: &RunConfig, variant: Variant) -> Result<(), RunError> {
             )));
         }
     }
-    if let Some((from, to)) = partners(variant, m.nodes)
+    if let Some((from, to)) = partners(variant, m.nodes, &settings.radices)
         .into_iter()
         .find(|&(a, b)| !net.can_route(a, b))
     {
@@ -417,6 +434,7 @@ struct Common {
     min_packet: u32,
     local_zbuffer: bool,
     chunk_rows: u32,
+    radices: Option<options::Radices>,
 }
 
 /// Reads the options of `variant` and checks them.
@@ -432,6 +450,7 @@ fn settings(cfg: &RunConfig, variant: Variant) -> Result<Settings, RunError> {
                 min_packet: p.min_packet.0,
                 local_zbuffer: false,
                 chunk_rows: p.chunk_rows.0,
+                radices: None,
             };
             (c, aa)
         }
@@ -443,6 +462,19 @@ fn settings(cfg: &RunConfig, variant: Variant) -> Result<Settings, RunError> {
                 min_packet: d.min_packet.0,
                 local_zbuffer: false,
                 chunk_rows: 1,
+                radices: None,
+            };
+            (c, aa)
+        }
+        Variant::RadixK => {
+            let (r, aa) = parse::<RadixKOptions>(o, algo)?;
+            let c = Common {
+                assign: r.assign,
+                split: r.split.0,
+                min_packet: r.min_packet.0,
+                local_zbuffer: false,
+                chunk_rows: 1,
+                radices: Some(r.k),
             };
             (c, aa)
         }
@@ -454,6 +486,7 @@ fn settings(cfg: &RunConfig, variant: Variant) -> Result<Settings, RunError> {
                 min_packet: 16,
                 local_zbuffer: d.local_zbuffer.is_on(),
                 chunk_rows: 1,
+                radices: None,
             };
             (c, aa)
         }
@@ -465,6 +498,7 @@ fn settings(cfg: &RunConfig, variant: Variant) -> Result<Settings, RunError> {
                 min_packet: 16,
                 local_zbuffer: false,
                 chunk_rows: 1,
+                radices: None,
             };
             (c, aa)
         }
@@ -478,8 +512,8 @@ fn settings(cfg: &RunConfig, variant: Variant) -> Result<Settings, RunError> {
                 o,
                 "assign",
                 "scatter, random or background-last: request balancing runs at the end \
-                 of rendering, so only sort-last/df, sort-last/pc, sort-last/tree and \
-                 sort-last/binary-swap use it (paper 001)",
+                 of rendering, so only sort-last/df, sort-last/pc and the compositing \
+                 variants (tree, binary-swap, radix-k) use it (paper 001)",
             ))
         }
         AssignRule::Request => Assignment::Request {
@@ -497,6 +531,25 @@ fn settings(cfg: &RunConfig, variant: Variant) -> Result<Settings, RunError> {
         }
     }
     let (local_zbuffer, chunk_rows) = (common.local_zbuffer, common.chunk_rows);
+    let n = cfg.machine.nodes;
+    let radices = match common.radices {
+        None => Vec::new(),
+        Some(options::Radices::Auto) => radix_k::default_radices(n),
+        Some(options::Radices::Given(k)) => {
+            let product = k.iter().try_fold(1u32, |p, &k| p.checked_mul(k));
+            if product != Some(n) {
+                let what = format!(
+                    "group sizes whose product is the number of processors, {n} (e.g. {}), \
+                     or auto; {} multiply to {}",
+                    options::Radices::Given(radix_k::default_radices(n)),
+                    options::Radices::Given(k.clone()),
+                    product.map_or("more than 2^32".to_string(), |p| p.to_string())
+                );
+                return Err(bad(o, "k", &what));
+            }
+            k
+        }
+    };
     let aa = aa_settings(o, &aa)?;
     check_prices(cfg, &aa)?;
     let side = match aa.method {
@@ -508,6 +561,7 @@ fn settings(cfg: &RunConfig, variant: Variant) -> Result<Settings, RunError> {
         assignment,
         local_zbuffer,
         chunk_rows,
+        radices,
         side,
         aa,
     })
@@ -515,16 +569,16 @@ fn settings(cfg: &RunConfig, variant: Variant) -> Result<Settings, RunError> {
 
 /// Checks a variant's options and machine against `cfg` without running it.
 pub fn check(cfg: &RunConfig, variant: Variant) -> Result<(), RunError> {
-    requirements(cfg, variant)?;
     let settings = settings(cfg, variant)?;
+    requirements(cfg, &settings)?;
     let first = cfg.scene.frame(cfg.frames.start)?;
     super::aa::sample_grid(cfg, super::reference::viewport(&first), settings.side).map(|_| ())
 }
 
 /// Runs a sort-last variant.
 pub fn run(cfg: &RunConfig, variant: Variant) -> Result<RunResult, RunError> {
-    requirements(cfg, variant)?;
     let settings = settings(cfg, variant)?;
+    requirements(cfg, &settings)?;
     let first = cfg.scene.frame(cfg.frames.start)?;
     let screen = super::reference::viewport(&first);
     let viewport = super::aa::sample_grid(cfg, screen, settings.side)?;
@@ -563,6 +617,7 @@ fn simulate_variant<P: ShippedPixel>(
         Variant::DirectSend => simulate(cfg, ctx, direct_send::processor::<P>)?,
         Variant::Tree => simulate(cfg, ctx, tree::processor::<P>)?,
         Variant::BinarySwap => simulate(cfg, ctx, binary_swap::processor::<P>)?,
+        Variant::RadixK => simulate(cfg, ctx, radix_k::processor::<P>)?,
         Variant::Snooping => {
             let shared = Rc::new(snooping::Shared::default());
             simulate(cfg, ctx, move |node, ctx| {

@@ -5,7 +5,7 @@
 //! Owns the option names, types and defaults. Must never check them against a machine (that
 //! is `settings`).
 
-use crate::algo::options::{choice_option, count_option, OnOff};
+use crate::algo::options::{choice_option, count_option, string_option, OnOff};
 
 choice_option!(
     /// How primitives are dealt to processors.
@@ -41,6 +41,56 @@ count_option!(
     min = 1,
     what = "a whole number of scanlines, at least 1"
 );
+
+/// Radix-k's group sizes, one per round: `auto`, or a list such as `4,4,2` (each at least 2)
+/// whose product must be the number of processors.
+#[derive(Clone, Debug, PartialEq, Eq)]
+pub enum Radices {
+    /// Rounds of 8 where possible (see `radix_k::default_radices`).
+    Auto,
+    Given(Vec<u32>),
+}
+
+impl std::str::FromStr for Radices {
+    type Err = String;
+    fn from_str(s: &str) -> Result<Self, String> {
+        if s == "auto" {
+            return Ok(Radices::Auto);
+        }
+        s.split(',')
+            .map(|k| k.trim().parse::<u32>().ok().filter(|&k| k >= 2))
+            .collect::<Option<Vec<u32>>>()
+            .map(Radices::Given)
+            .ok_or_else(|| "expected auto or group sizes of at least 2, e.g. 4,4,2".to_string())
+    }
+}
+
+impl std::fmt::Display for Radices {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        match self {
+            Radices::Auto => write!(f, "auto"),
+            Radices::Given(k) => {
+                let k: Vec<String> = k.iter().map(u32::to_string).collect();
+                write!(f, "{}", k.join(","))
+            }
+        }
+    }
+}
+
+string_option!(Radices);
+
+impl schemars::JsonSchema for Radices {
+    fn schema_name() -> std::borrow::Cow<'static, str> {
+        "Radices".into()
+    }
+    fn json_schema(_: &mut schemars::SchemaGenerator) -> schemars::Schema {
+        schemars::json_schema!({
+            "type": "string",
+            "pattern": "^(auto|[0-9]+(,[0-9]+)*)$",
+            "description": "auto, or group sizes of at least 2 whose product is the number of processors, e.g. 4,4,2",
+        })
+    }
+}
 
 fn scatter() -> AssignRule {
     AssignRule::Scatter
@@ -92,6 +142,30 @@ pub struct DfOptions {
     /// Request balancing: the smallest packet of primitives worth giving away.
     #[serde(default = "sixteen")]
     pub min_packet: Primitives,
+}
+
+/// sort-last/radix-k (Peterka, Goodell, Ross, Shen, Thakur 2009).
+#[derive(Clone, Debug, serde::Deserialize, schemars::JsonSchema)]
+#[serde(rename_all = "kebab-case")]
+pub struct RadixKOptions {
+    /// How primitives are dealt: scatter, random, background-last or request (paper 001's
+    /// request-based dynamic load balancing).
+    #[serde(default = "scatter")]
+    pub assign: AssignRule,
+    /// Request balancing: a donor splits its remaining work into this many parts.
+    #[serde(default = "split_in_two")]
+    pub split: SplitFactor,
+    /// Request balancing: the smallest packet of primitives worth giving away.
+    #[serde(default = "sixteen")]
+    pub min_packet: Primitives,
+    /// Group size of each round; their product is the number of processors. `auto`: rounds
+    /// of 8 while 8 divides what is left, then the largest divisor up to 8.
+    #[serde(default = "auto_radices")]
+    pub k: Radices,
+}
+
+fn auto_radices() -> Radices {
+    Radices::Auto
 }
 
 /// sort-last/direct-send (paper 003).
