@@ -123,9 +123,10 @@ impl AlgorithmId {
         match self {
             AlgorithmId::SortMiddleStatic => docs::<sort_middle::StaticOptions>(),
             AlgorithmId::SortMiddleEllsworth => docs::<sort_middle::EllsworthOptions>(),
-            AlgorithmId::SortLastDf
-            | AlgorithmId::SortLastTree
-            | AlgorithmId::SortLastBinarySwap => docs::<sort_last::DfOptions>(),
+            AlgorithmId::SortLastDf => docs::<sort_last::DfOptions>(),
+            AlgorithmId::SortLastTree | AlgorithmId::SortLastBinarySwap => {
+                docs::<sort_last::CompositeOptions>()
+            }
             AlgorithmId::SortLastRadixK => docs::<sort_last::RadixKOptions>(),
             AlgorithmId::SortLastPc => docs::<sort_last::PcOptions>(),
             AlgorithmId::SortLastDirectSend => docs::<sort_last::DirectSendOptions>(),
@@ -142,9 +143,10 @@ impl AlgorithmId {
         let own = match self {
             AlgorithmId::SortMiddleStatic => schema_for!(sort_middle::StaticOptions),
             AlgorithmId::SortMiddleEllsworth => schema_for!(sort_middle::EllsworthOptions),
-            AlgorithmId::SortLastDf
-            | AlgorithmId::SortLastTree
-            | AlgorithmId::SortLastBinarySwap => schema_for!(sort_last::DfOptions),
+            AlgorithmId::SortLastDf => schema_for!(sort_last::DfOptions),
+            AlgorithmId::SortLastTree | AlgorithmId::SortLastBinarySwap => {
+                schema_for!(sort_last::CompositeOptions)
+            }
             AlgorithmId::SortLastRadixK => schema_for!(sort_last::RadixKOptions),
             AlgorithmId::SortLastPc => schema_for!(sort_last::PcOptions),
             AlgorithmId::SortLastDirectSend => schema_for!(sort_last::DirectSendOptions),

@@ -29,6 +29,11 @@ pub enum Op {
     CountSum,
     AssignRegion,
     ClearPixel,
+    /// Scanning one position of an image piece while run-length encoding it (IceT's sparse
+    /// images, `image=rle`).
+    RlePixel,
+    /// Writing or walking one run pair of a run-length encoded piece.
+    RleRun,
     CoverageMask,
     SubpixelTest,
     SubpixelWrite,
@@ -37,7 +42,7 @@ pub enum Op {
 }
 
 impl Op {
-    pub const ALL: [Op; 20] = [
+    pub const ALL: [Op; 22] = [
         Op::TransformVertex,
         Op::ClipTriangle,
         Op::SetupTriangle,
@@ -53,6 +58,8 @@ impl Op {
         Op::CountSum,
         Op::AssignRegion,
         Op::ClearPixel,
+        Op::RlePixel,
+        Op::RleRun,
         Op::CoverageMask,
         Op::SubpixelTest,
         Op::SubpixelWrite,
@@ -77,6 +84,8 @@ impl Op {
             Op::CountSum => "count_sum",
             Op::AssignRegion => "assign_region",
             Op::ClearPixel => "clear_pixel",
+            Op::RlePixel => "rle_pixel",
+            Op::RleRun => "rle_run",
             Op::CoverageMask => "coverage_mask",
             Op::SubpixelTest => "subpixel_test",
             Op::SubpixelWrite => "subpixel_write",

@@ -9,8 +9,8 @@
 //!   partner = i xor 2^r; split my piece into halves
 //!   keep the lower half if bit r of i is 0, else the upper; send the other half to the
 //!   partner, receive the partner's pixels of my half and z-merge them
-//! gather: every node sends its piece (A/k positions, rgb and z as merged) to node 0,
-//!   which shows the image
+//! gather: every node sends its piece (A/k positions, as merged) to node 0, which shows the
+//!   image
 //! ```
 //!
 //! Before the gather every node of the k sends and merges A (1 - 1/k) positions, in log2 k
@@ -24,7 +24,7 @@ use std::rc::Rc;
 
 use super::full_frame::{self, tag, Msg, PARTITION, PIECE};
 use super::pixel::ShippedPixel;
-use super::{local, request, Ctx};
+use super::{image, local, request, Ctx};
 use crate::engine::{Filter, Node, SimError};
 
 pub(super) async fn processor<P: ShippedPixel>(
@@ -83,7 +83,7 @@ pub(super) async fn processor<P: ShippedPixel>(
 }
 
 /// Receives `from`'s pixels of the positions `lo..hi` and z-merges them into `own` (the same
-/// range), charging every position.
+/// range), charging what the encoding compares and walks.
 pub(super) async fn receive_and_merge<P: ShippedPixel>(
     node: &Node<Msg<P>>,
     ctx: &Ctx,
@@ -100,9 +100,9 @@ pub(super) async fn receive_and_merge<P: ShippedPixel>(
     let Msg::Piece { pixels: theirs, .. } = env.payload else {
         unreachable!("filtered by tag")
     };
-    let merged = ctx
-        .merge_rows(node, &theirs, &own, u64::from(hi - lo))
-        .await;
+    let (compared, walked) = image::merge_work(ctx, (lo, hi), &theirs, &own);
+    node.compute(&walked).await;
+    let merged = ctx.merge_rows(node, &theirs, &own, compared).await;
     node.free("input piece", input)?;
     Ok(merged)
 }
@@ -116,7 +116,9 @@ pub(super) async fn send_to_image<P: ShippedPixel>(
     (lo, hi): (u32, u32),
     pixels: Vec<P>,
 ) {
-    let bytes = full_frame::piece_bytes(ctx, hi - lo, &pixels);
+    node.compute(&image::encode_work(ctx, (lo, hi), &pixels))
+        .await;
+    let bytes = image::bytes(ctx, (lo, hi), &pixels);
     let msg = Msg::Partition {
         frame,
         band: lo,

@@ -11,7 +11,7 @@
 use std::rc::Rc;
 
 use super::pixel::ShippedPixel;
-use super::Ctx;
+use super::{image, Ctx};
 use crate::engine::{Filter, Node, Payload, SimError};
 use crate::units::Bytes;
 
@@ -50,8 +50,8 @@ pub enum Msg<P> {
     Credit { frame: u32 },
     /// A hand-off between two programs of one node (a semaphore), never on the network.
     Local { frame: u32 },
-    /// Binary swap: a range of screen positions the receiver knows (raster order), every
-    /// position of it charged.
+    /// Tree, binary swap, radix-k: a range of screen positions the receiver knows (raster
+    /// order), sized by the run's image encoding (`image.rs`).
     Piece { frame: u32, pixels: Vec<P> },
 }
 
@@ -152,26 +152,21 @@ pub async fn send_chunk<P: ShippedPixel>(
     ctx.send(node, frame, dst, bytes, msg).await;
 }
 
-/// Sends the screen positions `lo..hi` (`pixels` active among them) to `dst`, sized as
-/// every position of the range.
+/// Sends the screen positions `lo..hi` (`pixels` active among them) to `dst`, encoded as
+/// the run asks (`image`: dense, every position; rle, the active ones and their runs), after
+/// charging the encoding.
 pub async fn send_piece<P: ShippedPixel>(
     node: &Node<Msg<P>>,
     ctx: &Ctx,
     frame: u32,
     dst: u32,
-    (lo, hi): (u32, u32),
+    range: (u32, u32),
     pixels: Vec<P>,
 ) {
-    let bytes = piece_bytes(ctx, hi - lo, &pixels);
-    let msg = Msg::Piece { frame, pixels };
-    ctx.send(node, frame, dst, bytes, msg).await;
-}
-
-/// The bytes of `positions` full-frame pixels shipped with `pixels` active among them: every
-/// record, and the Subpixels of the super pixels among them.
-pub fn piece_bytes<P: ShippedPixel>(ctx: &Ctx, positions: u32, pixels: &[P]) -> Bytes {
-    let extra: u64 = pixels.iter().map(P::extra_bytes).sum();
-    Bytes::new(u64::from(positions) * ctx.record_bytes() + extra)
+    node.compute(&image::encode_work(ctx, range, &pixels)).await;
+    let bytes = image::bytes(ctx, range, &pixels);
+    ctx.send(node, frame, dst, bytes, Msg::Piece { frame, pixels })
+        .await;
 }
 
 /// Ends `frame` at the node holding its image (`image`, the merged pixels): shows it

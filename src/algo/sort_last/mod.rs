@@ -30,6 +30,7 @@ mod binary_swap;
 mod df;
 mod direct_send;
 mod full_frame;
+mod image;
 mod local;
 pub mod options;
 mod pc;
@@ -58,7 +59,9 @@ use crate::raster::{Framebuffer, RasterOptions, Viewport};
 use crate::scene::FrameGeometry;
 use crate::units::Bytes;
 use options::AssignRule;
-pub use options::{DealOptions, DfOptions, DirectSendOptions, PcOptions, RadixKOptions};
+pub use options::{
+    CompositeOptions, DealOptions, DfOptions, DirectSendOptions, PcOptions, RadixKOptions,
+};
 use pixel::{AaPx, Px, ShippedPixel};
 
 /// The nine sort-last algorithms.
@@ -116,6 +119,8 @@ pub struct Settings {
     pub chunk_rows: u32,
     /// Radix-k: the group size of each round (product: the processors).
     pub radices: Vec<u32>,
+    /// Tree, binary swap, radix-k: how image pieces travel.
+    pub image: options::ImageEncoding,
     /// Samples per pixel side (`aa=supersample:N`: sqrt N; 1 otherwise). Nodes render and
     /// merge samples, so every pixel the algorithm moves is a sample.
     pub side: u32,
@@ -435,6 +440,7 @@ struct Common {
     local_zbuffer: bool,
     chunk_rows: u32,
     radices: Option<options::Radices>,
+    image: options::ImageEncoding,
 }
 
 /// Reads the options of `variant` and checks them.
@@ -451,10 +457,24 @@ fn settings(cfg: &RunConfig, variant: Variant) -> Result<Settings, RunError> {
                 local_zbuffer: false,
                 chunk_rows: p.chunk_rows.0,
                 radices: None,
+                image: options::ImageEncoding::Dense,
             };
             (c, aa)
         }
-        Variant::Df | Variant::Tree | Variant::BinarySwap => {
+        Variant::Tree | Variant::BinarySwap => {
+            let (d, aa) = parse::<CompositeOptions>(o, algo)?;
+            let c = Common {
+                assign: d.assign,
+                split: d.split.0,
+                min_packet: d.min_packet.0,
+                local_zbuffer: false,
+                chunk_rows: 1,
+                radices: None,
+                image: d.image,
+            };
+            (c, aa)
+        }
+        Variant::Df => {
             let (d, aa) = parse::<DfOptions>(o, algo)?;
             let c = Common {
                 assign: d.assign,
@@ -463,6 +483,7 @@ fn settings(cfg: &RunConfig, variant: Variant) -> Result<Settings, RunError> {
                 local_zbuffer: false,
                 chunk_rows: 1,
                 radices: None,
+                image: options::ImageEncoding::Dense,
             };
             (c, aa)
         }
@@ -475,6 +496,7 @@ fn settings(cfg: &RunConfig, variant: Variant) -> Result<Settings, RunError> {
                 local_zbuffer: false,
                 chunk_rows: 1,
                 radices: Some(r.k),
+                image: r.image,
             };
             (c, aa)
         }
@@ -487,6 +509,7 @@ fn settings(cfg: &RunConfig, variant: Variant) -> Result<Settings, RunError> {
                 local_zbuffer: d.local_zbuffer.is_on(),
                 chunk_rows: 1,
                 radices: None,
+                image: options::ImageEncoding::Dense,
             };
             (c, aa)
         }
@@ -499,6 +522,7 @@ fn settings(cfg: &RunConfig, variant: Variant) -> Result<Settings, RunError> {
                 local_zbuffer: false,
                 chunk_rows: 1,
                 radices: None,
+                image: options::ImageEncoding::Dense,
             };
             (c, aa)
         }
@@ -562,6 +586,7 @@ fn settings(cfg: &RunConfig, variant: Variant) -> Result<Settings, RunError> {
         local_zbuffer,
         chunk_rows,
         radices,
+        image: common.image,
         side,
         aa,
     })

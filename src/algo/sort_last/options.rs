@@ -21,6 +21,16 @@ choice_option!(
     }
 );
 
+choice_option!(
+    /// How the compositing variants ship image pieces.
+    ImageEncoding {
+        /// Every position of a piece, rgb and z.
+        Dense = "dense",
+        /// IceT's sparse image: runs of inactive and active positions, active pixels only.
+        Rle = "rle",
+    }
+);
+
 count_option!(
     /// Request balancing's splitting factor.
     SplitFactor,
@@ -127,8 +137,7 @@ pub struct PcOptions {
     pub chunk_rows: Scanlines,
 }
 
-/// sort-last/df (paper 001's Distributed Framebuffer) and sort-last/tree (IceT's reduce
-/// tree): the assignment and request balancing.
+/// sort-last/df (paper 001's Distributed Framebuffer).
 #[derive(Clone, Debug, serde::Deserialize, schemars::JsonSchema)]
 #[serde(rename_all = "kebab-case")]
 pub struct DfOptions {
@@ -142,6 +151,30 @@ pub struct DfOptions {
     /// Request balancing: the smallest packet of primitives worth giving away.
     #[serde(default = "sixteen")]
     pub min_packet: Primitives,
+}
+
+/// sort-last/tree (IceT's reduce tree) and sort-last/binary-swap (Ma et al. 1994).
+#[derive(Clone, Debug, serde::Deserialize, schemars::JsonSchema)]
+#[serde(rename_all = "kebab-case")]
+pub struct CompositeOptions {
+    /// How primitives are dealt: scatter, random, background-last or request (paper 001's
+    /// request-based dynamic load balancing).
+    #[serde(default = "scatter")]
+    pub assign: AssignRule,
+    /// Request balancing: a donor splits its remaining work into this many parts.
+    #[serde(default = "split_in_two")]
+    pub split: SplitFactor,
+    /// Request balancing: the smallest packet of primitives worth giving away.
+    #[serde(default = "sixteen")]
+    pub min_packet: Primitives,
+    /// How image pieces travel: dense (every position) or rle (IceT's run-length sparse
+    /// image, charged per position scanned and per run).
+    #[serde(default = "dense")]
+    pub image: ImageEncoding,
+}
+
+fn dense() -> ImageEncoding {
+    ImageEncoding::Dense
 }
 
 /// sort-last/radix-k (Peterka, Goodell, Ross, Shen, Thakur 2009).
@@ -162,6 +195,10 @@ pub struct RadixKOptions {
     /// of 8 while 8 divides what is left, then the largest divisor up to 8.
     #[serde(default = "auto_radices")]
     pub k: Radices,
+    /// How image pieces travel: dense (every position) or rle (IceT's run-length sparse
+    /// image, charged per position scanned and per run).
+    #[serde(default = "dense")]
+    pub image: ImageEncoding,
 }
 
 fn auto_radices() -> Radices {

@@ -10,18 +10,20 @@
 //! ```
 //!
 //! Any N works: a node whose partner id + s does not exist just waits for the next round.
-//! Every merge moves and depth-compares a full frame (A pixels), so a frame costs N - 1
-//! full-frame messages and log2 N rounds on the critical path; the sender's frame travels
-//! as one message.
+//! Every merge moves and depth-compares a full frame (A positions dense; with `image=rle` its
+//! active pixels and runs), so a frame costs N - 1 frame messages and log2 N rounds on the
+//! critical path; the sender's frame travels as one message.
 //!
 //! Must never hold full frames on the host: frames travel as their active pixels, charged
 //! as full frames.
 
-use super::full_frame::{self, tag, Msg, CHUNK};
+use std::rc::Rc;
+
+use super::binary_swap::receive_and_merge;
+use super::full_frame::{self, Msg};
 use super::pixel::ShippedPixel;
 use super::{local, request, Ctx};
-use crate::engine::{Filter, Node, SimError};
-use std::rc::Rc;
+use crate::engine::{Node, SimError};
 
 pub(super) async fn processor<P: ShippedPixel>(
     node: Node<Msg<P>>,
@@ -29,7 +31,7 @@ pub(super) async fn processor<P: ShippedPixel>(
 ) -> Result<(), SimError> {
     let me = node.id();
     let n = ctx.n;
-    let (w, h) = (ctx.viewport.width(), ctx.viewport.height());
+    let screen = (0, ctx.viewport.width() * ctx.viewport.height());
     for frame in ctx.frames() {
         full_frame::start_frame(&node, &ctx, frame).await?;
         node.phase("clear");
@@ -41,22 +43,12 @@ pub(super) async fn processor<P: ShippedPixel>(
         let mut stride = 1;
         while stride < n {
             if me % (2 * stride) == stride {
-                full_frame::send_chunk(&node, &ctx, frame, me - stride, (0, h), pixels).await;
+                full_frame::send_piece(&node, &ctx, frame, me - stride, screen, pixels).await;
                 pixels = Vec::new();
                 break;
             }
             if me + stride < n {
-                let input = ctx.rows_bytes(h);
-                node.alloc("input frame", input)?;
-                let env = node
-                    .recv(Filter::tag(tag(CHUNK, frame)).and_source(me + stride))
-                    .await;
-                let Msg::Chunk { pixels: theirs, .. } = env.payload else {
-                    unreachable!("filtered by tag")
-                };
-                let charged = u64::from(w) * u64::from(h);
-                pixels = ctx.merge_rows(&node, &theirs, &pixels, charged).await;
-                node.free("input frame", input)?;
+                pixels = receive_and_merge(&node, &ctx, frame, me + stride, screen, pixels).await?;
             }
             stride *= 2;
         }
