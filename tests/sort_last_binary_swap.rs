@@ -2,41 +2,20 @@
 //! renderer's at every node count (with the fold of the extra nodes when N is not a power of
 //! two) on several topologies, and a frame moves exactly the closed form's bytes.
 
-use std::collections::BTreeMap;
-use std::path::Path;
+mod common;
+
 use std::sync::Arc;
 
-use sortsim::algo::{reference, run, RunResult};
+use common::{run_frame0, scene};
+use sortsim::algo::{reference, RunResult};
 use sortsim::scene::Scene;
-use sortsim::spec::run::RunSpec;
 
 /// Bytes of a full-frame pixel when frames are merged: rgb and a 32-bit z.
 const FULL_FRAME_PIXEL_BYTES: u64 = 7;
 
-fn root() -> &'static Path {
-    Path::new(env!("CARGO_MANIFEST_DIR"))
-}
-
-fn scene(name: &str) -> Arc<Scene> {
-    Arc::new(Scene::load(&root().join("scenes").join(name)).unwrap())
-}
-
 fn simulate(machine: &str, scene: &Arc<Scene>, procs: u32, set: &[(&str, &str)]) -> RunResult {
-    let spec = RunSpec {
-        schema: None,
-        machine: root().join("machines").join(machine),
-        scene: scene.file().to_path_buf(),
-        algo: "sort-last/binary-swap".into(),
-        procs,
-        frames: Some("0".into()),
-        seed: 1,
-        set: set
-            .iter()
-            .map(|(k, v)| (k.to_string(), v.to_string()))
-            .collect::<BTreeMap<_, _>>(),
-    };
-    let cfg = spec.resolve(Some(scene.clone())).expect("valid run spec");
-    run(&cfg).unwrap_or_else(|e| panic!("{machine} n={procs}: {e}"))
+    run_frame0(machine, scene, "sort-last/binary-swap", procs, set)
+        .unwrap_or_else(|e| panic!("{machine} n={procs} {set:?}: {e}"))
 }
 
 #[test]
@@ -104,17 +83,13 @@ fn a_frame_moves_the_closed_form() {
 #[test]
 fn a_one_way_pipeline_cannot_carry_the_swaps() {
     let s = scene("spd-teapot.json");
-    let spec = RunSpec {
-        schema: None,
-        machine: root().join("machines/pixelflow-pipeline.json"),
-        scene: s.file().to_path_buf(),
-        algo: "sort-last/binary-swap".into(),
-        procs: 4,
-        frames: Some("0".into()),
-        seed: 1,
-        set: BTreeMap::new(),
-    };
-    let Err(e) = run(&spec.resolve(Some(s.clone())).unwrap()) else {
+    let Err(e) = run_frame0(
+        "pixelflow-pipeline.json",
+        &s,
+        "sort-last/binary-swap",
+        4,
+        &[],
+    ) else {
         panic!("a one-way pipeline ran binary swap");
     };
     let msg = e.to_string();

@@ -5,42 +5,19 @@
 
 mod common;
 
-use std::collections::BTreeMap;
-use std::path::Path;
 use std::process::Command;
 use std::sync::Arc;
 
-use sortsim::algo::{reference, run, RunResult};
+use common::{root, run_frame0, scene};
+use sortsim::algo::{reference, RunResult};
 use sortsim::scene::Scene;
-use sortsim::spec::run::RunSpec;
 
 /// Bytes of a full-frame pixel when frames are merged: rgb and a 32-bit z.
 const FULL_FRAME_PIXEL_BYTES: u64 = 7;
 
-fn root() -> &'static Path {
-    Path::new(env!("CARGO_MANIFEST_DIR"))
-}
-
-fn scene(name: &str) -> Arc<Scene> {
-    Arc::new(Scene::load(&root().join("scenes").join(name)).unwrap())
-}
-
 fn simulate(machine: &str, scene: &Arc<Scene>, procs: u32, set: &[(&str, &str)]) -> RunResult {
-    let spec = RunSpec {
-        schema: None,
-        machine: root().join("machines").join(machine),
-        scene: scene.file().to_path_buf(),
-        algo: "sort-last/radix-k".into(),
-        procs,
-        frames: Some("0".into()),
-        seed: 1,
-        set: set
-            .iter()
-            .map(|(k, v)| (k.to_string(), v.to_string()))
-            .collect::<BTreeMap<_, _>>(),
-    };
-    let cfg = spec.resolve(Some(scene.clone())).expect("valid run spec");
-    run(&cfg).unwrap_or_else(|e| panic!("{machine} n={procs} {set:?}: {e}"))
+    run_frame0(machine, scene, "sort-last/radix-k", procs, set)
+        .unwrap_or_else(|e| panic!("{machine} n={procs} {set:?}: {e}"))
 }
 
 #[test]

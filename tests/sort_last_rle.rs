@@ -2,35 +2,23 @@
 //! the sequential renderer's, as with dense pieces, and fewer bytes travel where frames are
 //! sparse.
 
-use std::collections::BTreeMap;
-use std::path::Path;
+mod common;
+
 use std::sync::Arc;
 
-use sortsim::algo::{reference, run, RunResult};
+use common::{run_frame0, scene};
+use sortsim::algo::{reference, RunResult};
 use sortsim::scene::Scene;
-use sortsim::spec::run::RunSpec;
-
-fn root() -> &'static Path {
-    Path::new(env!("CARGO_MANIFEST_DIR"))
-}
-
-fn scene(name: &str) -> Arc<Scene> {
-    Arc::new(Scene::load(&root().join("scenes").join(name)).unwrap())
-}
 
 fn simulate(scene: &Arc<Scene>, algo: &str, procs: u32, image: &str) -> RunResult {
-    let spec = RunSpec {
-        schema: None,
-        machine: root().join("machines/denali-crossbar.json"),
-        scene: scene.file().to_path_buf(),
-        algo: algo.into(),
+    run_frame0(
+        "denali-crossbar.json",
+        scene,
+        algo,
         procs,
-        frames: Some("0".into()),
-        seed: 1,
-        set: BTreeMap::from([("image".to_string(), image.to_string())]),
-    };
-    let cfg = spec.resolve(Some(scene.clone())).expect("valid run spec");
-    run(&cfg).unwrap_or_else(|e| panic!("{algo} n={procs} image={image}: {e}"))
+        &[("image", image)],
+    )
+    .unwrap_or_else(|e| panic!("{algo} n={procs} image={image}: {e}"))
 }
 
 const COMPOSITES: [&str; 3] = [

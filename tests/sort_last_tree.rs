@@ -2,24 +2,16 @@
 //! node count (powers of two or not) on several topologies, and a frame moves exactly N - 1
 //! full frames.
 
-use std::collections::BTreeMap;
-use std::path::Path;
+mod common;
+
 use std::sync::Arc;
 
-use sortsim::algo::{reference, run, RunError, RunResult};
+use common::{run_frame0, scene};
+use sortsim::algo::{reference, RunError, RunResult};
 use sortsim::scene::Scene;
-use sortsim::spec::run::RunSpec;
 
 /// Bytes of a full-frame pixel when frames are merged: rgb and a 32-bit z.
 const FULL_FRAME_PIXEL_BYTES: u64 = 7;
-
-fn root() -> &'static Path {
-    Path::new(env!("CARGO_MANIFEST_DIR"))
-}
-
-fn scene(name: &str) -> Arc<Scene> {
-    Arc::new(Scene::load(&root().join("scenes").join(name)).unwrap())
-}
 
 fn simulate(
     machine: &str,
@@ -27,20 +19,7 @@ fn simulate(
     procs: u32,
     set: &[(&str, &str)],
 ) -> Result<RunResult, RunError> {
-    let spec = RunSpec {
-        schema: None,
-        machine: root().join("machines").join(machine),
-        scene: scene.file().to_path_buf(),
-        algo: "sort-last/tree".into(),
-        procs,
-        frames: Some("0".into()),
-        seed: 1,
-        set: set
-            .iter()
-            .map(|(k, v)| (k.to_string(), v.to_string()))
-            .collect::<BTreeMap<_, _>>(),
-    };
-    run(&spec.resolve(Some(scene.clone())).expect("valid run spec"))
+    run_frame0(machine, scene, "sort-last/tree", procs, set)
 }
 
 #[test]

@@ -80,6 +80,36 @@ pub fn run_sort_last(
     run(&spec.resolve(Some(scene.clone())).expect("valid run"))
 }
 
+/// A scene of scenes/ by file name.
+pub fn scene(name: &str) -> Arc<Scene> {
+    Arc::new(Scene::load(&root().join("scenes").join(name)).expect("bundled scene loads"))
+}
+
+/// Frame 0 of `scene` run by `algo` on `procs` nodes of machines/`machine`, with `set`
+/// options (seed 1).
+pub fn run_frame0(
+    machine: &str,
+    scene: &Arc<Scene>,
+    algo: &str,
+    procs: u32,
+    set: &[(&str, &str)],
+) -> Result<RunResult, RunError> {
+    let spec = RunSpec {
+        schema: None,
+        machine: root().join("machines").join(machine),
+        scene: scene.file().to_path_buf(),
+        algo: algo.into(),
+        procs,
+        frames: Some("0".into()),
+        seed: 1,
+        set: set
+            .iter()
+            .map(|(k, v)| (k.to_string(), v.to_string()))
+            .collect(),
+    };
+    run(&spec.resolve(Some(scene.clone())).expect("valid run spec"))
+}
+
 /// The path of `binary`, installing the Debian `packages` (apt-get, as root) when it is not on
 /// the PATH. A failed install fails the calling test with apt-get's output: a test never
 /// passes because a tool was missing.

@@ -36,13 +36,7 @@ pub(super) async fn processor<P: ShippedPixel>(
     let k = 1 << n.ilog2();
     let area = ctx.viewport.width() * ctx.viewport.height();
     for frame in ctx.frames() {
-        full_frame::start_frame(&node, &ctx, frame).await?;
-        node.phase("clear");
-        local::clear_full_frame(&node, &ctx).await?;
-        node.phase("render");
-        let mut pixels = request::render_share(&node, &ctx, frame).await?;
-
-        node.phase("merge");
+        let mut pixels = request::render_frame(&node, &ctx, frame).await?;
         let mut piece = (0, area);
         if me >= k {
             full_frame::send_piece(&node, &ctx, frame, me - k, piece, pixels).await;

@@ -41,14 +41,9 @@ pub(super) async fn processor<P: ShippedPixel>(
     let n = ctx.n;
     let (w, h) = (ctx.viewport.width(), ctx.viewport.height());
     for frame in ctx.frames() {
-        full_frame::start_frame(&node, &ctx, frame).await?;
-        node.phase("clear");
-        local::clear_full_frame(&node, &ctx).await?;
-        node.phase("render");
-        let rendered = request::render_share(&node, &ctx, frame).await?;
+        let rendered = request::render_frame(&node, &ctx, frame).await?;
         let rows = Rc::new(Rows::new(rendered, w, h));
 
-        node.phase("merge");
         node.spawn(
             format!("band server {me}"),
             serve(node.clone(), ctx.clone(), frame, rows.clone()),

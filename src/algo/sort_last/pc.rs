@@ -40,14 +40,9 @@ pub(super) async fn processor<P: ShippedPixel>(
     let chunks = h.div_ceil(rows_per);
     let extent = |c: u32| (c * rows_per, ((c + 1) * rows_per).min(h));
     for frame in ctx.frames() {
-        full_frame::start_frame(&node, &ctx, frame).await?;
-        node.phase("clear");
-        local::clear_full_frame(&node, &ctx).await?;
-        node.phase("render");
-        let rendered = request::render_share(&node, &ctx, frame).await?;
+        let rendered = request::render_frame(&node, &ctx, frame).await?;
         let rows = Rows::new(rendered, w, h);
 
-        node.phase("merge");
         let mut image: Option<Vec<P>> = (me == n - 1).then(Vec::new);
         if n == 1 {
             if let Some(image) = &mut image {

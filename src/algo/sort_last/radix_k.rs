@@ -66,13 +66,7 @@ pub(super) async fn processor<P: ShippedPixel>(
     let radices = ctx.settings.radices.clone();
     let area = ctx.viewport.width() * ctx.viewport.height();
     for frame in ctx.frames() {
-        full_frame::start_frame(&node, &ctx, frame).await?;
-        node.phase("clear");
-        local::clear_full_frame(&node, &ctx).await?;
-        node.phase("render");
-        let mut pixels = request::render_share(&node, &ctx, frame).await?;
-
-        node.phase("merge");
+        let mut pixels = request::render_frame(&node, &ctx, frame).await?;
         let mut piece = (0, area);
         for (round, &k) in radices.iter().enumerate() {
             let members = group(me, &radices, round);

@@ -22,12 +22,30 @@ use std::cell::RefCell;
 use std::collections::VecDeque;
 use std::rc::Rc;
 
-use super::full_frame::{tag, Msg, CONTROL_BYTES, WORK_PACKET, WORK_REQUEST};
+use super::full_frame::{self, tag, Msg, CONTROL_BYTES, WORK_PACKET, WORK_REQUEST};
 use super::pixel::ShippedPixel;
 use super::{local, Assignment, Ctx};
 use crate::algo::sort_middle::DATABASE_BYTES_PER_TRIANGLE;
 use crate::engine::{Filter, Node, SimError};
 use crate::units::{Bytes, SimTime};
+
+/// The rendering phase of a frame for the variants that merge after rendering: waits for
+/// the frame to start, clears this node's full frame, renders its share (balancing on
+/// request when the run says so) and enters the merge phase; the rendered pixels in raster
+/// order.
+pub(crate) async fn render_frame<P: ShippedPixel>(
+    node: &Node<Msg<P>>,
+    ctx: &Rc<Ctx>,
+    frame: u32,
+) -> Result<Vec<P>, SimError> {
+    full_frame::start_frame(node, ctx, frame).await?;
+    node.phase("clear");
+    local::clear_full_frame(node, ctx).await?;
+    node.phase("render");
+    let pixels = render_share(node, ctx, frame).await?;
+    node.phase("merge");
+    Ok(pixels)
+}
 
 /// Renders this node's share of `frame` into the run's buffer (charged as a full frame by
 /// the caller), balancing on request when the run says so; returns the rendered pixels in

@@ -33,13 +33,7 @@ pub(super) async fn processor<P: ShippedPixel>(
     let n = ctx.n;
     let screen = (0, ctx.viewport.width() * ctx.viewport.height());
     for frame in ctx.frames() {
-        full_frame::start_frame(&node, &ctx, frame).await?;
-        node.phase("clear");
-        local::clear_full_frame(&node, &ctx).await?;
-        node.phase("render");
-        let mut pixels = request::render_share(&node, &ctx, frame).await?;
-
-        node.phase("merge");
+        let mut pixels = request::render_frame(&node, &ctx, frame).await?;
         let mut stride = 1;
         while stride < n {
             if me % (2 * stride) == stride {
