@@ -41,7 +41,7 @@ fn run_pairs(locs: impl Iterator<Item = u32>, hi: u32) -> u64 {
     }
 }
 
-/// The bytes of a piece of `positions` positions with `pixels` active among them.
+/// The bytes of the piece `range` with `pixels` active in it.
 pub fn bytes<P: ShippedPixel>(ctx: &Ctx, range: (u32, u32), pixels: &[P]) -> Bytes {
     let extra: u64 = pixels.iter().map(P::extra_bytes).sum();
     let records = match ctx.settings.image {

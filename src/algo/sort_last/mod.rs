@@ -58,7 +58,7 @@ use crate::raster::aa::{downsample, AaMethod, PIXEL_BYTES};
 use crate::raster::{Framebuffer, RasterOptions, Viewport};
 use crate::scene::FrameGeometry;
 use crate::units::Bytes;
-use options::AssignRule;
+use options::{AssignRule, Primitives, SplitFactor};
 pub use options::{
     CompositeOptions, DealOptions, DfOptions, DirectSendOptions, PcOptions, RadixKOptions,
 };
@@ -443,6 +443,26 @@ struct Common {
     image: options::ImageEncoding,
 }
 
+impl Common {
+    /// A variant that takes only the assignment (request balancing's parameters unused).
+    fn dealt(assign: AssignRule) -> Common {
+        Common::balanced(assign, SplitFactor(2), Primitives(16))
+    }
+
+    /// A variant that may balance on request; dense pieces, one-row chunks, no radices.
+    fn balanced(assign: AssignRule, split: SplitFactor, min_packet: Primitives) -> Common {
+        Common {
+            assign,
+            split: split.0,
+            min_packet: min_packet.0,
+            local_zbuffer: false,
+            chunk_rows: 1,
+            radices: None,
+            image: options::ImageEncoding::Dense,
+        }
+    }
+}
+
 /// Reads the options of `variant` and checks them.
 fn settings(cfg: &RunConfig, variant: Variant) -> Result<Settings, RunError> {
     let o = &cfg.options;
@@ -451,80 +471,43 @@ fn settings(cfg: &RunConfig, variant: Variant) -> Result<Settings, RunError> {
         Variant::Pc => {
             let (p, aa) = parse::<PcOptions>(o, algo)?;
             let c = Common {
-                assign: p.assign,
-                split: p.split.0,
-                min_packet: p.min_packet.0,
-                local_zbuffer: false,
                 chunk_rows: p.chunk_rows.0,
-                radices: None,
-                image: options::ImageEncoding::Dense,
-            };
-            (c, aa)
-        }
-        Variant::Tree | Variant::BinarySwap => {
-            let (d, aa) = parse::<CompositeOptions>(o, algo)?;
-            let c = Common {
-                assign: d.assign,
-                split: d.split.0,
-                min_packet: d.min_packet.0,
-                local_zbuffer: false,
-                chunk_rows: 1,
-                radices: None,
-                image: d.image,
+                ..Common::balanced(p.assign, p.split, p.min_packet)
             };
             (c, aa)
         }
         Variant::Df => {
             let (d, aa) = parse::<DfOptions>(o, algo)?;
+            (Common::balanced(d.assign, d.split, d.min_packet), aa)
+        }
+        Variant::Tree | Variant::BinarySwap => {
+            let (d, aa) = parse::<CompositeOptions>(o, algo)?;
             let c = Common {
-                assign: d.assign,
-                split: d.split.0,
-                min_packet: d.min_packet.0,
-                local_zbuffer: false,
-                chunk_rows: 1,
-                radices: None,
-                image: options::ImageEncoding::Dense,
+                image: d.image,
+                ..Common::balanced(d.assign, d.split, d.min_packet)
             };
             (c, aa)
         }
         Variant::RadixK => {
             let (r, aa) = parse::<RadixKOptions>(o, algo)?;
             let c = Common {
-                assign: r.assign,
-                split: r.split.0,
-                min_packet: r.min_packet.0,
-                local_zbuffer: false,
-                chunk_rows: 1,
                 radices: Some(r.k),
                 image: r.image,
+                ..Common::balanced(r.assign, r.split, r.min_packet)
             };
             (c, aa)
         }
         Variant::DirectSend => {
             let (d, aa) = parse::<DirectSendOptions>(o, algo)?;
             let c = Common {
-                assign: d.assign,
-                split: 2,
-                min_packet: 16,
                 local_zbuffer: d.local_zbuffer.is_on(),
-                chunk_rows: 1,
-                radices: None,
-                image: options::ImageEncoding::Dense,
+                ..Common::dealt(d.assign)
             };
             (c, aa)
         }
         Variant::ScanlineFlow | Variant::PixelFlow | Variant::Snooping => {
             let (d, aa) = parse::<DealOptions>(o, algo)?;
-            let c = Common {
-                assign: d.assign,
-                split: 2,
-                min_packet: 16,
-                local_zbuffer: false,
-                chunk_rows: 1,
-                radices: None,
-                image: options::ImageEncoding::Dense,
-            };
-            (c, aa)
+            (Common::dealt(d.assign), aa)
         }
     };
     let assignment = match common.assign {
