@@ -157,3 +157,25 @@ fn a_missing_interpreter_or_module_is_named_with_what_to_install() {
         assert_refused(&run, what, package);
     }
 }
+
+#[test]
+fn an_unknown_part_or_an_unwritable_folder_is_refused_before_anything_runs() {
+    let run = sortsim(&["validate", "bogus"]);
+    assert_refused(
+        &run,
+        "unknown part",
+        "possible values: network, raster, all",
+    );
+    let dir = scratch("validate-file");
+    std::fs::create_dir_all(dir.parent().unwrap()).unwrap();
+    std::fs::write(&dir, "a file, not a folder").unwrap();
+    let out = dir.join("report");
+    let run = sortsim(&[
+        "validate",
+        "network",
+        "--quick",
+        "-o",
+        out.to_str().unwrap(),
+    ]);
+    assert_refused(&run, "unwritable folder", "cannot write");
+}
