@@ -241,3 +241,66 @@ fn small_grids_list_their_links_by_node_then_dimension_then_plus_before_minus() 
     ];
     assert_eq!(link_names(&cube), expected);
 }
+
+/// Every route on meshes and tori, against dimension-order routing worked out one hop at a
+/// time from coordinates: correct each dimension in turn, lowest first, by the shorter way
+/// round (a torus; ties go `+`) or straight (a mesh), each hop the link from the node reached
+/// so far to its neighbour.
+#[test]
+fn grid_routes_follow_dimension_order_hop_by_hop() {
+    for (kind, dims) in [
+        (TopologyKind::Mesh, vec![4, 3, 2]),
+        (TopologyKind::Mesh, vec![16, 32]),
+        (TopologyKind::Torus, vec![5, 4, 3]),
+        (TopologyKind::Torus, vec![2, 6]),
+        (TopologyKind::Torus, vec![7]),
+    ] {
+        let n = net(kind, &dims);
+        let coords = |mut node: u32| -> Vec<u32> {
+            dims.iter()
+                .map(|&k| {
+                    let c = node % k;
+                    node /= k;
+                    c
+                })
+                .collect()
+        };
+        let node_of = |c: &[u32]| -> u32 {
+            c.iter()
+                .zip(&dims)
+                .rev()
+                .fold(0, |acc, (&x, &k)| acc * k + x)
+        };
+        for src in 0..n.nodes() {
+            for dst in 0..n.nodes() {
+                let mut at = coords(src);
+                let target = coords(dst);
+                let mut expected = Vec::new();
+                for d in 0..dims.len() {
+                    let k = dims[d];
+                    while at[d] != target[d] {
+                        let up = (target[d] + k - at[d]) % k;
+                        let plus = match kind {
+                            TopologyKind::Torus => up <= k - up,
+                            _ => at[d] < target[d],
+                        };
+                        let from = node_of(&at);
+                        at[d] = if plus {
+                            (at[d] + 1) % k
+                        } else {
+                            (at[d] + k - 1) % k
+                        };
+                        expected.push(format!("{from}->{}", node_of(&at)));
+                    }
+                }
+                let route: Vec<String> = n
+                    .route(src, dst)
+                    .expect("routable")
+                    .iter()
+                    .map(|&l| n.links()[l as usize].name())
+                    .collect();
+                assert_eq!(route, expected, "{kind:?} {dims:?}: {src} -> {dst}");
+            }
+        }
+    }
+}

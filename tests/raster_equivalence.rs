@@ -184,8 +184,9 @@ fn shared_vertex_cache_changes_nothing() {
         let cw = draw_mesh(&verts, &tris, v, &opts, &mut whole);
         let mut single = Framebuffer::new(v);
         let mut cs = Counters::default();
+        let mut cache = VertexCache::new(verts.len(), v);
         for i in 0..tris.len() as u32 {
-            cs += draw_subset(&verts, &tris, &[i], v, &opts, &mut single);
+            cs += draw_subset(&verts, &tris, &[i], &mut cache, &opts, &mut single);
         }
         assert_eq!(cw, cs, "distance {dist}");
         assert_eq!(whole.hash(), single.hash(), "distance {dist}");
@@ -205,10 +206,12 @@ fn drawing_a_subset_per_node_composes_to_the_whole() {
     draw_mesh(&verts, &tris, v, &opts, &mut whole);
     let mut total = Counters::default();
     let mut nodes = Vec::new();
+    // One vertex preparation shared by the three nodes, as a simulated frame shares it.
+    let mut cache = VertexCache::new(verts.len(), v);
     for node in 0..3u32 {
         let mine: Vec<u32> = (0..tris.len() as u32).filter(|i| i % 3 == node).collect();
         let mut fb = Framebuffer::new(v);
-        total += draw_subset(&verts, &tris, &mine, v, &opts, &mut fb);
+        total += draw_subset(&verts, &tris, &mine, &mut cache, &opts, &mut fb);
         nodes.push(fb);
     }
     assert_eq!(total.triangles_in, tris.len() as u64);

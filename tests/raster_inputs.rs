@@ -103,7 +103,7 @@ fn out_of_range_indices_are_dropped_and_counted() {
         &verts,
         &[[0, 1, 2]],
         &[5],
-        v,
+        &mut VertexCache::new(verts.len(), v),
         &RasterOptions::default(),
         &mut fb,
     );

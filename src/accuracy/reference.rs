@@ -23,7 +23,7 @@ use glam::Vec4;
 
 use crate::algo::reference::raster_options;
 use crate::raster::screen::MAX_VIEWPORT;
-use crate::raster::{draw_subset, Framebuffer, Vertex, Viewport};
+use crate::raster::{draw_subset, Framebuffer, Vertex, VertexCache, Viewport};
 use crate::scene::FrameGeometry;
 
 /// Sample rows per band, rounded down to whole output rows (at least one): at scale 16, 16
@@ -199,7 +199,7 @@ fn draw_tile(
         scratch,
         &frame.triangles,
         subset,
-        vp,
+        &mut VertexCache::new(scratch.len(), vp),
         &raster_options(frame),
         &mut fb,
     );

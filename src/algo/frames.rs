@@ -1,6 +1,7 @@
 //! What every algorithm family's processors share on the host during one run: the scene's
-//! geometry per frame (computed once per frame, not once per processor) and the per-frame
-//! records being written (start, end, traffic, rasterization finishing times).
+//! geometry per frame and its prepared vertices (computed once per frame, not once per
+//! processor) and the per-frame records being written (start, end, traffic, rasterization
+//! finishing times).
 //!
 //! Must never hold simulated state: nothing here is charged to the machine, and nothing here
 //! may change what a node program decides, only what the run reports.
@@ -12,6 +13,7 @@ use std::sync::Arc;
 
 use super::FrameRecord;
 use crate::engine::{Node, Payload, SimError};
+use crate::raster::{VertexCache, Viewport};
 use crate::scene::{FrameGeometry, Scene};
 use crate::units::{Bytes, SimTime};
 
@@ -19,17 +21,46 @@ use crate::units::{Bytes, SimTime};
 pub(crate) struct FrameBook {
     scene: Arc<Scene>,
     n: u32,
-    geometry: RefCell<BTreeMap<u32, Rc<FrameGeometry>>>,
+    /// Where the run draws: every processor's vertices are prepared for it.
+    viewport: Viewport,
+    geometry: RefCell<BTreeMap<u32, Shared>>,
     records: RefCell<BTreeMap<u32, FrameRecord>>,
 }
 
+/// One frame's geometry and the vertex preparation all processors share: preparing a vertex
+/// is a pure function of it and the viewport, so sharing changes no image and no count
+/// (the machine is charged per triangle, not per preparation), only the host's time.
+#[derive(Clone)]
+struct Shared {
+    geometry: Rc<FrameGeometry>,
+    vertices: Rc<RefCell<VertexCache>>,
+}
+
+impl Shared {
+    fn new(geometry: Rc<FrameGeometry>, viewport: Viewport) -> Shared {
+        let vertices = VertexCache::new(geometry.vertices.len(), viewport);
+        Shared {
+            geometry,
+            vertices: Rc::new(RefCell::new(vertices)),
+        }
+    }
+}
+
 impl FrameBook {
-    /// A book whose cache already holds `first`, the geometry of frame `frame`.
-    pub fn new(scene: Arc<Scene>, n: u32, frame: u32, first: Rc<FrameGeometry>) -> FrameBook {
+    /// A book whose cache already holds `first`, the geometry of frame `frame`, drawn to
+    /// `viewport`.
+    pub fn new(
+        scene: Arc<Scene>,
+        n: u32,
+        viewport: Viewport,
+        frame: u32,
+        first: Rc<FrameGeometry>,
+    ) -> FrameBook {
         FrameBook {
             scene,
             n,
-            geometry: RefCell::new(BTreeMap::from([(frame, first)])),
+            viewport,
+            geometry: RefCell::new(BTreeMap::from([(frame, Shared::new(first, viewport))])),
             records: RefCell::default(),
         }
     }
@@ -40,6 +71,21 @@ impl FrameBook {
         node: &Node<M>,
         frame: u32,
     ) -> Result<Rc<FrameGeometry>, SimError> {
+        Ok(self.shared(node, frame)?.geometry)
+    }
+
+    /// `frame`'s vertices prepared for the run's viewport, shared by every processor (pass
+    /// it to `raster::setup_subset` or `raster::draw_subset`; never hold the borrow across
+    /// an await).
+    pub fn vertices<M: Payload>(
+        &self,
+        node: &Node<M>,
+        frame: u32,
+    ) -> Result<Rc<RefCell<VertexCache>>, SimError> {
+        Ok(self.shared(node, frame)?.vertices)
+    }
+
+    fn shared<M: Payload>(&self, node: &Node<M>, frame: u32) -> Result<Shared, SimError> {
         let mut cache = self.geometry.borrow_mut();
         if let Some(g) = cache.get(&frame) {
             return Ok(g.clone());
@@ -49,9 +95,10 @@ impl FrameBook {
                 .frame(frame)
                 .map_err(|e| node.error(e.to_string()))?,
         );
+        let shared = Shared::new(g, self.viewport);
         cache.retain(|&f, _| f + 1 >= frame);
-        cache.insert(frame, g.clone());
-        Ok(g)
+        cache.insert(frame, shared.clone());
+        Ok(shared)
     }
 
     /// Edits `frame`'s record, creating it on first use.

@@ -90,58 +90,69 @@ pub fn draw_mesh<T: Target + ?Sized>(
     options: &RasterOptions,
     target: &mut T,
 ) -> Counters {
+    let mut own = new_cache(triangles.len(), vertices.len(), viewport);
     draw_indices(
         vertices,
         triangles,
         0..triangles.len() as u32,
         viewport,
         options,
+        own.as_mut(),
         target,
     )
 }
 
 /// Draws the triangles whose indices are listed in `subset` (in that order): the triangles
-/// one node owns. Primitive ids stay the indices into `triangles`.
+/// one node owns. Primitive ids stay the indices into `triangles`. Vertices are prepared in
+/// `cache` (made for `vertices`; its viewport is the one drawn to), which other subsets of
+/// the same mesh may share.
 pub fn draw_subset<T: Target + ?Sized>(
     vertices: &[Vertex],
     triangles: &[[u32; 3]],
     subset: &[u32],
-    viewport: Viewport,
+    cache: &mut VertexCache,
     options: &RasterOptions,
     target: &mut T,
 ) -> Counters {
+    let viewport = cache.viewport();
     draw_indices(
         vertices,
         triangles,
         subset.iter().copied(),
         viewport,
         options,
+        Some(cache),
         target,
     )
 }
 
 /// Front end only: clips, projects, snaps and culls the listed triangles and appends the
-/// resulting screen triangles to `out` (the sort-middle geometry stage).
+/// resulting screen triangles to `out` (the sort-middle geometry stage), preparing vertices
+/// in `cache` as [`draw_subset`] does.
 pub fn setup_subset(
     vertices: &[Vertex],
     triangles: &[[u32; 3]],
     subset: &[u32],
-    viewport: Viewport,
+    cache: &mut VertexCache,
     options: &RasterOptions,
     out: &mut Vec<ScreenTriangle>,
 ) -> Counters {
-    setup_indices(
+    let viewport = cache.viewport();
+    let mut c = Counters::default();
+    front_end(
         vertices,
         triangles,
         subset.iter().copied(),
-        subset.len(),
         viewport,
         options,
-        out,
-    )
+        Some(cache),
+        &mut c,
+        |t| out.push(t),
+    );
+    c
 }
 
-/// [`setup_subset`] over the whole mesh.
+/// [`setup_subset`] over the whole mesh, with a cache of its own when it pays.
 pub fn setup_mesh(
     vertices: &[Vertex],
     triangles: &[[u32; 3]],
@@ -149,35 +160,15 @@ pub fn setup_mesh(
     options: &RasterOptions,
     out: &mut Vec<ScreenTriangle>,
 ) -> Counters {
-    let all = 0..triangles.len() as u32;
-    setup_indices(
-        vertices,
-        triangles,
-        all,
-        triangles.len(),
-        viewport,
-        options,
-        out,
-    )
-}
-
-fn setup_indices(
-    vertices: &[Vertex],
-    triangles: &[[u32; 3]],
-    indices: impl Iterator<Item = u32>,
-    count: usize,
-    viewport: Viewport,
-    options: &RasterOptions,
-    out: &mut Vec<ScreenTriangle>,
-) -> Counters {
+    let mut own = new_cache(triangles.len(), vertices.len(), viewport);
     let mut c = Counters::default();
     front_end(
         vertices,
         triangles,
-        indices,
-        count,
+        0..triangles.len() as u32,
         viewport,
         options,
+        own.as_mut(),
         &mut c,
         |t| out.push(t),
     );
@@ -185,23 +176,29 @@ fn setup_indices(
 }
 
 /// The front-end loop every entry point shares: clips, projects and snaps the listed
-/// triangles (vertices prepared once when the batch is large), handing each screen triangle
-/// to `sink` in order.
+/// triangles (vertices prepared once in `cache` when there is one), handing each screen
+/// triangle to `sink` in order.
 #[allow(clippy::too_many_arguments)]
 fn front_end(
     vertices: &[Vertex],
     triangles: &[[u32; 3]],
     indices: impl Iterator<Item = u32>,
-    count: usize,
     viewport: Viewport,
     options: &RasterOptions,
+    mut cache: Option<&mut VertexCache>,
     counters: &mut Counters,
     mut sink: impl FnMut(ScreenTriangle),
 ) {
-    let mut cache = new_cache(count, vertices.len());
     for prim in indices {
         setup_one(
-            vertices, triangles, prim, viewport, options, &mut cache, counters, &mut sink,
+            vertices,
+            triangles,
+            prim,
+            viewport,
+            options,
+            cache.as_deref_mut(),
+            counters,
+            &mut sink,
         );
     }
 }
@@ -243,24 +240,25 @@ pub fn draw_screen_triangle<T: Target + ?Sized>(
     }
 }
 
+#[allow(clippy::too_many_arguments)]
 fn draw_indices<T: Target + ?Sized>(
     vertices: &[Vertex],
     triangles: &[[u32; 3]],
-    indices: impl ExactSizeIterator<Item = u32>,
+    indices: impl Iterator<Item = u32>,
     viewport: Viewport,
     options: &RasterOptions,
+    cache: Option<&mut VertexCache>,
     target: &mut T,
 ) -> Counters {
     let mut front = Counters::default();
     let mut back = Counters::default();
-    let count = indices.len();
     front_end(
         vertices,
         triangles,
         indices,
-        count,
         viewport,
         options,
+        cache,
         &mut front,
         |t| draw_screen_triangle(&t, target, &mut back),
     );
@@ -274,13 +272,13 @@ fn setup_one(
     prim: u32,
     viewport: Viewport,
     options: &RasterOptions,
-    cache: &mut Option<VertexCache>,
+    cache: Option<&mut VertexCache>,
     c: &mut Counters,
     emit: impl FnMut(ScreenTriangle),
 ) {
     match (triangles.get(prim as usize), cache) {
         (Some(&tri), Some(cache)) => {
-            setup::setup_triangle_cached(vertices, cache, tri, prim, viewport, options, c, emit)
+            setup::setup_triangle_cached(vertices, cache, tri, prim, options, c, emit)
         }
         (Some(&tri), None) => {
             setup::setup_triangle(vertices, tri, prim, viewport, options, c, emit)
@@ -295,8 +293,12 @@ fn setup_one(
 /// A vertex cache when the triangles drawn are many relative to the vertex array, so that
 /// preparing shared vertices once (in a cache the size of the vertex array) pays off.
 /// Caching never changes results, only cost.
-fn new_cache(triangle_count: usize, vertex_count: usize) -> Option<VertexCache> {
-    (4 * 3 * triangle_count >= vertex_count).then(|| VertexCache::new(vertex_count))
+fn new_cache(
+    triangle_count: usize,
+    vertex_count: usize,
+    viewport: Viewport,
+) -> Option<VertexCache> {
+    (4 * 3 * triangle_count >= vertex_count).then(|| VertexCache::new(vertex_count, viewport))
 }
 
 #[cfg(test)]

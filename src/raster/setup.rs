@@ -260,9 +260,12 @@ pub fn prepare(v: &Vertex, viewport: Viewport) -> Option<PreparedVertex> {
     })
 }
 
-/// Prepared vertices of one mesh for one viewport, filled on first use.
+/// Prepared vertices of one mesh for one viewport, filled on first use. One cache can serve
+/// every draw of that mesh and viewport (all processors of a simulated frame share one), so
+/// each vertex is prepared once however the triangles are dealt.
 #[derive(Clone, Debug)]
 pub struct VertexCache {
+    viewport: Viewport,
     slots: Vec<Slot>,
 }
 
@@ -274,16 +277,25 @@ enum Slot {
 }
 
 impl VertexCache {
-    pub fn new(vertex_count: usize) -> VertexCache {
+    pub fn new(vertex_count: usize, viewport: Viewport) -> VertexCache {
         VertexCache {
+            viewport,
             slots: vec![Slot::Empty; vertex_count],
         }
     }
 
-    fn get(&mut self, vertices: &[Vertex], i: u32, viewport: Viewport) -> Option<PreparedVertex> {
+    /// The viewport every vertex here is prepared for.
+    pub fn viewport(&self) -> Viewport {
+        self.viewport
+    }
+
+    fn get(&mut self, vertices: &[Vertex], i: u32) -> Option<PreparedVertex> {
         let slot = self.slots.get_mut(i as usize)?;
         if let Slot::Empty = slot {
-            *slot = match vertices.get(i as usize).and_then(|v| prepare(v, viewport)) {
+            *slot = match vertices
+                .get(i as usize)
+                .and_then(|v| prepare(v, self.viewport))
+            {
                 Some(p) => Slot::Ready(p),
                 None => Slot::Invalid,
             };
@@ -296,21 +308,26 @@ impl VertexCache {
 }
 
 /// [`setup_triangle`] with shared vertices prepared once in `cache` (which must have been
-/// made for `vertices` and used with this `viewport` only).
-#[allow(clippy::too_many_arguments)]
+/// made for `vertices`), in the cache's viewport.
 pub fn setup_triangle_cached(
     vertices: &[Vertex],
     cache: &mut VertexCache,
     tri: [u32; 3],
     prim: u32,
-    viewport: Viewport,
     options: &RasterOptions,
     counters: &mut Counters,
     mut emit: impl FnMut(ScreenTriangle),
 ) {
-    let prepared = tri.map(|i| cache.get(vertices, i, viewport));
+    let prepared = tri.map(|i| cache.get(vertices, i));
     setup_prepared(
-        vertices, tri, prepared, prim, viewport, options, counters, &mut emit,
+        vertices,
+        tri,
+        prepared,
+        prim,
+        cache.viewport,
+        options,
+        counters,
+        &mut emit,
     );
 }
 

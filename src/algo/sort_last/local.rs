@@ -42,6 +42,8 @@ fn draw<M: Payload, T: Target>(
     target: &mut T,
 ) -> Result<Vec<Counters>, SimError> {
     let geometry = ctx.geometry(node, frame)?;
+    let vertices = ctx.vertices(node, frame)?;
+    let mut vertices = vertices.borrow_mut();
     Ok(prims
         .chunks(BATCH)
         .map(|batch| {
@@ -49,7 +51,7 @@ fn draw<M: Payload, T: Target>(
                 &geometry.vertices,
                 &geometry.triangles,
                 batch,
-                ctx.viewport,
+                &mut vertices,
                 &ctx.raster,
                 target,
             )

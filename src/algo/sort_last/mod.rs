@@ -55,7 +55,7 @@ use crate::engine::{Node, Payload, SimError};
 use crate::machine::{Counts, Op};
 use crate::net::Network;
 use crate::raster::aa::{downsample, AaMethod, PIXEL_BYTES};
-use crate::raster::{Framebuffer, RasterOptions, Viewport};
+use crate::raster::{Framebuffer, RasterOptions, VertexCache, Viewport};
 use crate::scene::FrameGeometry;
 use crate::units::Bytes;
 use options::{AssignRule, Primitives, SplitFactor};
@@ -165,6 +165,15 @@ impl Ctx {
         frame: u32,
     ) -> Result<Rc<FrameGeometry>, SimError> {
         self.book.geometry(node, frame)
+    }
+
+    /// `frame`'s vertices prepared once for every processor (see `FrameBook::vertices`).
+    pub fn vertices<M: Payload>(
+        &self,
+        node: &Node<M>,
+        frame: u32,
+    ) -> Result<Rc<RefCell<VertexCache>>, SimError> {
+        self.book.vertices(node, frame)
     }
 
     pub fn record<R>(&self, frame: u32, f: impl FnOnce(&mut super::FrameRecord) -> R) -> R {
@@ -599,7 +608,13 @@ pub fn run(cfg: &RunConfig, variant: Variant) -> Result<RunResult, RunError> {
         viewport,
         background: first.background,
         raster: super::reference::raster_options(&first),
-        book: FrameBook::new(cfg.scene.clone(), n, cfg.frames.start, Rc::new(first)),
+        book: FrameBook::new(
+            cfg.scene.clone(),
+            n,
+            viewport,
+            cfg.frames.start,
+            Rc::new(first),
+        ),
         image: RefCell::default(),
         shares: RefCell::default(),
     });

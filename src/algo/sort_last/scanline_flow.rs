@@ -142,7 +142,7 @@ pub(super) async fn processor<P: ShippedPixel>(
             &geometry.vertices,
             &geometry.triangles,
             &share,
-            ctx.viewport,
+            &mut ctx.vertices(&node, frame)?.borrow_mut(),
             &ctx.raster,
             &mut tris,
         );

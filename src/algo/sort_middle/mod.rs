@@ -43,7 +43,7 @@ use crate::machine::{Counts, Op};
 use crate::raster::aa::{adapt, AaMethod, Grid};
 use crate::raster::{
     draw_screen_triangles, setup_subset, Framebuffer, RasterOptions, RegionSet, ScreenTriangle,
-    Viewport,
+    VertexCache, Viewport,
 };
 use crate::scene::FrameGeometry;
 use crate::units::{Bytes, SimTime};
@@ -209,6 +209,11 @@ impl Ctx {
         self.book.geometry(node, frame)
     }
 
+    /// `frame`'s vertices prepared once for every processor (see `FrameBook::vertices`).
+    fn vertices(&self, node: &Node<Msg>, frame: u32) -> Result<Rc<RefCell<VertexCache>>, SimError> {
+        self.book.vertices(node, frame)
+    }
+
     fn record<R>(&self, frame: u32, f: impl FnOnce(&mut FrameRecord) -> R) -> R {
         self.book.record(frame, f)
     }
@@ -371,6 +376,7 @@ where
 {
     node.phase("transform");
     let geometry = ctx.geometry(node, frame)?;
+    let vertices = ctx.vertices(node, frame)?;
     let share: Vec<u32> = (node.id()..geometry.triangles.len() as u32)
         .step_by(ctx.n as usize)
         .collect();
@@ -381,7 +387,7 @@ where
             &geometry.vertices,
             &geometry.triangles,
             batch,
-            ctx.viewport,
+            &mut vertices.borrow_mut(),
             &ctx.raster,
             &mut tris,
         );
@@ -580,7 +586,13 @@ pub fn run(cfg: &RunConfig, variant: Variant) -> Result<RunResult, RunError> {
         viewport,
         background: first.background,
         raster: super::reference::raster_options(&first),
-        book: FrameBook::new(cfg.scene.clone(), n, cfg.frames.start, Rc::new(first)),
+        book: FrameBook::new(
+            cfg.scene.clone(),
+            n,
+            viewport,
+            cfg.frames.start,
+            Rc::new(first),
+        ),
         next_assignment: RefCell::default(),
         images: RefCell::new(vec![None; n as usize]),
         aa_grid: RefCell::new(vec![settings_start; n as usize]),

@@ -69,6 +69,32 @@ impl Grid {
         (node as usize * self.dims.len() + d) * 2 + dir
     }
 
+    /// Appends the links of `steps` hops from `node` along dimension `d` in direction `plus`
+    /// (wrapping at the ends, which only a torus's routes reach) and returns where they end.
+    /// One division per call, not per hop: routes are computed for every pair that talks.
+    pub fn walk(
+        &self,
+        node: NodeId,
+        d: usize,
+        steps: u32,
+        plus: bool,
+        out: &mut Vec<LinkId>,
+    ) -> NodeId {
+        let (k, stride) = (self.dims[d], self.strides[d]);
+        let mut c = self.coord(node, d);
+        let row = node - c * stride;
+        for _ in 0..steps {
+            out.push(self.link(row + c * stride, d, plus));
+            c = match (plus, c) {
+                (true, c) if c + 1 == k => 0,
+                (true, c) => c + 1,
+                (false, 0) => k - 1,
+                (false, c) => c - 1,
+            };
+        }
+        row + c * stride
+    }
+
     /// The link leaving `node` along dimension `d` in direction `plus`.
     pub fn link(&self, node: NodeId, d: usize, plus: bool) -> LinkId {
         let id = self.ports[self.port(node, d, usize::from(!plus))];

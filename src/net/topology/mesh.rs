@@ -39,13 +39,8 @@ impl Topology for Mesh {
         let g = &self.grid;
         let mut at = src;
         for d in 0..g.dims.len() {
-            let target = g.coord(dst, d);
-            while g.coord(at, d) != target {
-                let c = g.coord(at, d);
-                let plus = c < target;
-                out.push(g.link(at, d, plus));
-                at = g.with_coord(at, d, if plus { c + 1 } else { c - 1 });
-            }
+            let (c, target) = (g.coord(at, d), g.coord(dst, d));
+            at = g.walk(at, d, c.abs_diff(target), c < target, out);
         }
         true
     }

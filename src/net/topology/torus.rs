@@ -45,12 +45,7 @@ impl Topology for Torus {
         for d in 0..g.dims.len() {
             let k = g.dims[d];
             let (steps, plus) = ring_steps(g.coord(at, d), g.coord(dst, d), k);
-            for _ in 0..steps {
-                out.push(g.link(at, d, plus));
-                let c = g.coord(at, d);
-                let next = if plus { (c + 1) % k } else { (c + k - 1) % k };
-                at = g.with_coord(at, d, next);
-            }
+            at = g.walk(at, d, steps, plus, out);
         }
         true
     }
