@@ -52,10 +52,12 @@ pub enum AlgorithmId {
     SortLastBinarySwap,
     /// Radix-k (Peterka et al. 2009): direct send of image parts within groups of k.
     SortLastRadixK,
+    /// 2-3 swap (Yu, Wang, Ma 2008): binary swap for any N, by groups of two or three.
+    SortLastTwoThreeSwap,
 }
 
 impl AlgorithmId {
-    pub const ALL: [AlgorithmId; 11] = [
+    pub const ALL: [AlgorithmId; 12] = [
         AlgorithmId::SortMiddleStatic,
         AlgorithmId::SortMiddleEllsworth,
         AlgorithmId::SortLastDf,
@@ -67,6 +69,7 @@ impl AlgorithmId {
         AlgorithmId::SortLastTree,
         AlgorithmId::SortLastBinarySwap,
         AlgorithmId::SortLastRadixK,
+        AlgorithmId::SortLastTwoThreeSwap,
     ];
 
     pub fn id(self) -> &'static str {
@@ -82,6 +85,7 @@ impl AlgorithmId {
             AlgorithmId::SortLastTree => "sort-last/tree",
             AlgorithmId::SortLastBinarySwap => "sort-last/binary-swap",
             AlgorithmId::SortLastRadixK => "sort-last/radix-k",
+            AlgorithmId::SortLastTwoThreeSwap => "sort-last/2-3-swap",
         }
     }
 
@@ -101,6 +105,7 @@ impl AlgorithmId {
             AlgorithmId::SortLastTree => Family::SortLast(L::Tree),
             AlgorithmId::SortLastBinarySwap => Family::SortLast(L::BinarySwap),
             AlgorithmId::SortLastRadixK => Family::SortLast(L::RadixK),
+            AlgorithmId::SortLastTwoThreeSwap => Family::SortLast(L::TwoThreeSwap),
         }
     }
 
@@ -124,9 +129,9 @@ impl AlgorithmId {
             AlgorithmId::SortMiddleStatic => docs::<sort_middle::StaticOptions>(),
             AlgorithmId::SortMiddleEllsworth => docs::<sort_middle::EllsworthOptions>(),
             AlgorithmId::SortLastDf => docs::<sort_last::DfOptions>(),
-            AlgorithmId::SortLastTree | AlgorithmId::SortLastBinarySwap => {
-                docs::<sort_last::CompositeOptions>()
-            }
+            AlgorithmId::SortLastTree
+            | AlgorithmId::SortLastBinarySwap
+            | AlgorithmId::SortLastTwoThreeSwap => docs::<sort_last::CompositeOptions>(),
             AlgorithmId::SortLastRadixK => docs::<sort_last::RadixKOptions>(),
             AlgorithmId::SortLastPc => docs::<sort_last::PcOptions>(),
             AlgorithmId::SortLastDirectSend => docs::<sort_last::DirectSendOptions>(),
@@ -144,9 +149,9 @@ impl AlgorithmId {
             AlgorithmId::SortMiddleStatic => schema_for!(sort_middle::StaticOptions),
             AlgorithmId::SortMiddleEllsworth => schema_for!(sort_middle::EllsworthOptions),
             AlgorithmId::SortLastDf => schema_for!(sort_last::DfOptions),
-            AlgorithmId::SortLastTree | AlgorithmId::SortLastBinarySwap => {
-                schema_for!(sort_last::CompositeOptions)
-            }
+            AlgorithmId::SortLastTree
+            | AlgorithmId::SortLastBinarySwap
+            | AlgorithmId::SortLastTwoThreeSwap => schema_for!(sort_last::CompositeOptions),
             AlgorithmId::SortLastRadixK => schema_for!(sort_last::RadixKOptions),
             AlgorithmId::SortLastPc => schema_for!(sort_last::PcOptions),
             AlgorithmId::SortLastDirectSend => schema_for!(sort_last::DirectSendOptions),

@@ -22,7 +22,7 @@
 
 use std::rc::Rc;
 
-use super::full_frame::{self, tag, Msg, PARTITION, PIECE};
+use super::full_frame::{self, piece_tag, tag, Msg, PARTITION};
 use super::pixel::ShippedPixel;
 use super::{image, local, request, Ctx};
 use crate::engine::{Filter, Node, SimError};
@@ -38,14 +38,16 @@ pub(super) async fn processor<P: ShippedPixel>(
     for frame in ctx.frames() {
         let mut pixels = request::render_frame(&node, &ctx, frame).await?;
         let mut piece = (0, area);
+        // Round 0 is the fold; swap round r is round r + 1.
         if me >= k {
-            full_frame::send_piece(&node, &ctx, frame, me - k, piece, pixels).await;
+            full_frame::send_piece(&node, &ctx, (frame, 0), me - k, piece, pixels).await;
             pixels = Vec::new();
         } else {
             if me + k < n {
-                pixels = receive_and_merge(&node, &ctx, frame, me + k, piece, pixels).await?;
+                pixels = receive_and_merge(&node, &ctx, (frame, 0), me + k, piece, pixels).await?;
             }
             let mut bit = 1;
+            let mut round = 1;
             while bit < k {
                 let (lo, hi) = piece;
                 let mid = lo + (hi - lo) / 2;
@@ -56,10 +58,12 @@ pub(super) async fn processor<P: ShippedPixel>(
                 } else {
                     (upper, pixels, (mid, hi), (lo, mid))
                 };
-                full_frame::send_piece(&node, &ctx, frame, me ^ bit, theirs, give).await;
-                pixels = receive_and_merge(&node, &ctx, frame, me ^ bit, mine, keep).await?;
+                let at = (frame, round);
+                full_frame::send_piece(&node, &ctx, at, me ^ bit, theirs, give).await;
+                pixels = receive_and_merge(&node, &ctx, at, me ^ bit, mine, keep).await?;
                 piece = mine;
                 bit <<= 1;
+                round += 1;
             }
             if me != 0 {
                 send_to_image(&node, &ctx, frame, piece, pixels).await;
@@ -69,19 +73,19 @@ pub(super) async fn processor<P: ShippedPixel>(
         local::free_full_frame(&node, &ctx)?;
         ctx.end_aa(&node, frame)?;
         if me == 0 {
-            let image = gather(&node, frame, k, pixels).await;
+            let image = gather(&node, frame, k, (piece.0, pixels)).await;
             full_frame::end_frame(&node, &ctx, frame, &image).await?;
         }
     }
     Ok(())
 }
 
-/// Receives `from`'s pixels of the positions `lo..hi` and z-merges them into `own` (the same
-/// range), charging what the encoding compares and walks.
+/// Receives `from`'s pixels of the positions `lo..hi` sent in round `round` and z-merges
+/// them into `own` (the same range), charging what the encoding compares and walks.
 pub(super) async fn receive_and_merge<P: ShippedPixel>(
     node: &Node<Msg<P>>,
     ctx: &Ctx,
-    frame: u32,
+    (frame, round): (u32, u32),
     from: u32,
     (lo, hi): (u32, u32),
     own: Vec<P>,
@@ -89,12 +93,14 @@ pub(super) async fn receive_and_merge<P: ShippedPixel>(
     let input = crate::units::Bytes::new(u64::from(hi - lo) * ctx.record_bytes());
     node.alloc("input piece", input)?;
     let env = node
-        .recv(Filter::tag(tag(PIECE, frame)).and_source(from))
+        .recv(Filter::tag(piece_tag(frame, round)).and_source(from))
         .await;
     let Msg::Piece { pixels: theirs, .. } = env.payload else {
         unreachable!("filtered by tag")
     };
-    let (compared, walked) = image::merge_work(ctx, (lo, hi), &theirs, &own);
+    // What a compressed composite walks of its own: the runs inside the range.
+    let inside = &own[own.partition_point(|p| p.loc() < lo)..own.partition_point(|p| p.loc() < hi)];
+    let (compared, walked) = image::merge_work(ctx, (lo, hi), &theirs, inside);
     node.compute(&walked).await;
     let merged = ctx.merge_rows(node, &theirs, &own, compared).await;
     node.free("input piece", input)?;
@@ -121,15 +127,15 @@ pub(super) async fn send_to_image<P: ShippedPixel>(
     ctx.send(node, frame, 0, bytes, msg).await;
 }
 
-/// Node 0 collects the `k` - 1 other pieces (its own starts at position 0) into the image,
-/// in raster order.
+/// Node 0 collects the `k` - 1 other pieces into the image (its own, `own`, starts at
+/// position `own.0`), in raster order.
 pub(super) async fn gather<P: ShippedPixel>(
     node: &Node<Msg<P>>,
     frame: u32,
     k: u32,
-    own: Vec<P>,
+    own: (u32, Vec<P>),
 ) -> Vec<P> {
-    let mut pieces = vec![(0, own)];
+    let mut pieces = vec![own];
     for _ in 1..k {
         let env = node.recv(Filter::tag(tag(PARTITION, frame))).await;
         let Msg::Partition { band, pixels, .. } = env.payload else {

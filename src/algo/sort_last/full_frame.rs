@@ -50,9 +50,14 @@ pub enum Msg<P> {
     Credit { frame: u32 },
     /// A hand-off between two programs of one node (a semaphore), never on the network.
     Local { frame: u32 },
-    /// Tree, binary swap, radix-k: a range of screen positions the receiver knows (raster
-    /// order), sized by the run's image encoding (`image.rs`).
-    Piece { frame: u32, pixels: Vec<P> },
+    /// Tree, binary swap, radix-k, 2-3 swap: a range of screen positions the receiver knows
+    /// (raster order), sized by the run's image encoding (`image.rs`), sent in compositing
+    /// round `round` (a later round's piece from the same sender may overtake it).
+    Piece {
+        frame: u32,
+        round: u32,
+        pixels: Vec<P>,
+    },
 }
 
 /// Message kinds, the low bits of a tag.
@@ -65,11 +70,21 @@ pub const PARTITION: u32 = 6;
 pub const CHUNK: u32 = 7;
 pub const CREDIT: u32 = 8;
 pub const LOCAL: u32 = 9;
-pub const PIECE: u32 = 10;
+/// Pieces of compositing round r have kind `PIECE + r`.
+pub const PIECE: u32 = 16;
+/// Rounds a compositing variant may take (2^20 nodes, the most a machine may have, take 20).
+pub const MAX_ROUNDS: u32 = 256 - PIECE;
 
 /// The tag of a message of `kind` in `frame`: frames never mix in a mailbox.
 pub fn tag(kind: u32, frame: u32) -> u32 {
-    (frame << 4) | kind
+    debug_assert!(kind < 256);
+    (frame << 8) | kind
+}
+
+/// The tag of a piece of compositing round `round` in `frame`.
+pub fn piece_tag(frame: u32, round: u32) -> u32 {
+    debug_assert!(round < MAX_ROUNDS);
+    tag(PIECE + round, frame)
 }
 
 impl<P: ShippedPixel> Payload for Msg<P> {
@@ -84,7 +99,7 @@ impl<P: ShippedPixel> Payload for Msg<P> {
             Msg::Chunk { frame, .. } => tag(CHUNK, *frame),
             Msg::Credit { frame } => tag(CREDIT, *frame),
             Msg::Local { frame, .. } => tag(LOCAL, *frame),
-            Msg::Piece { frame, .. } => tag(PIECE, *frame),
+            Msg::Piece { frame, round, .. } => piece_tag(*frame, *round),
         }
     }
 }
@@ -158,15 +173,19 @@ pub async fn send_chunk<P: ShippedPixel>(
 pub async fn send_piece<P: ShippedPixel>(
     node: &Node<Msg<P>>,
     ctx: &Ctx,
-    frame: u32,
+    (frame, round): (u32, u32),
     dst: u32,
     range: (u32, u32),
     pixels: Vec<P>,
 ) {
     node.compute(&image::encode_work(ctx, range, &pixels)).await;
     let bytes = image::bytes(ctx, range, &pixels);
-    ctx.send(node, frame, dst, bytes, Msg::Piece { frame, pixels })
-        .await;
+    let msg = Msg::Piece {
+        frame,
+        round,
+        pixels,
+    };
+    ctx.send(node, frame, dst, bytes, msg).await;
 }
 
 /// Ends `frame` at the node holding its image (`image`, the merged pixels): shows it

@@ -1,7 +1,7 @@
 //! Sort-last rendering: every processor renders whole primitives of its own share of the
 //! database into a local frame, and the frames are merged by depth over the network.
 //!
-//! Nine variants, one module each, reading like their papers:
+//! Ten variants, one module each, reading like their papers:
 //! * full-frame, merging after rendering (paper 001's SLML-full): `df` (distributed frame
 //!   buffer over a torus), `pc` (pipeline composition by scanline chunks);
 //! * full-frame, merging during rendering (SLMF-full): `scanline_flow`;
@@ -10,7 +10,8 @@
 //!   delete what the broadcast hides);
 //! * beyond the papers, the compositing IceT uses: `tree` (whole frames merged in pairs up a
 //!   binary tree), `binary_swap` (halves of the image exchanged with partners, then
-//!   gathered), `radix_k` (direct send of image parts within groups of k, round by round).
+//!   gathered), `radix_k` (direct send of image parts within groups of k, round by round),
+//!   `two_three_swap` (binary swap for any N, by groups of two or three).
 //!
 //! The mechanisms they share live beside them: `pixel` (the pixel a merge ships: an ordinary
 //! active pixel, or with `aa=adaptive` a pixel of paper 000's adaptive buffer carrying its
@@ -42,6 +43,7 @@ mod scanline_flow;
 mod snooping;
 mod sparse;
 mod tree;
+mod two_three_swap;
 
 use std::cell::RefCell;
 use std::rc::Rc;
@@ -64,7 +66,7 @@ pub use options::{
 };
 use pixel::{AaPx, Px, ShippedPixel};
 
-/// The nine sort-last algorithms.
+/// The ten sort-last algorithms.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub enum Variant {
     Df,
@@ -76,6 +78,7 @@ pub enum Variant {
     Tree,
     BinarySwap,
     RadixK,
+    TwoThreeSwap,
 }
 
 impl Variant {
@@ -92,7 +95,12 @@ impl Variant {
     fn balances_on_request(self) -> bool {
         matches!(
             self,
-            Variant::Df | Variant::Pc | Variant::Tree | Variant::BinarySwap | Variant::RadixK
+            Variant::Df
+                | Variant::Pc
+                | Variant::Tree
+                | Variant::BinarySwap
+                | Variant::RadixK
+                | Variant::TwoThreeSwap
         )
     }
 }
@@ -119,6 +127,8 @@ pub struct Settings {
     pub chunk_rows: u32,
     /// Radix-k: the group size of each round (product: the processors).
     pub radices: Vec<u32>,
+    /// 2-3 swap: its rounds on this many processors.
+    pub swap_rounds: Rc<[two_three_swap::Round]>,
     /// Tree, binary swap, radix-k: how image pieces travel.
     pub image: options::ImageEncoding,
     /// Samples per pixel side (`aa=supersample:N`: sqrt N; 1 otherwise). Nodes render and
@@ -397,6 +407,12 @@ fn partners(variant: Variant, n: u32, radices: &[u32]) -> Vec<(u32, u32)> {
             });
             within.chain((1..n).map(|i| (i, 0))).collect()
         }
+        // Every overlap of a piece with a new part, and the gather to node 0.
+        Variant::TwoThreeSwap => {
+            let mut pairs = two_three_swap::senders(n);
+            pairs.extend((1..n).map(|i| (i, 0)));
+            pairs
+        }
         _ => Vec::new(),
     }
 }
@@ -489,7 +505,7 @@ fn settings(cfg: &RunConfig, variant: Variant) -> Result<Settings, RunError> {
             let (d, aa) = parse::<DfOptions>(o, algo)?;
             (Common::balanced(d.assign, d.split, d.min_packet), aa)
         }
-        Variant::Tree | Variant::BinarySwap => {
+        Variant::Tree | Variant::BinarySwap | Variant::TwoThreeSwap => {
             let (d, aa) = parse::<CompositeOptions>(o, algo)?;
             let c = Common {
                 image: d.image,
@@ -529,7 +545,7 @@ fn settings(cfg: &RunConfig, variant: Variant) -> Result<Settings, RunError> {
                 "assign",
                 "scatter, random or background-last: request balancing runs at the end \
                  of rendering, so only sort-last/df, sort-last/pc and the compositing \
-                 variants (tree, binary-swap, radix-k) use it (paper 001)",
+                 variants (tree, binary-swap, radix-k, 2-3-swap) use it (paper 001)",
             ))
         }
         AssignRule::Request => Assignment::Request {
@@ -578,6 +594,11 @@ fn settings(cfg: &RunConfig, variant: Variant) -> Result<Settings, RunError> {
         local_zbuffer,
         chunk_rows,
         radices,
+        swap_rounds: if variant == Variant::TwoThreeSwap {
+            two_three_swap::schedule(n).into()
+        } else {
+            Rc::from([])
+        },
         image: common.image,
         side,
         aa,
@@ -641,6 +662,7 @@ fn simulate_variant<P: ShippedPixel>(
         Variant::Tree => simulate(cfg, ctx, tree::processor::<P>)?,
         Variant::BinarySwap => simulate(cfg, ctx, binary_swap::processor::<P>)?,
         Variant::RadixK => simulate(cfg, ctx, radix_k::processor::<P>)?,
+        Variant::TwoThreeSwap => simulate(cfg, ctx, two_three_swap::processor::<P>)?,
         Variant::Snooping => {
             let shared = Rc::new(snooping::Shared::default());
             simulate(cfg, ctx, move |node, ctx| {

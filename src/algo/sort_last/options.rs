@@ -153,7 +153,8 @@ pub struct DfOptions {
     pub min_packet: Primitives,
 }
 
-/// sort-last/tree (IceT's reduce tree) and sort-last/binary-swap (Ma et al. 1994).
+/// sort-last/tree (IceT's reduce tree), sort-last/binary-swap (Ma et al. 1994) and
+/// sort-last/2-3-swap (Yu, Wang, Ma 2008).
 #[derive(Clone, Debug, serde::Deserialize, schemars::JsonSchema)]
 #[serde(rename_all = "kebab-case")]
 pub struct CompositeOptions {

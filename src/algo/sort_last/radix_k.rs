@@ -84,12 +84,14 @@ pub(super) async fn processor<P: ShippedPixel>(
                     keep = pixels;
                 } else {
                     let range = part(piece, k, j as u32);
-                    full_frame::send_piece(&node, &ctx, frame, member, range, pixels).await;
+                    let at = (frame, round as u32);
+                    full_frame::send_piece(&node, &ctx, at, member, range, pixels).await;
                 }
             }
             piece = part(piece, k, mine);
             for &member in members.iter().filter(|&&m| m != me) {
-                keep = receive_and_merge(&node, &ctx, frame, member, piece, keep).await?;
+                let at = (frame, round as u32);
+                keep = receive_and_merge(&node, &ctx, at, member, piece, keep).await?;
             }
             pixels = keep;
         }
@@ -100,7 +102,7 @@ pub(super) async fn processor<P: ShippedPixel>(
         local::free_full_frame(&node, &ctx)?;
         ctx.end_aa(&node, frame)?;
         if me == 0 {
-            let image = gather(&node, frame, ctx.n, pixels).await;
+            let image = gather(&node, frame, ctx.n, (piece.0, pixels)).await;
             full_frame::end_frame(&node, &ctx, frame, &image).await?;
         }
     }

@@ -35,16 +35,19 @@ pub(super) async fn processor<P: ShippedPixel>(
     for frame in ctx.frames() {
         let mut pixels = request::render_frame(&node, &ctx, frame).await?;
         let mut stride = 1;
+        let mut round = 0;
         while stride < n {
+            let at = (frame, round);
             if me % (2 * stride) == stride {
-                full_frame::send_piece(&node, &ctx, frame, me - stride, screen, pixels).await;
+                full_frame::send_piece(&node, &ctx, at, me - stride, screen, pixels).await;
                 pixels = Vec::new();
                 break;
             }
             if me + stride < n {
-                pixels = receive_and_merge(&node, &ctx, frame, me + stride, screen, pixels).await?;
+                pixels = receive_and_merge(&node, &ctx, at, me + stride, screen, pixels).await?;
             }
             stride *= 2;
+            round += 1;
         }
         local::free_full_frame(&node, &ctx)?;
         ctx.end_aa(&node, frame)?;
