@@ -658,7 +658,7 @@ fn sort_last_runs_refuse_what_the_machine_or_options_cannot_do() {
             "sort-last/scanline-flow",
             "4",
             &["assign=request"],
-            "only sort-last/df, sort-last/pc and the compositing variants (tree, binary-swap, radix-k) use it",
+            "only sort-last/df, sort-last/pc and the compositing variants (tree, binary-swap, radix-k, 2-3-swap) use it",
         ),
         (
             "machines/multicluster-pipeline.json",
@@ -715,6 +715,34 @@ fn sort_last_runs_refuse_what_the_machine_or_options_cannot_do() {
             "4",
             &["aa=supersample:15"],
             "expected none, adaptive, or supersample:N with N a perfect square from 4 to 256",
+        ),
+        (
+            "machines/denali-crossbar.json",
+            "sort-last/direct-send",
+            "4",
+            &["image=rle"],
+            "--set image=rle: expected dense, or rle together with local-zbuffer=on",
+        ),
+        (
+            "machines/denali-crossbar.json",
+            "sort-last/binary-swap",
+            "4",
+            &["pieces=diagonal"],
+            "contiguous",
+        ),
+        (
+            "machines/denali-crossbar.json",
+            "sort-last/tree",
+            "4",
+            &["pieces=interleaved"],
+            "pieces",
+        ),
+        (
+            "machines/denali-crossbar.json",
+            "sort-last/2-3-swap",
+            "4",
+            &["k=2,2"],
+            "k",
         ),
     ];
     for (machine, algo, procs, sets, fragment) in cases {

@@ -129,9 +129,10 @@ impl AlgorithmId {
             AlgorithmId::SortMiddleStatic => docs::<sort_middle::StaticOptions>(),
             AlgorithmId::SortMiddleEllsworth => docs::<sort_middle::EllsworthOptions>(),
             AlgorithmId::SortLastDf => docs::<sort_last::DfOptions>(),
-            AlgorithmId::SortLastTree
-            | AlgorithmId::SortLastBinarySwap
-            | AlgorithmId::SortLastTwoThreeSwap => docs::<sort_last::CompositeOptions>(),
+            AlgorithmId::SortLastTree => docs::<sort_last::CompositeOptions>(),
+            AlgorithmId::SortLastBinarySwap | AlgorithmId::SortLastTwoThreeSwap => {
+                docs::<sort_last::SwapOptions>()
+            }
             AlgorithmId::SortLastRadixK => docs::<sort_last::RadixKOptions>(),
             AlgorithmId::SortLastPc => docs::<sort_last::PcOptions>(),
             AlgorithmId::SortLastDirectSend => docs::<sort_last::DirectSendOptions>(),
@@ -149,9 +150,10 @@ impl AlgorithmId {
             AlgorithmId::SortMiddleStatic => schema_for!(sort_middle::StaticOptions),
             AlgorithmId::SortMiddleEllsworth => schema_for!(sort_middle::EllsworthOptions),
             AlgorithmId::SortLastDf => schema_for!(sort_last::DfOptions),
-            AlgorithmId::SortLastTree
-            | AlgorithmId::SortLastBinarySwap
-            | AlgorithmId::SortLastTwoThreeSwap => schema_for!(sort_last::CompositeOptions),
+            AlgorithmId::SortLastTree => schema_for!(sort_last::CompositeOptions),
+            AlgorithmId::SortLastBinarySwap | AlgorithmId::SortLastTwoThreeSwap => {
+                schema_for!(sort_last::SwapOptions)
+            }
             AlgorithmId::SortLastRadixK => schema_for!(sort_last::RadixKOptions),
             AlgorithmId::SortLastPc => schema_for!(sort_last::PcOptions),
             AlgorithmId::SortLastDirectSend => schema_for!(sort_last::DirectSendOptions),

@@ -23,6 +23,7 @@
 use std::rc::Rc;
 
 use super::full_frame::{self, piece_tag, tag, Msg, PARTITION};
+use super::interlace::Interlace;
 use super::pixel::ShippedPixel;
 use super::{image, local, request, Ctx};
 use crate::engine::{Filter, Node, SimError};
@@ -35,8 +36,12 @@ pub(super) async fn processor<P: ShippedPixel>(
     let n = ctx.n;
     let k = 1 << n.ilog2();
     let area = ctx.viewport.width() * ctx.viewport.height();
+    let interlace = Interlace::for_run(&ctx, k);
     for frame in ctx.frames() {
         let mut pixels = request::render_frame(&node, &ctx, frame).await?;
+        if let Some(il) = &interlace {
+            pixels = il.enter(&node, &ctx, pixels).await;
+        }
         let mut piece = (0, area);
         // Round 0 is the fold; swap round r is round r + 1.
         if me >= k {
@@ -74,6 +79,10 @@ pub(super) async fn processor<P: ShippedPixel>(
         ctx.end_aa(&node, frame)?;
         if me == 0 {
             let image = gather(&node, frame, k, (piece.0, pixels)).await;
+            let image = match &interlace {
+                Some(il) => il.leave(&node, &ctx, image).await,
+                None => image,
+            };
             full_frame::end_frame(&node, &ctx, frame, &image).await?;
         }
     }

@@ -14,11 +14,19 @@
 //! 3 bytes a pixel) crosses the network and shows in the machine's per-node statistics, but
 //! not in the frame's bytes.
 //!
+//! With `local-zbuffer=on` and `image=rle`, a node's pixels for an owner travel as runs of
+//! the owner's rows (IceT's sparse image over the owner's part): a record per active pixel
+//! and an 8-byte header per run of consecutive positions instead of an address per pixel;
+//! the sender scans its whole frame once to encode (`rle_pixel` per position, `rle_run` per
+//! run) and the owner walks each message's runs (`rle_run`) as it merges.
+//!
 //! Must never depth-test before shipping unless `local-zbuffer=on`, and never let an owner
 //! decide its rows before every sender's last message has arrived.
 
 use std::rc::Rc;
 
+use super::image::{active_runs, RUN_BYTES};
+use super::options::ImageEncoding;
 use super::pixel::{Px, ShippedPixel};
 use super::sparse::{BucketTarget, Image, MESSAGE_PIXELS};
 use super::{local, Ctx};
@@ -70,10 +78,15 @@ impl<P: ShippedPixel> Part<P> {
         }
     }
 
-    /// Depth-merges pixels into the part (`composite_pixel` each, and the subpixel work).
+    /// Depth-merges pixels into the part (`composite_pixel` each, and the subpixel work;
+    /// with rle, walking the message's runs).
     async fn merge(&mut self, node: &Node<Msg<P>>, ctx: &Ctx, pixels: &[P]) {
         let (width, n) = (self.width, self.n);
         let slot = |loc: u32| ((loc / width / n) * width + loc % width) as usize;
+        if ctx.settings.image == ImageEncoding::Rle {
+            node.compute(&Counts::of(Op::RleRun, runs(ctx, pixels)))
+                .await;
+        }
         ctx.merge_into(node, &mut self.image, slot, pixels, Op::CompositePixel)
             .await;
     }
@@ -93,6 +106,26 @@ impl<P: ShippedPixel> Part<P> {
 
 fn owned_rows(height: u32, n: u32, me: u32) -> u32 {
     (height + n - 1 - me) / n
+}
+
+/// Runs of consecutive positions of the owner's part among `pixels` (all for one owner, in
+/// raster order): consecutive in the part means the same row and the next x, since the
+/// owner's rows follow one another in its part.
+fn runs<P: ShippedPixel>(ctx: &Ctx, pixels: &[P]) -> u64 {
+    let (w, n) = (ctx.viewport.width(), ctx.n);
+    active_runs(pixels.iter().map(|p| (p.loc() / w / n) * w + p.loc() % w))
+}
+
+/// Bytes of a message carrying `pixels` to one owner: each with its address (dense), or a
+/// full-frame record each plus a header per run (rle).
+fn message_bytes<P: ShippedPixel>(ctx: &Ctx, pixels: &[P]) -> u64 {
+    match ctx.settings.image {
+        ImageEncoding::Dense => pixels.iter().map(P::wire_bytes).sum(),
+        ImageEncoding::Rle => {
+            let extra: u64 = pixels.iter().map(P::extra_bytes).sum();
+            pixels.len() as u64 * ctx.record_bytes() + extra + runs(ctx, pixels) * RUN_BYTES
+        }
+    }
 }
 
 /// One processor: renderer, sender, owner of its scanlines; node 0 also the frame buffer.
@@ -122,6 +155,13 @@ pub(crate) async fn processor<P: ShippedPixel>(
                 .await;
             for p in rendered {
                 buckets[(p.loc() / w % n) as usize].push(p);
+            }
+            if ctx.settings.image == ImageEncoding::Rle {
+                // One pass over the frame writes every owner's runs.
+                let area = u64::from(w) * u64::from(ctx.viewport.height());
+                let mut work = Counts::of(Op::RlePixel, area);
+                work += &Counts::of(Op::RleRun, buckets.iter().map(|b| runs(&ctx, b)).sum());
+                node.compute(&work).await;
             }
             local::free_full_frame(&node, &ctx)?;
             // The local frame is gone once bucketed: its Subpixel blocks are free again.
@@ -271,11 +311,7 @@ impl<P: ShippedPixel> Outgoing<P> {
                 None
             };
             if dst == me {
-                let bytes: u64 = chunks
-                    .iter()
-                    .flat_map(|c| c.iter())
-                    .map(P::wire_bytes)
-                    .sum();
+                let bytes: u64 = chunks.iter().map(|c| message_bytes(ctx, c)).sum();
                 for c in &chunks {
                     part.merge(node, ctx, c).await;
                 }
@@ -286,7 +322,7 @@ impl<P: ShippedPixel> Outgoing<P> {
                 }
                 let count = chunks.len();
                 for (i, c) in chunks.into_iter().enumerate() {
-                    let bytes = Bytes::new(c.iter().map(P::wire_bytes).sum());
+                    let bytes = Bytes::new(message_bytes(ctx, c));
                     self.sent[dst as usize] += 1;
                     let total = self.sent[dst as usize];
                     let msg = Msg::Pixels {

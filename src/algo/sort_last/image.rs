@@ -1,5 +1,5 @@
-//! How the compositing variants (tree, binary swap, radix-k) ship a piece of the image, the
-//! range of screen positions `lo..hi` in raster order: `dense`, every position as a full-frame
+//! How the compositing variants (tree, binary swap, radix-k, 2-3 swap) ship a piece of the
+//! image, the range of screen positions `lo..hi` in raster order: `dense`, every position as a full-frame
 //! record (rgb and z); or `rle`, IceT's sparse image, alternating runs of inactive and active
 //! positions, one `RUN_BYTES` header per pair and a record per active position only.
 //!
@@ -39,6 +39,20 @@ fn run_pairs(locs: impl Iterator<Item = u32>, hi: u32) -> u64 {
         Some(end) if end >= hi => pairs,
         _ => pairs + 1,
     }
+}
+
+/// Maximal runs of consecutive positions among increasing `locs`: the run headers of an rle
+/// message that carries those pixels and nothing before or after them (direct send's).
+pub fn active_runs(locs: impl Iterator<Item = u32>) -> u64 {
+    let mut runs = 0;
+    let mut next = None;
+    for loc in locs {
+        if next != Some(loc) {
+            runs += 1;
+        }
+        next = Some(loc + 1);
+    }
+    runs
 }
 
 /// The bytes of the piece `range` with `pixels` active in it.

@@ -32,6 +32,7 @@ mod df;
 mod direct_send;
 mod full_frame;
 mod image;
+mod interlace;
 mod local;
 pub mod options;
 mod pc;
@@ -63,6 +64,7 @@ use crate::units::Bytes;
 use options::{AssignRule, Primitives, SplitFactor};
 pub use options::{
     CompositeOptions, DealOptions, DfOptions, DirectSendOptions, PcOptions, RadixKOptions,
+    SwapOptions,
 };
 use pixel::{AaPx, Px, ShippedPixel};
 
@@ -129,8 +131,11 @@ pub struct Settings {
     pub radices: Vec<u32>,
     /// 2-3 swap: its rounds on this many processors.
     pub swap_rounds: Rc<[two_three_swap::Round]>,
-    /// Tree, binary swap, radix-k: how image pieces travel.
+    /// Tree, binary swap, radix-k, 2-3 swap, direct send with a local z-buffer: how image
+    /// pieces travel.
     pub image: options::ImageEncoding,
+    /// Binary swap, radix-k, 2-3 swap: how the image is cut into pieces.
+    pub pieces: options::Pieces,
     /// Samples per pixel side (`aa=supersample:N`: sqrt N; 1 otherwise). Nodes render and
     /// merge samples, so every pixel the algorithm moves is a sample.
     pub side: u32,
@@ -466,6 +471,7 @@ struct Common {
     chunk_rows: u32,
     radices: Option<options::Radices>,
     image: options::ImageEncoding,
+    pieces: options::Pieces,
 }
 
 impl Common {
@@ -484,6 +490,7 @@ impl Common {
             chunk_rows: 1,
             radices: None,
             image: options::ImageEncoding::Dense,
+            pieces: options::Pieces::Contiguous,
         }
     }
 }
@@ -505,10 +512,19 @@ fn settings(cfg: &RunConfig, variant: Variant) -> Result<Settings, RunError> {
             let (d, aa) = parse::<DfOptions>(o, algo)?;
             (Common::balanced(d.assign, d.split, d.min_packet), aa)
         }
-        Variant::Tree | Variant::BinarySwap | Variant::TwoThreeSwap => {
+        Variant::Tree => {
             let (d, aa) = parse::<CompositeOptions>(o, algo)?;
             let c = Common {
                 image: d.image,
+                ..Common::balanced(d.assign, d.split, d.min_packet)
+            };
+            (c, aa)
+        }
+        Variant::BinarySwap | Variant::TwoThreeSwap => {
+            let (d, aa) = parse::<SwapOptions>(o, algo)?;
+            let c = Common {
+                image: d.image,
+                pieces: d.pieces,
                 ..Common::balanced(d.assign, d.split, d.min_packet)
             };
             (c, aa)
@@ -518,14 +534,25 @@ fn settings(cfg: &RunConfig, variant: Variant) -> Result<Settings, RunError> {
             let c = Common {
                 radices: Some(r.k),
                 image: r.image,
+                pieces: r.pieces,
                 ..Common::balanced(r.assign, r.split, r.min_packet)
             };
             (c, aa)
         }
         Variant::DirectSend => {
             let (d, aa) = parse::<DirectSendOptions>(o, algo)?;
+            if d.image == options::ImageEncoding::Rle && !d.local_zbuffer.is_on() {
+                return Err(bad(
+                    o,
+                    "image",
+                    "dense, or rle together with local-zbuffer=on: without a local z-buffer \
+                     direct send ships every fragment as it is drawn, not an image to \
+                     run-length encode",
+                ));
+            }
             let c = Common {
                 local_zbuffer: d.local_zbuffer.is_on(),
+                image: d.image,
                 ..Common::dealt(d.assign)
             };
             (c, aa)
@@ -600,6 +627,7 @@ fn settings(cfg: &RunConfig, variant: Variant) -> Result<Settings, RunError> {
             Rc::from([])
         },
         image: common.image,
+        pieces: common.pieces,
         side,
         aa,
     })

@@ -31,6 +31,16 @@ choice_option!(
     }
 );
 
+choice_option!(
+    /// How the swapping composites cut the image into pieces.
+    Pieces {
+        /// Contiguous ranges of positions in raster order.
+        Contiguous = "contiguous",
+        /// IceT's interlaced images, by rows: piece j of K gets rows y = j mod K.
+        Interleaved = "interleaved",
+    }
+);
+
 count_option!(
     /// Request balancing's splitting factor.
     SplitFactor,
@@ -153,8 +163,7 @@ pub struct DfOptions {
     pub min_packet: Primitives,
 }
 
-/// sort-last/tree (IceT's reduce tree), sort-last/binary-swap (Ma et al. 1994) and
-/// sort-last/2-3-swap (Yu, Wang, Ma 2008).
+/// sort-last/tree (IceT's reduce tree).
 #[derive(Clone, Debug, serde::Deserialize, schemars::JsonSchema)]
 #[serde(rename_all = "kebab-case")]
 pub struct CompositeOptions {
@@ -176,6 +185,34 @@ pub struct CompositeOptions {
 
 fn dense() -> ImageEncoding {
     ImageEncoding::Dense
+}
+
+fn contiguous() -> Pieces {
+    Pieces::Contiguous
+}
+
+/// sort-last/binary-swap (Ma et al. 1994) and sort-last/2-3-swap (Yu, Wang, Ma 2008).
+#[derive(Clone, Debug, serde::Deserialize, schemars::JsonSchema)]
+#[serde(rename_all = "kebab-case")]
+pub struct SwapOptions {
+    /// How primitives are dealt: scatter, random, background-last or request (paper 001's
+    /// request-based dynamic load balancing).
+    #[serde(default = "scatter")]
+    pub assign: AssignRule,
+    /// Request balancing: a donor splits its remaining work into this many parts.
+    #[serde(default = "split_in_two")]
+    pub split: SplitFactor,
+    /// Request balancing: the smallest packet of primitives worth giving away.
+    #[serde(default = "sixteen")]
+    pub min_packet: Primitives,
+    /// How image pieces travel: dense (every position) or rle (IceT's run-length sparse
+    /// image, charged per position scanned and per run).
+    #[serde(default = "dense")]
+    pub image: ImageEncoding,
+    /// How the image is cut: contiguous ranges in raster order, or interleaved rows (IceT's
+    /// interlaced images: each piece gets rows from the whole screen, for balance).
+    #[serde(default = "contiguous")]
+    pub pieces: Pieces,
 }
 
 /// sort-last/radix-k (Peterka, Goodell, Ross, Shen, Thakur 2009).
@@ -200,6 +237,10 @@ pub struct RadixKOptions {
     /// image, charged per position scanned and per run).
     #[serde(default = "dense")]
     pub image: ImageEncoding,
+    /// How the image is cut: contiguous ranges in raster order, or interleaved rows (IceT's
+    /// interlaced images: each piece gets rows from the whole screen, for balance).
+    #[serde(default = "contiguous")]
+    pub pieces: Pieces,
 }
 
 fn auto_radices() -> Radices {
@@ -216,6 +257,10 @@ pub struct DirectSendOptions {
     /// Z-buffer locally first and send only the active pixels.
     #[serde(default = "off")]
     pub local_zbuffer: OnOff,
+    /// With a local z-buffer, how a node's pixels for an owner travel: dense (each with its
+    /// address) or rle (runs of the owner's rows, one header per run, no addresses).
+    #[serde(default = "dense")]
+    pub image: ImageEncoding,
 }
 
 /// sort-last/scanline-flow (paper 001), sort-last/pixelflow and sort-last/snooping (paper

@@ -46,6 +46,9 @@ pub(crate) trait ShippedPixel: Clone + Debug + 'static {
     /// Row-major screen location.
     fn loc(&self) -> u32;
 
+    /// Moves the pixel to another location (a composite that reorders the screen).
+    fn set_loc(&mut self, loc: u32);
+
     /// Bytes on the wire in a sparse merge: address, record and what it carries.
     fn wire_bytes(&self) -> u64;
 
@@ -121,6 +124,10 @@ impl ShippedPixel for Px {
 
     fn loc(&self) -> u32 {
         self.loc
+    }
+
+    fn set_loc(&mut self, loc: u32) {
+        self.loc = loc;
     }
 
     fn wire_bytes(&self) -> u64 {
@@ -205,6 +212,10 @@ impl ShippedPixel for AaPx {
 
     fn loc(&self) -> u32 {
         self.loc
+    }
+
+    fn set_loc(&mut self, loc: u32) {
+        self.loc = loc;
     }
 
     fn wire_bytes(&self) -> u64 {

@@ -22,6 +22,7 @@ use std::rc::Rc;
 
 use super::binary_swap::{gather, receive_and_merge, send_to_image};
 use super::full_frame::{self, Msg};
+use super::interlace::Interlace;
 use super::pixel::ShippedPixel;
 use super::{local, request, Ctx};
 use crate::engine::{Node, SimError};
@@ -65,8 +66,12 @@ pub(super) async fn processor<P: ShippedPixel>(
     let me = node.id();
     let radices = ctx.settings.radices.clone();
     let area = ctx.viewport.width() * ctx.viewport.height();
+    let interlace = Interlace::for_run(&ctx, ctx.n);
     for frame in ctx.frames() {
         let mut pixels = request::render_frame(&node, &ctx, frame).await?;
+        if let Some(il) = &interlace {
+            pixels = il.enter(&node, &ctx, pixels).await;
+        }
         let mut piece = (0, area);
         for (round, &k) in radices.iter().enumerate() {
             let members = group(me, &radices, round);
@@ -103,6 +108,10 @@ pub(super) async fn processor<P: ShippedPixel>(
         ctx.end_aa(&node, frame)?;
         if me == 0 {
             let image = gather(&node, frame, ctx.n, (piece.0, pixels)).await;
+            let image = match &interlace {
+                Some(il) => il.leave(&node, &ctx, image).await,
+                None => image,
+            };
             full_frame::end_frame(&node, &ctx, frame, &image).await?;
         }
     }

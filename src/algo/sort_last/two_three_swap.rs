@@ -27,6 +27,7 @@ use std::rc::Rc;
 
 use super::binary_swap::{gather, receive_and_merge, send_to_image};
 use super::full_frame::{self, Msg};
+use super::interlace::Interlace;
 use super::pixel::ShippedPixel;
 use super::{local, request, Ctx};
 use crate::engine::{Node, SimError};
@@ -162,8 +163,12 @@ pub(super) async fn processor<P: ShippedPixel>(
     let me = node.id();
     let rounds = ctx.settings.swap_rounds.clone();
     let area = ctx.viewport.width() * ctx.viewport.height();
+    let interlace = Interlace::for_run(&ctx, ctx.n);
     for frame in ctx.frames() {
         let mut pixels = request::render_frame(&node, &ctx, frame).await?;
+        if let Some(il) = &interlace {
+            pixels = il.enter(&node, &ctx, pixels).await;
+        }
         let mut held = (0, area);
         for (r, round) in rounds.iter().enumerate() {
             let at = (frame, r as u32);
@@ -201,6 +206,10 @@ pub(super) async fn processor<P: ShippedPixel>(
         ctx.end_aa(&node, frame)?;
         if me == 0 {
             let image = gather(&node, frame, ctx.n, (held.0, pixels)).await;
+            let image = match &interlace {
+                Some(il) => il.leave(&node, &ctx, image).await,
+                None => image,
+            };
             full_frame::end_frame(&node, &ctx, frame, &image).await?;
         }
     }
