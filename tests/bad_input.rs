@@ -118,6 +118,34 @@ fn every_bad_pattern_is_refused_and_writes_nothing() {
 fn bad_flags_are_refused_with_exit_code_2() {
     let cases: &[(&[&str], &str)] = &[
         (&["bench", "phold", "--remote", "1.5"], "not a probability"),
+        (
+            &[
+                "run", "--machine", "machines/delta.json", "--scene", "scenes/spd-teapot.json",
+                "--algo", "sort-first/mueller", "--procs", "4", "--set", "regions=random",
+            ],
+            "--set regions=random: expected one of static, adaptive",
+        ),
+        (
+            &[
+                "run", "--machine", "machines/delta.json", "--scene", "scenes/spd-teapot.json",
+                "--algo", "sort-first/mueller", "--procs", "4", "--set", "migrate=later",
+            ],
+            "--set migrate=later: expected one of batched, immediate",
+        ),
+        (
+            &[
+                "run", "--machine", "machines/delta.json", "--scene", "scenes/spd-teapot.json",
+                "--algo", "sort-first/mueller", "--procs", "4", "--set", "granularity=100000",
+            ],
+            "regions fit a 512x512 screen",
+        ),
+        (
+            &[
+                "run", "--machine", "machines/delta.json", "--scene", "scenes/spd-teapot.json",
+                "--algo", "sort-first/mueller", "--procs", "4", "--set", "two-step=on",
+            ],
+            "sort-first/mueller has no option 'two-step'",
+        ),
         (&["bench", "phold", "--lps", "0"], "--lps"),
         (&["bench", "phold", "--end", "5 fortnights"], "unknown unit"),
         (

@@ -12,6 +12,7 @@ mod frames;
 pub mod options;
 pub mod primitives;
 pub mod reference;
+pub mod sort_first;
 pub mod sort_last;
 pub mod sort_middle;
 
@@ -54,10 +55,13 @@ pub enum AlgorithmId {
     SortLastRadixK,
     /// 2-3 swap (Yu, Wang, Ma 2008): binary swap for any N, by groups of two or three.
     SortLastTwoThreeSwap,
+    /// Sort-first (Mueller 1995): processors keep the primitives of their screen regions
+    /// from frame to frame; only those crossing into other regions move.
+    SortFirstMueller,
 }
 
 impl AlgorithmId {
-    pub const ALL: [AlgorithmId; 12] = [
+    pub const ALL: [AlgorithmId; 13] = [
         AlgorithmId::SortMiddleStatic,
         AlgorithmId::SortMiddleEllsworth,
         AlgorithmId::SortLastDf,
@@ -70,6 +74,7 @@ impl AlgorithmId {
         AlgorithmId::SortLastBinarySwap,
         AlgorithmId::SortLastRadixK,
         AlgorithmId::SortLastTwoThreeSwap,
+        AlgorithmId::SortFirstMueller,
     ];
 
     pub fn id(self) -> &'static str {
@@ -86,6 +91,7 @@ impl AlgorithmId {
             AlgorithmId::SortLastBinarySwap => "sort-last/binary-swap",
             AlgorithmId::SortLastRadixK => "sort-last/radix-k",
             AlgorithmId::SortLastTwoThreeSwap => "sort-last/2-3-swap",
+            AlgorithmId::SortFirstMueller => "sort-first/mueller",
         }
     }
 
@@ -106,6 +112,8 @@ impl AlgorithmId {
             AlgorithmId::SortLastBinarySwap => Family::SortLast(L::BinarySwap),
             AlgorithmId::SortLastRadixK => Family::SortLast(L::RadixK),
             AlgorithmId::SortLastTwoThreeSwap => Family::SortLast(L::TwoThreeSwap),
+            // Sort-first runs on the sort-middle family's regions and rasterization stage.
+            AlgorithmId::SortFirstMueller => Family::SortMiddle(M::SortFirst),
         }
     }
 
@@ -128,6 +136,7 @@ impl AlgorithmId {
         match self {
             AlgorithmId::SortMiddleStatic => docs::<sort_middle::StaticOptions>(),
             AlgorithmId::SortMiddleEllsworth => docs::<sort_middle::EllsworthOptions>(),
+            AlgorithmId::SortFirstMueller => docs::<sort_first::SortFirstOptions>(),
             AlgorithmId::SortLastDf => docs::<sort_last::DfOptions>(),
             AlgorithmId::SortLastTree => docs::<sort_last::CompositeOptions>(),
             AlgorithmId::SortLastBinarySwap | AlgorithmId::SortLastTwoThreeSwap => {
@@ -149,6 +158,7 @@ impl AlgorithmId {
         let own = match self {
             AlgorithmId::SortMiddleStatic => schema_for!(sort_middle::StaticOptions),
             AlgorithmId::SortMiddleEllsworth => schema_for!(sort_middle::EllsworthOptions),
+            AlgorithmId::SortFirstMueller => schema_for!(sort_first::SortFirstOptions),
             AlgorithmId::SortLastDf => schema_for!(sort_last::DfOptions),
             AlgorithmId::SortLastTree => schema_for!(sort_last::CompositeOptions),
             AlgorithmId::SortLastBinarySwap | AlgorithmId::SortLastTwoThreeSwap => {
@@ -228,6 +238,8 @@ pub struct FrameRecord {
     pub messages: u64,
     /// When each node finished rasterizing (paper 001's load imbalance uses these).
     pub raster_finish: Vec<SimTime>,
+    /// Sort-first: database records sent to processors that did not hold them.
+    pub records_moved: Option<u64>,
     /// Per node, what anti-aliasing did this frame (supersampled, reclaimed and overflowed
     /// pixels, the subpixel resolution used, memory); empty when anti-aliasing is off.
     pub aa: Vec<AaStats>,

@@ -137,6 +137,9 @@ pub struct FrameSummary {
     pub load_imbalance_pct: f64,
     pub bytes: u64,
     pub messages: u64,
+    /// Sort-first: primitives' database records sent to processors that did not hold them.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub records_moved: Option<u64>,
     /// Anti-aliasing this frame, when the run used it.
     #[serde(skip_serializing_if = "Option::is_none")]
     pub aa: Option<AaFrameSummary>,
@@ -193,6 +196,7 @@ fn frame_summary(r: &FrameRecord) -> FrameSummary {
         load_imbalance_pct: r.load_imbalance_pct(),
         bytes: r.bytes.get(),
         messages: r.messages,
+        records_moved: r.records_moved,
         aa: aa_summary(r),
     }
 }

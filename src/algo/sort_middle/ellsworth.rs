@@ -25,7 +25,7 @@ use super::assign::Assignment;
 use super::redistribute::{self, Redistributor};
 use super::{
     compute_assignment, finish_frame, rasterize, region_counts, start_frame, sum_counts, transform,
-    CountsFrom, Ctx, Msg,
+    CountsFrom, Ctx, Incoming, Msg,
 };
 use crate::engine::{Filter, Node, SimError};
 use crate::machine::Counts;
@@ -98,7 +98,15 @@ pub(super) async fn processor(node: Node<Msg>, ctx: Rc<Ctx>) -> Result<(), SimEr
             let mut p = polygons.borrow_mut();
             (std::mem::take(&mut p.local), p.expected_streams())
         };
-        let regions = rasterize(&node, &ctx, frame, &assignment, local, streams).await?;
+        let (regions, _) = rasterize(
+            &node,
+            &ctx,
+            frame,
+            &assignment,
+            local,
+            Incoming::Streams(streams),
+        )
+        .await?;
         if ctx.is_last(frame) {
             ctx.images.borrow_mut()[me as usize] = Some(regions);
         }

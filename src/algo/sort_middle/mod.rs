@@ -16,7 +16,7 @@ pub mod buffers;
 pub mod canvas;
 mod ellsworth;
 pub mod options;
-mod redistribute;
+pub(crate) mod redistribute;
 pub mod regions;
 mod static_regions;
 pub mod two_step;
@@ -52,6 +52,9 @@ use crate::units::{Bytes, SimTime};
 pub enum Variant {
     Static,
     Ellsworth,
+    /// Sort-first (`crate::algo::sort_first`), which runs on this family's regions, trees
+    /// and rasterization.
+    SortFirst,
 }
 
 /// The validated options of one run.
@@ -66,6 +69,8 @@ pub struct Settings {
     pub polygon_estimate: SimTime,
     /// Anti-aliasing (`aa`, `aa-pool`, `aa-start`, `aa-reclaim`).
     pub aa: AaSettings,
+    /// Sort-first: how regions are assigned and how records travel.
+    pub first: crate::algo::sort_first::FirstSettings,
 }
 
 pub(crate) const TAG_POLYGONS: u32 = 1;
@@ -75,6 +80,9 @@ pub(crate) const TAG_START: u32 = 4;
 pub(crate) const TAG_DONE: u32 = 5;
 pub(crate) const TAG_PIXELS: u32 = 6;
 pub(crate) const TAG_ASSIGNED: u32 = 7;
+pub(crate) const TAG_RECORDS: u32 = 8;
+pub(crate) const TAG_EXPECT_UP: u32 = 9;
+pub(crate) const TAG_EXPECT_DOWN: u32 = 10;
 
 /// What sort-middle processors send each other.
 #[derive(Clone, Debug)]
@@ -107,6 +115,16 @@ pub(crate) enum Msg {
     Pixels { frame: u32, pixels: u64 },
     /// Processor 0's assignment for the next frame is ready (a local event).
     Assigned { frame: u32 },
+    /// Sort-first: database records of primitives (indices on the host) for the receiver's
+    /// regions, which it transforms itself.
+    Records { frame: u32, prims: Vec<u32> },
+    /// Sort-first: record messages per destination, summed up the tree (partial sums) and
+    /// sent back down (the totals).
+    Expect {
+        frame: u32,
+        up: bool,
+        counts: Rc<Vec<u32>>,
+    },
 }
 
 impl Payload for Msg {
@@ -119,6 +137,9 @@ impl Payload for Msg {
             Msg::Done { .. } => TAG_DONE,
             Msg::Pixels { .. } => TAG_PIXELS,
             Msg::Assigned { .. } => TAG_ASSIGNED,
+            Msg::Records { .. } => TAG_RECORDS,
+            Msg::Expect { up: true, .. } => TAG_EXPECT_UP,
+            Msg::Expect { up: false, .. } => TAG_EXPECT_DOWN,
         }
     }
 }
@@ -132,6 +153,8 @@ impl Msg {
             | Msg::Start { frame, .. }
             | Msg::Done { frame }
             | Msg::Pixels { frame, .. }
+            | Msg::Records { frame, .. }
+            | Msg::Expect { frame, .. }
             | Msg::Assigned { frame } => frame,
         }
     }
@@ -147,6 +170,10 @@ impl Msg {
             }
             Msg::Done { .. } | Msg::Assigned { .. } => Bytes::new(header),
             Msg::Pixels { pixels, .. } => Bytes::new(header + 3 * pixels),
+            Msg::Records { prims, .. } => {
+                Bytes::new(header + DATABASE_BYTES_PER_TRIANGLE * prims.len() as u64)
+            }
+            Msg::Expect { counts, .. } => Bytes::new(header + 4 * counts.len() as u64),
         }
     }
 }
@@ -183,38 +210,48 @@ impl Settings {
 pub(crate) struct Ctx {
     pub settings: Settings,
     pub n: u32,
-    cfg: RunConfig,
+    pub(crate) cfg: RunConfig,
     viewport: Viewport,
     background: [u8; 3],
-    raster: RasterOptions,
+    pub(crate) raster: RasterOptions,
     book: FrameBook,
     /// Processor 0's assignment for the next frame, once computed.
-    next_assignment: RefCell<Option<Rc<Assignment>>>,
+    pub(crate) next_assignment: RefCell<Option<Rc<Assignment>>>,
     /// Each processor's regions after the last frame, for the output image.
-    images: RefCell<Vec<Option<RegionSet>>>,
+    pub(crate) images: RefCell<Vec<Option<RegionSet>>>,
+    /// Sort-first: who holds which primitive (host bookkeeping).
+    pub(crate) holders: crate::algo::sort_first::HolderBook,
     /// Each processor's subpixel resolution for its next frame (adaptive anti-aliasing).
     aa_grid: RefCell<Vec<Grid>>,
 }
 
 impl Ctx {
-    fn frames(&self) -> std::ops::Range<u32> {
+    pub(crate) fn frames(&self) -> std::ops::Range<u32> {
         self.cfg.frames.clone()
     }
 
-    fn is_last(&self, frame: u32) -> bool {
+    pub(crate) fn is_last(&self, frame: u32) -> bool {
         frame + 1 == self.cfg.frames.end
     }
 
-    fn geometry(&self, node: &Node<Msg>, frame: u32) -> Result<Rc<FrameGeometry>, SimError> {
+    pub(crate) fn geometry(
+        &self,
+        node: &Node<Msg>,
+        frame: u32,
+    ) -> Result<Rc<FrameGeometry>, SimError> {
         self.book.geometry(node, frame)
     }
 
     /// `frame`'s vertices prepared once for every processor (see `FrameBook::vertices`).
-    fn vertices(&self, node: &Node<Msg>, frame: u32) -> Result<Rc<RefCell<VertexCache>>, SimError> {
+    pub(crate) fn vertices(
+        &self,
+        node: &Node<Msg>,
+        frame: u32,
+    ) -> Result<Rc<RefCell<VertexCache>>, SimError> {
         self.book.vertices(node, frame)
     }
 
-    fn record<R>(&self, frame: u32, f: impl FnOnce(&mut FrameRecord) -> R) -> R {
+    pub(crate) fn record<R>(&self, frame: u32, f: impl FnOnce(&mut FrameRecord) -> R) -> R {
         self.book.record(frame, f)
     }
 
@@ -222,7 +259,7 @@ impl Ctx {
         self.book.count_message(frame, bytes)
     }
 
-    async fn send(&self, node: &Node<Msg>, dst: u32, msg: Msg) {
+    pub(crate) async fn send(&self, node: &Node<Msg>, dst: u32, msg: Msg) {
         let bytes = msg.bytes();
         self.count_message(msg.frame(), bytes);
         node.send(dst, bytes, msg).await;
@@ -230,7 +267,7 @@ impl Ctx {
 
     /// Triangles per transformation batch: one buffer's worth, so compute is charged at the
     /// grain messages are sent (events grow with messages, not with pixels).
-    fn batch(&self) -> usize {
+    pub(crate) fn batch(&self) -> usize {
         ((self
             .settings
             .buffer
@@ -242,17 +279,17 @@ impl Ctx {
 }
 
 /// The processors' summing and broadcast tree: a binary heap over ids, rooted at 0.
-fn children(me: u32, n: u32) -> impl Iterator<Item = u32> {
+pub(crate) fn children(me: u32, n: u32) -> impl Iterator<Item = u32> {
     [2 * me + 1, 2 * me + 2].into_iter().filter(move |&c| c < n)
 }
 
-fn parent(me: u32) -> u32 {
+pub(crate) fn parent(me: u32) -> u32 {
     (me - 1) / 2
 }
 
 /// Processor 0 starts `frame` by sending `Start` down the tree; every other processor waits
 /// for it (this is also the barrier that ensures the previous frame finished) and passes it on.
-async fn start_frame(
+pub(crate) async fn start_frame(
     node: &Node<Msg>,
     ctx: &Ctx,
     frame: u32,
@@ -290,7 +327,7 @@ async fn start_frame(
 
 /// Waits until the whole subtree below this processor has finished `frame`, then tells the
 /// parent; at processor 0 this is the end of the frame.
-async fn finish_frame(node: &Node<Msg>, ctx: &Ctx, frame: u32) {
+pub(crate) async fn finish_frame(node: &Node<Msg>, ctx: &Ctx, frame: u32) {
     let me = node.id();
     for child in children(me, ctx.n) {
         node.recv(Filter::tag(TAG_DONE).and_source(child)).await;
@@ -303,8 +340,36 @@ async fn finish_frame(node: &Node<Msg>, ctx: &Ctx, frame: u32) {
     }
 }
 
+/// Every processor's regional image goes to processor 0 (paper 000's root), which copies
+/// them into the frame: rgb per pixel, its own included.
+pub(crate) async fn collect_image(node: &Node<Msg>, ctx: &Ctx, frame: u32, regions: &RegionSet) {
+    let pixels: u64 = regions
+        .regions()
+        .iter()
+        .map(|b| b.rect().pixels() as u64)
+        .sum();
+    node.phase("collect");
+    if node.id() == 0 {
+        node.compute(&Counts::of(Op::ByteCopy, 3 * pixels)).await;
+        for _ in 1..ctx.n {
+            let env = node.recv(Filter::tag(TAG_PIXELS)).await;
+            let Msg::Pixels { pixels, .. } = env.payload else {
+                unreachable!("filtered by tag")
+            };
+            node.compute(&Counts::of(Op::ByteCopy, 3 * pixels)).await;
+        }
+    } else {
+        ctx.send(node, 0, Msg::Pixels { frame, pixels }).await;
+    }
+}
+
 /// Sums per-region counts up the tree; processor 0 ends with the total.
-async fn sum_counts(node: &Node<Msg>, ctx: &Ctx, frame: u32, mut counts: Vec<u32>) -> Vec<u32> {
+pub(crate) async fn sum_counts(
+    node: &Node<Msg>,
+    ctx: &Ctx,
+    frame: u32,
+    mut counts: Vec<u32>,
+) -> Vec<u32> {
     let me = node.id();
     for child in children(me, ctx.n) {
         let env = node.recv(Filter::tag(TAG_COUNTS).and_source(child)).await;
@@ -334,7 +399,7 @@ async fn sum_counts(node: &Node<Msg>, ctx: &Ctx, frame: u32, mut counts: Vec<u32
 /// Processor 0 assigns regions by greedy bin packing on estimated costs, charging its own
 /// time for it (and counting that time as its own load, so that it takes no regions when the
 /// assignment fills its frame).
-async fn compute_assignment(node: &Node<Msg>, ctx: &Ctx, counts: &[u32]) -> Assignment {
+pub(crate) async fn compute_assignment(node: &Node<Msg>, ctx: &Ctx, counts: &[u32]) -> Assignment {
     let s = &ctx.settings;
     let costs = &ctx.cfg.machine.cpu.costs;
     let work = Counts::of(Op::AssignRegion, counts.len() as u64);
@@ -355,7 +420,7 @@ async fn compute_assignment(node: &Node<Msg>, ctx: &Ctx, counts: &[u32]) -> Assi
 
 /// Per-region triangle counts of `tris` (the classification `Redistributor::place` also
 /// does, which is where it is charged).
-fn region_counts(ctx: &Ctx, tris: &[ScreenTriangle]) -> Vec<u32> {
+pub(crate) fn region_counts(ctx: &Ctx, tris: &[ScreenTriangle]) -> Vec<u32> {
     let mut counts = vec![0; ctx.settings.grid.count() as usize];
     let mut touched = Vec::new();
     for tri in tris {
@@ -402,17 +467,26 @@ where
     Ok(())
 }
 
-/// Rasterizes this processor's regions: its own triangles, then every polygon message until
-/// `streams` senders have sent their last one. Returns the regional image (resolved from
-/// the samples when anti-aliasing).
-async fn rasterize(
+/// What a rasterizing processor waits for besides its own triangles.
+#[derive(Clone, Copy, Debug)]
+pub(crate) enum Incoming {
+    /// Screen triangles, until this many senders have ended their streams (sort-middle).
+    Streams(u32),
+    /// This many messages of database records, which it transforms itself (sort-first).
+    Records(u32),
+}
+
+/// Rasterizes this processor's regions: its own triangles, then what `incoming` says to wait
+/// for. Returns the regional image (resolved from the samples when anti-aliasing) and the
+/// primitives whose records arrived.
+pub(crate) async fn rasterize(
     node: &Node<Msg>,
     ctx: &Ctx,
     frame: u32,
     assignment: &Assignment,
     local: Vec<ScreenTriangle>,
-    streams: u32,
-) -> Result<RegionSet, SimError> {
+    incoming: Incoming,
+) -> Result<(RegionSet, Vec<u32>), SimError> {
     node.phase("rasterize");
     let me = node.id();
     let rects: Vec<_> = assignment
@@ -439,21 +513,51 @@ async fn rasterize(
         let c = draw_screen_triangles(batch, canvas.target());
         node.compute(&charge::back_end(&c)).await;
     }
-    let mut arrivals = redistribute::Streams::default();
-    while arrivals.ended() < streams {
-        let env = node.recv(Filter::tag(TAG_POLYGONS)).await;
-        let Msg::Polygons {
-            frame: f,
-            tris,
-            end,
-        } = env.payload
-        else {
-            unreachable!("filtered by tag")
-        };
-        debug_assert_eq!(f, frame, "a polygon message crossed a frame boundary");
-        let c = draw_screen_triangles(&tris, canvas.target());
-        node.compute(&charge::back_end(&c)).await;
-        arrivals.arrived(env.src, end);
+    let mut received = Vec::new();
+    match incoming {
+        Incoming::Streams(streams) => {
+            let mut arrivals = redistribute::Streams::default();
+            while arrivals.ended() < streams {
+                let env = node.recv(Filter::tag(TAG_POLYGONS)).await;
+                let Msg::Polygons {
+                    frame: f,
+                    tris,
+                    end,
+                } = env.payload
+                else {
+                    unreachable!("filtered by tag")
+                };
+                debug_assert_eq!(f, frame, "a polygon message crossed a frame boundary");
+                let c = draw_screen_triangles(&tris, canvas.target());
+                node.compute(&charge::back_end(&c)).await;
+                arrivals.arrived(env.src, end);
+            }
+        }
+        Incoming::Records(messages) => {
+            let geometry = ctx.geometry(node, frame)?;
+            let vertices = ctx.vertices(node, frame)?;
+            let mut tris = Vec::new();
+            for _ in 0..messages {
+                let env = node.recv(Filter::tag(TAG_RECORDS)).await;
+                let Msg::Records { prims, .. } = env.payload else {
+                    unreachable!("filtered by tag")
+                };
+                tris.clear();
+                let front = setup_subset(
+                    &geometry.vertices,
+                    &geometry.triangles,
+                    &prims,
+                    &mut vertices.borrow_mut(),
+                    &ctx.raster,
+                    &mut tris,
+                );
+                let back = draw_screen_triangles(&tris, canvas.target());
+                let mut work = charge::front_end(&front);
+                work += &charge::back_end(&back);
+                node.compute(&work).await;
+                received.extend_from_slice(&prims);
+            }
+        }
     }
     let (image, resolve, stats) = canvas.finish();
     node.compute(&charge::back_end(&resolve)).await;
@@ -471,7 +575,7 @@ async fn rasterize(
     for &(tag, bytes) in &charges {
         node.free(tag, bytes)?;
     }
-    Ok(image)
+    Ok((image, received))
 }
 
 /// Reads the options of `variant` and checks them against the machine and the screen.
@@ -483,6 +587,7 @@ fn settings(cfg: &RunConfig, variant: Variant, viewport: Viewport) -> Result<Set
         + costs.get(Op::Span).times(3)
         + (costs.get(Op::PixelTest) + costs.get(Op::PixelWrite)).times(6);
     let algo = cfg.algo.id();
+    let mut first = crate::algo::sort_first::FirstSettings::default();
     let (grid, buffer, counts, two_step, polygon_estimate, aa) = match variant {
         Variant::Static => {
             let (s, aa) = parse::<StaticOptions>(o, algo)?;
@@ -513,14 +618,45 @@ fn settings(cfg: &RunConfig, variant: Variant, viewport: Viewport) -> Result<Set
             let estimate = e.polygon_estimate.map_or(default_estimate, |t| t.0);
             (grid, e.buffer.0, e.counts, e.two_step, estimate, aa)
         }
+        Variant::SortFirst => {
+            let (f, aa) = parse::<crate::algo::sort_first::SortFirstOptions>(o, algo)?;
+            let grid = RegionGrid::with_count(viewport, f.granularity.0 * n).ok_or_else(|| {
+                bad(
+                    o,
+                    "granularity",
+                    &format!(
+                        "at most {} regions fit a {}x{} screen",
+                        viewport.pixels(),
+                        viewport.width(),
+                        viewport.height()
+                    ),
+                )
+            })?;
+            first = crate::algo::sort_first::FirstSettings {
+                regions: f.regions,
+                migrate: f.migrate,
+            };
+            (
+                grid,
+                f.buffer.0,
+                CountsFrom::Previous,
+                TwoStep::Off,
+                default_estimate,
+                aa,
+            )
+        }
     };
-    if buffer.get() < buffers::HEADER_BYTES + buffers::ROUTED_TRIANGLE_BYTES {
+    let smallest = match variant {
+        Variant::SortFirst => DATABASE_BYTES_PER_TRIANGLE,
+        _ => buffers::ROUTED_TRIANGLE_BYTES,
+    };
+    if buffer.get() < buffers::HEADER_BYTES + smallest {
         return Err(bad(
             o,
             "buffer",
             &format!(
                 "a buffer of at least {}B (one triangle)",
-                buffers::HEADER_BYTES + buffers::ROUTED_TRIANGLE_BYTES
+                buffers::HEADER_BYTES + smallest
             ),
         ));
     }
@@ -542,6 +678,7 @@ fn settings(cfg: &RunConfig, variant: Variant, viewport: Viewport) -> Result<Set
         groups,
         polygon_estimate,
         aa,
+        first,
     })
 }
 
@@ -595,11 +732,13 @@ pub fn run(cfg: &RunConfig, variant: Variant) -> Result<RunResult, RunError> {
         ),
         next_assignment: RefCell::default(),
         images: RefCell::new(vec![None; n as usize]),
+        holders: Default::default(),
         aa_grid: RefCell::new(vec![settings_start; n as usize]),
     });
     let stats = match variant {
         Variant::Ellsworth => simulate(cfg, &ctx, ellsworth::processor)?,
         Variant::Static => simulate(cfg, &ctx, static_regions::processor)?,
+        Variant::SortFirst => simulate(cfg, &ctx, crate::algo::sort_first::mueller::processor)?,
     };
     let mut image = Framebuffer::with_clear(viewport, ctx.background);
     for regions in ctx.images.borrow().iter().flatten() {

@@ -18,9 +18,8 @@ use std::rc::Rc;
 
 use super::assign::Assignment;
 use super::redistribute::{self, Redistributor};
-use super::{finish_frame, rasterize, start_frame, transform, Ctx, Msg, TAG_PIXELS};
-use crate::engine::{Filter, Node, SimError};
-use crate::machine::{Counts, Op};
+use super::{collect_image, finish_frame, rasterize, start_frame, transform, Ctx, Incoming, Msg};
+use crate::engine::{Node, SimError};
 use crate::units::Bytes;
 
 pub(super) async fn processor(node: Node<Msg>, ctx: Rc<Ctx>) -> Result<(), SimError> {
@@ -56,29 +55,20 @@ pub(super) async fn processor(node: Node<Msg>, ctx: Rc<Ctx>) -> Result<(), SimEr
             let mut p = polygons.borrow_mut();
             (std::mem::take(&mut p.local), p.expected_streams())
         };
-        let regions = rasterize(&node, &ctx, frame, &assignment, local, streams).await?;
-        let pixels: u64 = regions
-            .regions()
-            .iter()
-            .map(|b| b.rect().pixels() as u64)
-            .sum();
+        let (regions, _) = rasterize(
+            &node,
+            &ctx,
+            frame,
+            &assignment,
+            local,
+            Incoming::Streams(streams),
+        )
+        .await?;
+        collect_image(&node, &ctx, frame, &regions).await;
         if ctx.is_last(frame) {
             ctx.images.borrow_mut()[me as usize] = Some(regions);
         }
 
-        node.phase("collect");
-        if me == 0 {
-            node.compute(&Counts::of(Op::ByteCopy, 3 * pixels)).await;
-            for _ in 1..ctx.n {
-                let env = node.recv(Filter::tag(TAG_PIXELS)).await;
-                let Msg::Pixels { pixels, .. } = env.payload else {
-                    unreachable!("filtered by tag")
-                };
-                node.compute(&Counts::of(Op::ByteCopy, 3 * pixels)).await;
-            }
-        } else {
-            ctx.send(&node, 0, Msg::Pixels { frame, pixels }).await;
-        }
         node.phase("synchronize");
         finish_frame(&node, &ctx, frame).await;
     }
