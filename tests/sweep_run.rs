@@ -82,6 +82,7 @@ fn thread_count_does_not_change_a_byte() {
         "efficiency",
         "traffic-per-frame",
         "load-imbalance",
+        "memory-per-node",
     ] {
         for ext in ["svg", "png"] {
             let p = PathBuf::from(format!("plots/{stem}.{ext}"));
@@ -90,7 +91,7 @@ fn thread_count_does_not_change_a_byte() {
     }
     assert_eq!(
         fa.len(),
-        2 + 10 + 6 + 1,
+        2 + 12 + 6 + 1,
         "table, plots, one summary.json per point, the page: {names:?}"
     );
     for ((pa, ba), (pb, bb)) in fa.iter().zip(&fb) {
@@ -183,6 +184,7 @@ fn speedup_is_the_triangle_rate_ratio_to_one_processor() {
         assert_eq!(row.speedup, Some(tps / base_tps), "{row:?}");
         assert_eq!(row.efficiency, Some(tps / base_tps / f64::from(row.procs)));
         assert!(row.busiest_link_utilization_pct.unwrap() > 0.0);
+        assert!(row.peak_node_memory_bytes.unwrap() > 0.0);
         assert!(row.mean_bytes_per_frame.unwrap() > 0.0 && row.error.is_none());
     }
 }

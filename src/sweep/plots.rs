@@ -1,5 +1,5 @@
 //! The plots of a sweep, each against the processor count: triangles/s, speedup, efficiency,
-//! traffic per frame, load imbalance. One line per combination of the other swept values, in
+//! traffic per frame, load imbalance, the largest node's memory. One line per combination of the other swept values, in
 //! product order, labelled by the values that differ between lines.
 //!
 //! Owns which charts a sweep gets and how rows become series. Must never compute a metric
@@ -19,7 +19,7 @@ struct Metric {
     get: fn(&Row) -> Option<f64>,
 }
 
-const METRICS: [Metric; 5] = [
+const METRICS: [Metric; 6] = [
     Metric {
         stem: "triangles-per-s",
         title: "Rendering rate",
@@ -49,6 +49,12 @@ const METRICS: [Metric; 5] = [
         title: "Load imbalance",
         y_label: "load imbalance (%)",
         get: |r| r.mean_load_imbalance_pct,
+    },
+    Metric {
+        stem: "memory-per-node",
+        title: "Memory of the fullest node",
+        y_label: "high-water mark (bytes)",
+        get: |r| r.peak_node_memory_bytes,
     },
 ];
 

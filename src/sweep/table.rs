@@ -27,6 +27,12 @@ pub struct PointMetrics {
 #[derive(Debug, Clone, Deserialize)]
 pub struct MachineMetrics {
     pub links: Vec<LinkMetrics>,
+    pub nodes: Vec<NodeMetrics>,
+}
+
+#[derive(Debug, Clone, Deserialize)]
+pub struct NodeMetrics {
+    pub memory_high_water_bytes: u64,
 }
 
 #[derive(Debug, Clone, Deserialize)]
@@ -54,6 +60,8 @@ pub struct Row {
     pub mean_messages_per_frame: Option<f64>,
     pub mean_load_imbalance_pct: Option<f64>,
     pub busiest_link_utilization_pct: Option<f64>,
+    /// The largest memory high-water mark of any node.
+    pub peak_node_memory_bytes: Option<f64>,
     pub error: Option<String>,
 }
 
@@ -136,6 +144,7 @@ pub fn rows(
                 mean_messages_per_frame: m.map(|m| m.mean_messages_per_frame),
                 mean_load_imbalance_pct: m.map(|m| m.mean_load_imbalance_pct),
                 busiest_link_utilization_pct: m.map(busiest_link),
+                peak_node_memory_bytes: m.map(peak_node_memory),
                 error,
             }
         })
@@ -147,6 +156,12 @@ fn value(sweep: &Sweep, values: &[String], key: &str) -> String {
         .dim(key)
         .map(|i| values[i].clone())
         .unwrap_or_default()
+}
+
+/// The largest memory high-water mark of any node.
+fn peak_node_memory(m: &PointMetrics) -> f64 {
+    let peak = m.machine_metrics.nodes.iter().map(|n| n.memory_high_water_bytes).max();
+    peak.unwrap_or(0) as f64
 }
 
 /// The highest utilization of any link; 0 for a machine without links (one processor).
@@ -182,6 +197,7 @@ pub fn csv(sweep: &Sweep, rows: &[Row]) -> String {
             "mean_messages_per_frame",
             "mean_load_imbalance_pct",
             "busiest_link_utilization_pct",
+            "peak_node_memory_bytes",
             "error",
         ]
         .map(String::from),
@@ -210,6 +226,7 @@ pub fn csv(sweep: &Sweep, rows: &[Row]) -> String {
             r.mean_messages_per_frame,
             r.mean_load_imbalance_pct,
             r.busiest_link_utilization_pct,
+            r.peak_node_memory_bytes,
         ] {
             fields.push(v.map(|x| x.to_string()).unwrap_or_default());
         }
