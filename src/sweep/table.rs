@@ -160,7 +160,12 @@ fn value(sweep: &Sweep, values: &[String], key: &str) -> String {
 
 /// The largest memory high-water mark of any node.
 fn peak_node_memory(m: &PointMetrics) -> f64 {
-    let peak = m.machine_metrics.nodes.iter().map(|n| n.memory_high_water_bytes).max();
+    let peak = m
+        .machine_metrics
+        .nodes
+        .iter()
+        .map(|n| n.memory_high_water_bytes)
+        .max();
     peak.unwrap_or(0) as f64
 }
 

@@ -94,13 +94,25 @@ pub fn run_frame0(
     procs: u32,
     set: &[(&str, &str)],
 ) -> Result<RunResult, RunError> {
+    run_frames(machine, scene, algo, procs, "0", set)
+}
+
+/// [`run_frame0`] over `frames` ("A..B" or "A").
+pub fn run_frames(
+    machine: &str,
+    scene: &Arc<Scene>,
+    algo: &str,
+    procs: u32,
+    frames: &str,
+    set: &[(&str, &str)],
+) -> Result<RunResult, RunError> {
     let spec = RunSpec {
         schema: None,
         machine: root().join("machines").join(machine),
         scene: scene.file().to_path_buf(),
         algo: algo.into(),
         procs,
-        frames: Some("0".into()),
+        frames: Some(frames.into()),
         seed: 1,
         set: set
             .iter()

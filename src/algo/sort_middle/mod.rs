@@ -670,6 +670,11 @@ fn settings(cfg: &RunConfig, variant: Variant, viewport: Viewport) -> Result<Set
     if let AaMethod::Supersample { side } = aa.method {
         super::aa::sample_grid(cfg, viewport, side)?;
     }
+    // Samples away from pixel centres: a triangle reaches every region its bounds overlap.
+    let grid = match aa.method {
+        AaMethod::None => grid,
+        AaMethod::Adaptive | AaMethod::Supersample { .. } => grid.sampling_whole_pixels(),
+    };
     Ok(Settings {
         variant,
         grid,

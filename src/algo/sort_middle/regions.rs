@@ -4,7 +4,7 @@
 //!
 //! Owns region geometry only. Must never decide which processor owns a region.
 
-use crate::raster::{ScreenRect, ScreenTriangle, Viewport};
+use crate::raster::{ScreenRect, ScreenTriangle, Sub, Viewport};
 
 /// A grid of regions over the viewport, indexed row-major (`r = row * cols + col`).
 #[derive(Clone, Debug, PartialEq, Eq)]
@@ -12,6 +12,9 @@ pub struct RegionGrid {
     viewport: Viewport,
     cols: u32,
     rows: u32,
+    /// Whether triangles touch regions by the pixel squares their bounds overlap (when
+    /// samples lie anywhere in a pixel: anti-aliasing), not only by pixel centres.
+    by_area: bool,
 }
 
 impl RegionGrid {
@@ -23,6 +26,17 @@ impl RegionGrid {
             viewport,
             cols: viewport.width().div_ceil(size),
             rows: viewport.height().div_ceil(size),
+            by_area: false,
+        }
+    }
+
+    /// The same grid, with triangles touching every region whose pixels their bounds
+    /// overlap: needed when a pixel is sampled away from its centre (anti-aliasing), where
+    /// a triangle can cover samples of a pixel whose centre its bounds miss.
+    pub fn sampling_whole_pixels(self) -> RegionGrid {
+        RegionGrid {
+            by_area: true,
+            ..self
         }
     }
 
@@ -42,6 +56,7 @@ impl RegionGrid {
                 viewport,
                 cols,
                 rows,
+                by_area: false,
             })
     }
 
@@ -67,7 +82,12 @@ impl RegionGrid {
 
     /// Appends the regions that `tri`'s pixel bounding box touches, in index order.
     pub fn touched_by(&self, tri: &ScreenTriangle, out: &mut Vec<u32>) {
-        let Some((x0, y0, x1, y1)) = pixel_bounds(tri, self.viewport) else {
+        let bounds = if self.by_area {
+            area_bounds(tri, self.viewport)
+        } else {
+            pixel_bounds(tri, self.viewport)
+        };
+        let Some((x0, y0, x1, y1)) = bounds else {
             return;
         };
         // Region c starts at floor(c * W / cols); pixel x lies in the last region starting at
@@ -89,19 +109,37 @@ impl RegionGrid {
 /// The pixels whose centres lie in `tri`'s bounding box, clamped to the viewport:
 /// (x0, y0, x1, y1) inclusive, or `None` when no pixel centre is inside the box.
 pub fn pixel_bounds(tri: &ScreenTriangle, viewport: Viewport) -> Option<(u32, u32, u32, u32)> {
+    bounds(
+        tri,
+        viewport,
+        Sub::first_centre_at_or_after,
+        Sub::last_centre_at_or_before,
+    )
+}
+
+/// The pixels whose squares `tri`'s bounding box overlaps, clamped to the viewport: every
+/// pixel with a sample the triangle can cover, wherever in the pixel its samples lie.
+pub fn area_bounds(tri: &ScreenTriangle, viewport: Viewport) -> Option<(u32, u32, u32, u32)> {
+    bounds(tri, viewport, Sub::pixel, Sub::pixel)
+}
+
+/// The pixel rectangle from `first` of the bounding box's low corner to `last` of its high
+/// one, clamped to the viewport; `None` when empty.
+fn bounds(
+    tri: &ScreenTriangle,
+    viewport: Viewport,
+    first: fn(Sub) -> i64,
+    last: fn(Sub) -> i64,
+) -> Option<(u32, u32, u32, u32)> {
     let v = tri.vertices();
     let xs = v.iter().map(|p| p.x);
     let ys = v.iter().map(|p| p.y);
     let (min_x, max_x) = (xs.clone().min()?, xs.max()?);
     let (min_y, max_y) = (ys.clone().min()?, ys.max()?);
-    let x0 = min_x.first_centre_at_or_after().max(0);
-    let y0 = min_y.first_centre_at_or_after().max(0);
-    let x1 = max_x
-        .last_centre_at_or_before()
-        .min(viewport.width() as i64 - 1);
-    let y1 = max_y
-        .last_centre_at_or_before()
-        .min(viewport.height() as i64 - 1);
+    let x0 = first(min_x).max(0);
+    let y0 = first(min_y).max(0);
+    let x1 = last(max_x).min(viewport.width() as i64 - 1);
+    let y1 = last(max_y).min(viewport.height() as i64 - 1);
     (x0 <= x1 && y0 <= y1).then_some((x0 as u32, y0 as u32, x1 as u32, y1 as u32))
 }
 
