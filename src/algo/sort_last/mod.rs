@@ -28,6 +28,7 @@
 
 mod aa;
 mod binary_swap;
+mod composite;
 mod df;
 mod direct_send;
 mod full_frame;

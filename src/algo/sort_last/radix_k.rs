@@ -20,11 +20,11 @@
 
 use std::rc::Rc;
 
-use super::binary_swap::{gather, receive_and_merge, send_to_image};
+use super::composite::{self, cut, receive_and_merge};
 use super::full_frame::{self, Msg};
 use super::interlace::Interlace;
 use super::pixel::ShippedPixel;
-use super::{local, request, Ctx};
+use super::Ctx;
 use crate::engine::{Node, SimError};
 
 /// The group sizes `auto` picks for `n` processors: 8 while 8 divides what is left (IceT's
@@ -68,21 +68,12 @@ pub(super) async fn processor<P: ShippedPixel>(
     let area = ctx.viewport.width() * ctx.viewport.height();
     let interlace = Interlace::for_run(&ctx, ctx.n);
     for frame in ctx.frames() {
-        let mut pixels = request::render_frame(&node, &ctx, frame).await?;
-        if let Some(il) = &interlace {
-            pixels = il.enter(&node, &ctx, pixels).await;
-        }
+        let mut pixels = composite::render(&node, &ctx, frame, interlace.as_ref()).await?;
         let mut piece = (0, area);
         for (round, &k) in radices.iter().enumerate() {
             let members = group(me, &radices, round);
             let mine = members.iter().position(|&m| m == me).expect("in my group") as u32;
-            let mut parts: Vec<Vec<P>> = Vec::with_capacity(k as usize);
-            for j in 0..k {
-                let (_, hi) = part(piece, k, j);
-                let split = pixels.partition_point(|p| p.loc() < hi);
-                let rest = pixels.split_off(split);
-                parts.push(std::mem::replace(&mut pixels, rest));
-            }
+            let parts = cut(pixels, (0..k).map(|j| part(piece, k, j).1));
             let mut keep = Vec::new();
             for (j, (&member, pixels)) in members.iter().zip(parts).enumerate() {
                 if member == me {
@@ -100,20 +91,8 @@ pub(super) async fn processor<P: ShippedPixel>(
             }
             pixels = keep;
         }
-        if me != 0 {
-            send_to_image(&node, &ctx, frame, piece, pixels).await;
-            pixels = Vec::new();
-        }
-        local::free_full_frame(&node, &ctx)?;
-        ctx.end_aa(&node, frame)?;
-        if me == 0 {
-            let image = gather(&node, frame, ctx.n, (piece.0, pixels)).await;
-            let image = match &interlace {
-                Some(il) => il.leave(&node, &ctx, image).await,
-                None => image,
-            };
-            full_frame::end_frame(&node, &ctx, frame, &image).await?;
-        }
+        let held = Some((piece, pixels));
+        composite::finish(&node, &ctx, frame, ctx.n, held, interlace.as_ref()).await?;
     }
     Ok(())
 }

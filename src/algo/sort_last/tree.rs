@@ -19,7 +19,7 @@
 
 use std::rc::Rc;
 
-use super::binary_swap::receive_and_merge;
+use super::composite::receive_and_merge;
 use super::full_frame::{self, Msg};
 use super::pixel::ShippedPixel;
 use super::{local, request, Ctx};

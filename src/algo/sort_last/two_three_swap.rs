@@ -25,11 +25,11 @@
 
 use std::rc::Rc;
 
-use super::binary_swap::{gather, receive_and_merge, send_to_image};
+use super::composite::{self, cut, receive_and_merge};
 use super::full_frame::{self, Msg};
 use super::interlace::Interlace;
 use super::pixel::ShippedPixel;
-use super::{local, request, Ctx};
+use super::Ctx;
 use crate::engine::{Node, SimError};
 
 /// One round: the groups it forms, each listing its members in the order their parts run.
@@ -165,28 +165,24 @@ pub(super) async fn processor<P: ShippedPixel>(
     let area = ctx.viewport.width() * ctx.viewport.height();
     let interlace = Interlace::for_run(&ctx, ctx.n);
     for frame in ctx.frames() {
-        let mut pixels = request::render_frame(&node, &ctx, frame).await?;
-        if let Some(il) = &interlace {
-            pixels = il.enter(&node, &ctx, pixels).await;
-        }
+        let mut pixels = composite::render(&node, &ctx, frame, interlace.as_ref()).await?;
         let mut held = (0, area);
         for (r, round) in rounds.iter().enumerate() {
             let at = (frame, r as u32);
             let (members, i) = round.group_of(me);
             let m = members.len() as u32;
             let new = part(area, i, m);
+            // The parts of the new group tile the screen, so their overlaps tile my piece.
+            let overlaps: Vec<(u32, (u32, u32))> = (0..m)
+                .filter_map(|j| Some((members[j as usize], overlap(held, part(area, j, m))?)))
+                .collect();
+            let shares = cut(pixels, overlaps.iter().map(|&(_, (_, hi))| hi));
             let mut keep = Vec::new();
-            for (j, &q) in members.iter().enumerate() {
-                let Some((lo, hi)) = overlap(held, part(area, j as u32, m)) else {
-                    continue;
-                };
-                let start = pixels.partition_point(|p| p.loc() < lo);
-                let end = pixels.partition_point(|p| p.loc() < hi);
-                let share: Vec<P> = pixels[start..end].to_vec();
+            for (&(q, range), share) in overlaps.iter().zip(shares) {
                 if q == me {
                     keep = share;
                 } else {
-                    full_frame::send_piece(&node, &ctx, at, q, (lo, hi), share).await;
+                    full_frame::send_piece(&node, &ctx, at, q, range, share).await;
                 }
             }
             for &q in members.iter().filter(|&&q| q != me) {
@@ -198,20 +194,8 @@ pub(super) async fn processor<P: ShippedPixel>(
             pixels = keep;
             held = new;
         }
-        if me != 0 {
-            send_to_image(&node, &ctx, frame, held, pixels).await;
-            pixels = Vec::new();
-        }
-        local::free_full_frame(&node, &ctx)?;
-        ctx.end_aa(&node, frame)?;
-        if me == 0 {
-            let image = gather(&node, frame, ctx.n, (held.0, pixels)).await;
-            let image = match &interlace {
-                Some(il) => il.leave(&node, &ctx, image).await,
-                None => image,
-            };
-            full_frame::end_frame(&node, &ctx, frame, &image).await?;
-        }
+        let mine = Some((held, pixels));
+        composite::finish(&node, &ctx, frame, ctx.n, mine, interlace.as_ref()).await?;
     }
     Ok(())
 }
