@@ -4,26 +4,20 @@
 //! are held to 25% of the paper's edge-pixel shares by tests/scene_standins.rs), so the
 //! scene-dependent figures are held to tolerances of that order, not to the paper's digits.
 
-use std::path::Path;
+mod common;
+
+use common::scene;
+
 use std::sync::Arc;
 
 use sortsim::algo::reference::{raster_options, render, render_adaptive_sequence, viewport};
-use sortsim::algo::{run, RunResult};
+use sortsim::algo::RunResult;
 use sortsim::raster::aa::cases::every_pixel_an_edge;
 use sortsim::raster::aa::{
     AaStats, AdaptiveConfig, AdaptiveTarget, Grid, SupersampleTarget, PIXEL_BYTES, SUBPIXEL_BYTES,
 };
 use sortsim::raster::{draw_mesh, draw_screen_triangles, Viewport};
 use sortsim::scene::Scene;
-use sortsim::spec::run::RunSpec;
-
-fn root() -> &'static Path {
-    Path::new(env!("CARGO_MANIFEST_DIR"))
-}
-
-fn scene(name: &str) -> Arc<Scene> {
-    Arc::new(Scene::load(&root().join("scenes").join(name)).unwrap())
-}
 
 const MB: f64 = 1e6;
 
@@ -244,20 +238,7 @@ fn simulate(
     frames: &str,
     set: &[(&str, &str)],
 ) -> RunResult {
-    let spec = RunSpec {
-        schema: None,
-        machine: root().join("machines").join(machine),
-        scene: scene.file().to_path_buf(),
-        algo: algo.into(),
-        procs,
-        frames: Some(frames.into()),
-        seed: 1,
-        set: set
-            .iter()
-            .map(|(k, v)| (k.to_string(), v.to_string()))
-            .collect(),
-    };
-    run(&spec.resolve(Some(scene.clone())).unwrap()).unwrap()
+    common::run_frames(machine, scene, algo, procs, frames, set).unwrap()
 }
 
 /// Paper 000, Figure 7: 8 processors, 20 frames of the 500 tetrahedra under the static

@@ -2,20 +2,14 @@
 //! Delta, Figure 9) and paper 000 (static regions on the Power Challenge, Table 1). Each
 //! assertion names its figure and states its tolerance.
 
-use std::path::Path;
+mod common;
+
+use common::scene;
+
 use std::sync::Arc;
 
-use sortsim::algo::{run, RunResult};
+use sortsim::algo::RunResult;
 use sortsim::scene::Scene;
-use sortsim::spec::run::RunSpec;
-
-fn root() -> &'static Path {
-    Path::new(env!("CARGO_MANIFEST_DIR"))
-}
-
-fn scene(name: &str) -> Arc<Scene> {
-    Arc::new(Scene::load(&root().join("scenes").join(name)).unwrap())
-}
 
 fn simulate(
     machine: &str,
@@ -25,20 +19,7 @@ fn simulate(
     frames: &str,
     set: &[(&str, &str)],
 ) -> RunResult {
-    let spec = RunSpec {
-        schema: None,
-        machine: root().join("machines").join(machine),
-        scene: scene.file().to_path_buf(),
-        algo: algo.into(),
-        procs,
-        frames: Some(frames.into()),
-        seed: 1,
-        set: set
-            .iter()
-            .map(|(k, v)| (k.to_string(), v.to_string()))
-            .collect(),
-    };
-    run(&spec.resolve(Some(scene.clone())).unwrap()).unwrap()
+    common::run_frames(machine, scene, algo, procs, frames, set).unwrap()
 }
 
 fn triangles_per_s(r: &RunResult) -> f64 {
