@@ -75,6 +75,11 @@ pub struct MaxMin {
     forced: Vec<LinkId>,
     /// Flows added since the last solve.
     added: Vec<u32>,
+    /// `groups[l]`: the flows link `l` fixed in the last solve and the links they cross.
+    groups: Vec<Group>,
+    /// `group_entries[l]`: `(g, i)` for every group `g` with a flow crossing link `l`, where
+    /// `groups[g].links[i]` counts them.
+    group_entries: Vec<Vec<(LinkId, u32)>>,
     sweep: Sweep,
     /// Sweeps run again because a suspect failed its check.
     #[cfg(test)]
@@ -86,6 +91,17 @@ struct Link {
     flows: Vec<u32>,
     /// The sum of its flows' rates.
     load: u64,
+}
+
+/// The flows one link fixed in the last solve (all at its key, so at one rate), and the
+/// links they cross with how many of them cross each. A change that befalls a whole group
+/// (it is unsettled, passed or fixed again together) visits each of its links once, with the
+/// count, instead of once per flow crossing it: the flows fixed by one link share most of
+/// their routes.
+#[derive(Default)]
+struct Group {
+    members: u32,
+    links: Vec<(LinkId, u32)>,
 }
 
 struct Flow {
@@ -171,6 +187,8 @@ impl MaxMin {
             capacity,
             links: (0..links).map(|_| Link::default()).collect(),
             keys: vec![NONE; links],
+            groups: (0..links).map(|_| Group::default()).collect(),
+            group_entries: vec![Vec::new(); links],
             flows: Vec::new(),
             shrunk: Vec::new(),
             grown: Vec::new(),
@@ -214,6 +232,10 @@ impl MaxMin {
 
     /// Removes flow `slot`; the others' rates change at the next solve.
     pub fn remove(&mut self, slot: u32) {
+        let old = self.flows[slot as usize].key;
+        if old != NONE {
+            self.leave(slot, link_of(old));
+        }
         let f = &mut self.flows[slot as usize];
         let rate = std::mem::take(&mut f.rate);
         f.key = NONE;
@@ -228,6 +250,49 @@ impl MaxMin {
             flows.swap_remove(pos);
         }
         self.shrunk.extend_from_slice(&f.route);
+    }
+
+    /// Flow `slot` becomes one of the flows link `g` fixes.
+    fn join(&mut self, slot: u32, g: LinkId) {
+        let group = &mut self.groups[g as usize];
+        group.members += 1;
+        for &l in &self.flows[slot as usize].route {
+            let entries = &mut self.group_entries[l as usize];
+            match entries.iter().find(|e| e.0 == g) {
+                Some(&(_, i)) => group.links[i as usize].1 += 1,
+                None => {
+                    entries.push((g, group.links.len() as u32));
+                    group.links.push((l, 1));
+                }
+            }
+        }
+    }
+
+    /// Flow `slot` stops being one of the flows link `g` fixes.
+    fn leave(&mut self, slot: u32, g: LinkId) {
+        let group = &mut self.groups[g as usize];
+        group.members -= 1;
+        for &l in &self.flows[slot as usize].route {
+            let entries = &mut self.group_entries[l as usize];
+            let e = entries
+                .iter()
+                .position(|e| e.0 == g)
+                .expect("a member's link is in its group");
+            let i = entries[e].1 as usize;
+            group.links[i].1 -= 1;
+            if group.links[i].1 > 0 {
+                continue;
+            }
+            entries.swap_remove(e);
+            group.links.swap_remove(i);
+            if let Some(&(moved, _)) = group.links.get(i) {
+                let entry = self.group_entries[moved as usize]
+                    .iter_mut()
+                    .find(|e| e.0 == g)
+                    .expect("a group's link has its entry");
+                entry.1 = i as u32;
+            }
+        }
     }
 
     /// Flows on `link` now.
@@ -406,10 +471,21 @@ impl MaxMin {
                     key: f.key,
                 };
                 self.sweep.unsettled.push(slot);
-                self.touch_route(slot);
             }
         }
         let end = self.sweep.unsettled.len() as u32;
+        if end - start == self.groups[l].members {
+            // The whole group: its links once each.
+            for i in 0..self.groups[l].links.len() {
+                let other = self.groups[l].links[i].0;
+                self.make_pending(other);
+            }
+        } else {
+            for i in start..end {
+                let slot = self.sweep.unsettled[i as usize];
+                self.touch_route(slot);
+            }
+        }
         self.sweep.pops[l] = NONE;
         self.sweep.unsettled_of[l] = (start, end);
         self.sweep.links[l] = SweepLink {
@@ -428,13 +504,19 @@ impl MaxMin {
     /// Flow `slot` changed state in this sweep: the dirty links it crosses that have not
     /// fixed their flows must be evaluated again.
     fn touch_route(&mut self, slot: u32) {
-        let epoch = self.sweep.epoch;
-        for &l in &self.flows[slot as usize].route {
-            let sl = &mut self.sweep.links[l as usize];
-            if sl.epoch == epoch && !sl.popped && !sl.pending {
-                sl.pending = true;
-                self.sweep.pending.push(l);
-            }
+        for i in 0..self.flows[slot as usize].route.len() {
+            let l = self.flows[slot as usize].route[i];
+            self.make_pending(l);
+        }
+    }
+
+    /// A flow on `link` changed state: if it is dirty and has not fixed its flows, it must be
+    /// evaluated again.
+    fn make_pending(&mut self, link: LinkId) {
+        let sl = &mut self.sweep.links[link as usize];
+        if sl.epoch == self.sweep.epoch && !sl.popped && !sl.pending {
+            sl.pending = true;
+            self.sweep.pending.push(link);
         }
     }
 
@@ -512,20 +594,38 @@ impl MaxMin {
         self.sweep.now = at;
         self.sweep.links[link as usize].popped = true;
         let rate = share_of(at).max(1);
+        let old = self.keys[link as usize];
+        // If every flow it fixed last time is still unfixed, they are fixed again together.
+        let members = self.groups[link as usize].members;
+        let whole = members > 0 && {
+            let flows = &self.links[link as usize].flows;
+            let unfixed = flows.iter().filter(|&&slot| {
+                self.flows[slot as usize].key == old && self.fixed_rate(slot, at).is_none()
+            });
+            unfixed.count() as u32 == members
+        };
         for i in 0..self.links[link as usize].flows.len() {
             let slot = self.links[link as usize].flows[i];
-            if self.fixed_rate(slot, at).is_none() {
+            if self.fixed_rate(slot, at).is_some() {
+                continue;
+            }
+            if whole && self.flows[slot as usize].key == old {
+                self.fix(slot, rate, at);
+            } else {
                 self.settle(slot, rate, at);
             }
         }
+        if whole {
+            self.settle_group(link, rate, at);
+        }
     }
 
-    /// Flow `slot` is fixed at `rate` by the link of key `at`. Links that counted it
-    /// differently last time turn dirty.
-    fn settle(&mut self, slot: u32, rate: u64, at: Key) {
+    /// Flow `slot` is fixed at `rate` by the link of key `at`, as far as the flow is
+    /// concerned; returns its rate and key before.
+    fn fix(&mut self, slot: u32, rate: u64, at: Key) -> (u64, Key) {
         let s = &mut self.sweep;
         let sf = &mut s.flows[slot as usize];
-        let (old_rate, old_key) = if sf.epoch == s.epoch {
+        let old = if sf.epoch == s.epoch {
             (sf.rate, sf.key)
         } else {
             let f = &self.flows[slot as usize];
@@ -538,18 +638,38 @@ impl MaxMin {
             key: at,
         };
         s.settled.push(slot);
-        let epoch = s.epoch;
+        old
+    }
+
+    /// `link`'s whole group, fixed again by `link` at `rate` and key `at` (each flow by
+    /// [`MaxMin::fix`]): what [`MaxMin::settle`] does to each member's links, done to each of
+    /// the group's links once, with the count of members crossing it.
+    fn settle_group(&mut self, link: LinkId, rate: u64, at: Key) {
+        let old = self.keys[link as usize];
+        let old_rate = share_of(old).max(1);
+        let delta = rate as i64 - old_rate as i64;
+        let moved = old_rate != rate || old != at;
+        for i in 0..self.groups[link as usize].links.len() {
+            let (l, crossing) = self.groups[link as usize].links[i];
+            self.sweep.link_seen(l).delta += delta * crossing as i64;
+            self.make_pending(l);
+            if moved {
+                self.note(l);
+            }
+        }
+    }
+
+    /// Flow `slot` is fixed at `rate` by the link of key `at`. Links that counted it
+    /// differently last time turn dirty.
+    fn settle(&mut self, slot: u32, rate: u64, at: Key) {
+        let (old_rate, old_key) = self.fix(slot, rate, at);
         let delta = rate as i64 - old_rate as i64;
         // An added flow's links are all dirty already.
         let moved = old_key != NONE && (old_rate != rate || old_key != at);
         for i in 0..self.flows[slot as usize].route.len() {
             let l = self.flows[slot as usize].route[i];
-            let sl = self.sweep.link_seen(l);
-            sl.delta += delta;
-            if sl.epoch == epoch && !sl.popped && !sl.pending {
-                sl.pending = true;
-                self.sweep.pending.push(l);
-            }
+            self.sweep.link_seen(l).delta += delta;
+            self.make_pending(l);
             if moved {
                 self.note(l);
             }
@@ -562,6 +682,19 @@ impl MaxMin {
     fn pass_old_key(&mut self, link: LinkId, at: Key) {
         self.sweep.now = self.sweep.now.max(at);
         let (start, end) = self.sweep.unsettled_of[link as usize];
+        let run = &self.sweep.unsettled[start as usize..end as usize];
+        let unfixed = run
+            .iter()
+            .filter(|&&slot| !self.sweep.flows[slot as usize].settled)
+            .count();
+        if unfixed as u32 == self.groups[link as usize].members {
+            // The whole group is still unfixed: its links once each.
+            for i in 0..self.groups[link as usize].links.len() {
+                let l = self.groups[link as usize].links[i].0;
+                self.note(l);
+            }
+            return;
+        }
         for i in start..end {
             let slot = self.sweep.unsettled[i as usize];
             if self.sweep.flows[slot as usize].settled {
@@ -589,20 +722,58 @@ impl MaxMin {
             let link = &mut self.links[l as usize];
             link.load = (link.load as i64 + s.links[l as usize].delta) as u64;
         }
-        for &slot in &s.settled {
-            let sf = s.flows[slot as usize];
+        for i in 0..self.sweep.settled.len() {
+            let slot = self.sweep.settled[i];
+            let sf = self.sweep.flows[slot as usize];
             let f = &mut self.flows[slot as usize];
             if f.rate != sf.rate {
                 changed.push((slot, f.rate));
             }
             f.rate = sf.rate;
-            f.key = sf.key;
+            let old = std::mem::replace(&mut f.key, sf.key);
+            if old == NONE || link_of(old) != link_of(sf.key) {
+                if old != NONE {
+                    self.leave(slot, link_of(old));
+                }
+                self.join(slot, link_of(sf.key));
+            }
         }
     }
 }
 
 #[cfg(test)]
 impl MaxMin {
+    /// Whether every group holds exactly the flows its link fixed and counts their links.
+    fn groups_add_up(&self) -> bool {
+        let mut want: Vec<std::collections::BTreeMap<LinkId, u32>> =
+            vec![Default::default(); self.links.len()];
+        let mut members = vec![0u32; self.links.len()];
+        for f in self.flows.iter().filter(|f| f.live && f.key != NONE) {
+            let g = link_of(f.key) as usize;
+            members[g] += 1;
+            for &l in &f.route {
+                *want[g].entry(l).or_default() += 1;
+            }
+        }
+        let entries_point_back = self.group_entries.iter().enumerate().all(|(l, es)| {
+            es.iter()
+                .all(|&(g, i)| self.groups[g as usize].links[i as usize].0 == l as LinkId)
+        });
+        entries_point_back
+            && self.groups.iter().enumerate().all(|(g, group)| {
+                let have: std::collections::BTreeMap<LinkId, u32> =
+                    group.links.iter().copied().collect();
+                group.members == members[g]
+                    && have == want[g]
+                    && group.links.len() == have.len()
+                    && group.links.iter().all(|&(l, _)| {
+                        self.group_entries[l as usize]
+                            .iter()
+                            .any(|e| e.0 == g as LinkId)
+                    })
+            })
+    }
+
     /// Whether every link's load is the sum of its flows' rates.
     fn loads_add_up(&self) -> bool {
         self.links.iter().all(|l| {
@@ -744,6 +915,7 @@ mod tests {
                 prop_assert_eq!(mm.rate(*slot), *want, "flow in slot {}", slot);
             }
             prop_assert!(mm.loads_add_up());
+            prop_assert!(mm.groups_add_up());
             let mut moved: Vec<u32> = live
                 .iter()
                 .filter(|(slot, _)| before[*slot as usize] != mm.rate(*slot))
@@ -820,6 +992,7 @@ mod tests {
             (0..4).map(|s| mm.rate(s)).collect::<Vec<_>>()
         );
         assert!(mm.loads_add_up());
+        assert!(mm.groups_add_up());
     }
 
     #[test]
