@@ -15,12 +15,14 @@
 //! Starts and ends at one instant are batched into one solve (`next_event_time` asks for an
 //! `advance` at the start instant); only flows whose rate changed get a new completion.
 //!
-//! Must never use floating point, never iterate a hash map, and never let a stale completion
-//! entry (one computed under an old rate) deliver a message: entries carry the flow's version.
+//! Must never use floating point, never iterate a hash map, and never keep a completion
+//! computed under an old rate: a flow has one entry in `completions`, moved when its rate
+//! changes.
 
 use std::cmp::Reverse;
 use std::collections::BinaryHeap;
 
+use super::completions::Completions;
 use super::maxmin::MaxMin;
 use super::{Transport, Usage};
 use crate::net::timing::Timing;
@@ -35,8 +37,8 @@ pub struct Flow {
     free_slots: Vec<u32>,
     links: Vec<LinkState>,
     shares: MaxMin,
-    /// (completion, message, flow slot, flow version); entries of older versions are stale.
-    completions: BinaryHeap<Reverse<(SimTime, MsgId, u32, u32)>>,
+    /// Each flow's completion at its current rate.
+    completions: Completions,
     /// (delivery, seq, message): fluid transfer done, fixed latency running.
     deliveries: BinaryHeap<Reverse<(SimTime, u64, MsgId)>>,
     /// The earliest start or end not yet solved for.
@@ -56,8 +58,6 @@ struct FlowState {
     rate: u64,
     since: SimTime,
     tail: SimTime,
-    version: u32,
-    active: bool,
 }
 
 #[derive(Default)]
@@ -77,7 +77,7 @@ impl Flow {
             flows: Vec::new(),
             free_slots: Vec::new(),
             links: (0..links).map(|_| LinkState::default()).collect(),
-            completions: BinaryHeap::new(),
+            completions: Completions::default(),
             deliveries: BinaryHeap::new(),
             dirty_since: None,
             changed: Vec::new(),
@@ -114,13 +114,10 @@ impl Flow {
             rate: 0,
             since: now,
             tail,
-            version: 0,
-            active: true,
         };
         let slot = match self.free_slots.pop() {
             Some(s) => {
-                let version = self.flows[s as usize].version;
-                self.flows[s as usize] = FlowState { version, ..state };
+                self.flows[s as usize] = state;
                 s
             }
             None => {
@@ -149,8 +146,6 @@ impl Flow {
             "flow completed before its work was done"
         );
         f.remaining = 0;
-        f.active = false;
-        f.version = f.version.wrapping_add(1);
         let (msg, at) = (f.msg, now + f.tail);
         // A link this flow leaves empty stops being busy.
         for &l in self.shares.route(slot) {
@@ -188,39 +183,11 @@ impl Flow {
             f.remaining -= moved;
             f.since = now;
             f.rate = new_rate;
-            f.version = f.version.wrapping_add(1);
             let left = ceil_div(f.remaining, new_rate as u128);
             let at = now + SimTime::from_ps(left);
-            self.completions.push(Reverse((at, f.msg, slot, f.version)));
+            self.completions.set(slot, f.msg, at);
         }
         self.changed = changed;
-        self.compact_completions();
-    }
-
-    /// Rebuilds the completion heap when stale entries outnumber live ones, so it stays
-    /// proportional to the active flows.
-    fn compact_completions(&mut self) {
-        let live = self.flows.len() - self.free_slots.len();
-        if self.completions.len() <= 2 * live + 64 {
-            return;
-        }
-        let flows = &self.flows;
-        let mut entries = std::mem::take(&mut self.completions).into_vec();
-        entries.retain(|Reverse((_, _, slot, version))| {
-            let f = &flows[*slot as usize];
-            f.active && f.version == *version
-        });
-        self.completions = BinaryHeap::from(entries);
-    }
-
-    fn drop_stale_completions(&mut self) {
-        while let Some(&Reverse((_, _, slot, version))) = self.completions.peek() {
-            let f = &self.flows[slot as usize];
-            if f.active && f.version == version {
-                break;
-            }
-            self.completions.pop();
-        }
     }
 }
 
@@ -245,7 +212,7 @@ impl Transport for Flow {
     }
 
     fn next_event_time(&self) -> Option<SimTime> {
-        let completion = self.completions.peek().map(|Reverse(e)| e.0);
+        let completion = self.completions.first().map(|e| e.0);
         let delivery = self.deliveries.peek().map(|Reverse(e)| e.0);
         [self.dirty_since, completion, delivery]
             .into_iter()
@@ -255,17 +222,15 @@ impl Transport for Flow {
 
     fn advance(&mut self, now: SimTime, delivered: &mut Vec<Delivered>) {
         self.clock = self.clock.max(now);
-        while let Some(&Reverse((at, _, slot, _))) = self.completions.peek() {
+        while let Some((at, _, slot)) = self.completions.first() {
             if at > now {
                 break;
             }
             self.completions.pop();
             self.finish_flow(at, slot);
-            self.drop_stale_completions();
         }
         if self.dirty_since.take().is_some() {
             self.solve(now);
-            self.drop_stale_completions();
         }
         while let Some(&Reverse((at, _, msg))) = self.deliveries.peek() {
             if at > now {

@@ -84,6 +84,9 @@ pub struct MaxMin {
     /// Sweeps run again because a suspect failed its check.
     #[cfg(test)]
     reruns: u64,
+    /// Groups fixed again whole, and flows settled one by one.
+    #[cfg(test)]
+    settled_as: (u64, u64),
 }
 
 #[derive(Default)]
@@ -196,6 +199,8 @@ impl MaxMin {
             added: Vec::new(),
             #[cfg(test)]
             reruns: 0,
+            #[cfg(test)]
+            settled_as: (0, 0),
             sweep: Sweep {
                 links: vec![SweepLink::default(); links],
                 pops: vec![NONE; links],
@@ -649,6 +654,10 @@ impl MaxMin {
         let old_rate = share_of(old).max(1);
         let delta = rate as i64 - old_rate as i64;
         let moved = old_rate != rate || old != at;
+        #[cfg(test)]
+        {
+            self.settled_as.0 += 1;
+        }
         for i in 0..self.groups[link as usize].links.len() {
             let (l, crossing) = self.groups[link as usize].links[i];
             self.sweep.link_seen(l).delta += delta * crossing as i64;
@@ -663,6 +672,10 @@ impl MaxMin {
     /// differently last time turn dirty.
     fn settle(&mut self, slot: u32, rate: u64, at: Key) {
         let (old_rate, old_key) = self.fix(slot, rate, at);
+        #[cfg(test)]
+        {
+            self.settled_as.1 += 1;
+        }
         let delta = rate as i64 - old_rate as i64;
         // An added flow's links are all dirty already.
         let moved = old_key != NONE && (old_rate != rate || old_key != at);
@@ -883,6 +896,16 @@ mod tests {
     /// Applies `steps` to a `MaxMin` and checks every flow's rate against the reference
     /// after every solve, and that `changed` lists exactly the flows whose rate moved.
     fn check(capacity: u64, links: u32, steps: &[Step]) -> Result<(), TestCaseError> {
+        check_counting(capacity, links, steps).map(|_| ())
+    }
+
+    /// [`check`], returning how many groups were fixed again whole and how many flows were
+    /// settled one by one.
+    fn check_counting(
+        capacity: u64,
+        links: u32,
+        steps: &[Step],
+    ) -> Result<(u64, u64), TestCaseError> {
         let mut mm = MaxMin::new(capacity, links as usize);
         let mut live: Vec<(u32, Vec<LinkId>)> = Vec::new();
         let mut free: Vec<u32> = Vec::new();
@@ -932,7 +955,7 @@ mod tests {
                 before[*slot as usize] = mm.rate(*slot);
             }
         }
-        Ok(())
+        Ok(mm.settled_as)
     }
 
     proptest! {
@@ -1013,6 +1036,9 @@ mod tests {
                 remove: (0..rng.gen_range(0..7)).map(|_| rng.gen()).collect(),
             })
             .collect();
-        check(1_000_003, links, &steps).unwrap();
+        let (whole, one_by_one) = check_counting(1_000_003, links, &steps).unwrap();
+        // Both ways of settling ran, so the agreement covers each.
+        assert!(whole > 100, "groups fixed again whole: {whole}");
+        assert!(one_by_one > 100, "flows settled one by one: {one_by_one}");
     }
 }

@@ -6,6 +6,7 @@
 //! queues). Must never see topologies (a transport receives a route as link indices and a hop
 //! count) and never use floating point for time.
 
+mod completions;
 mod contention_free;
 mod flow;
 mod maxmin;
