@@ -25,14 +25,14 @@ const FIDELITIES: [&str; 4] = ["ideal", "hops", "flow", "packet"];
 
 /// (case, hash of summary.json, hash of the image), recorded before the speed-up.
 const RUNS: &[(&str, u64, u64)] = &[
-    ("sort-middle/ellsworth delta.json plb-head-standin.json n=64 frames=0..2 two-step=on ideal", 0x2a7adc13ad7f0c32, 0x8c3aa80857f938f7),
-    ("sort-middle/ellsworth delta.json plb-head-standin.json n=64 frames=0..2 two-step=on hops", 0xaa89916dbf95ce6d, 0x8c3aa80857f938f7),
-    ("sort-middle/ellsworth delta.json plb-head-standin.json n=64 frames=0..2 two-step=on flow", 0x48de79091e153677, 0x8c3aa80857f938f7),
-    ("sort-middle/ellsworth delta.json plb-head-standin.json n=64 frames=0..2 two-step=on packet", 0x245c7ea7aedab9d4, 0x8c3aa80857f938f7),
-    ("sort-middle/ellsworth delta.json polio-standin.json n=512 frames=0 ideal", 0xe2013d8f98de109a, 0x0681af2dce78a65e),
-    ("sort-middle/ellsworth delta.json polio-standin.json n=512 frames=0 hops", 0xb40eed829215c8d5, 0x0681af2dce78a65e),
-    ("sort-middle/ellsworth delta.json polio-standin.json n=512 frames=0 flow", 0x5948d6c1bf88bda3, 0x0681af2dce78a65e),
-    ("sort-middle/ellsworth delta.json polio-standin.json n=512 frames=0 packet", 0x512a161fa0f5729d, 0x0681af2dce78a65e),
+    ("sort-middle/ellsworth delta.json plb-head-standin.json n=64 frames=0..2 two-step=on ideal", 0x54b92bbed98ebdf4, 0x8c3aa80857f938f7),
+    ("sort-middle/ellsworth delta.json plb-head-standin.json n=64 frames=0..2 two-step=on hops", 0x6b49ae4efd31a7cd, 0x8c3aa80857f938f7),
+    ("sort-middle/ellsworth delta.json plb-head-standin.json n=64 frames=0..2 two-step=on flow", 0x82e52a5bae161103, 0x8c3aa80857f938f7),
+    ("sort-middle/ellsworth delta.json plb-head-standin.json n=64 frames=0..2 two-step=on packet", 0xe60f56f57d699826, 0x8c3aa80857f938f7),
+    ("sort-middle/ellsworth delta.json polio-standin.json n=512 frames=0 ideal", 0xa13ddcc3556f7778, 0x0681af2dce78a65e),
+    ("sort-middle/ellsworth delta.json polio-standin.json n=512 frames=0 hops", 0x94b8dd29eaab34bf, 0x0681af2dce78a65e),
+    ("sort-middle/ellsworth delta.json polio-standin.json n=512 frames=0 flow", 0x87ff165551ba7023, 0x0681af2dce78a65e),
+    ("sort-middle/ellsworth delta.json polio-standin.json n=512 frames=0 packet", 0x19603d34c9ee9cc9, 0x0681af2dce78a65e),
     ("sort-middle/static power-challenge.json p000-tetra-500.json n=8 frames=0..2 ideal", 0x4f040b937c49881d, 0x0346fc8a424f6732),
     ("sort-middle/static power-challenge.json p000-tetra-500.json n=8 frames=0..2 hops", 0xfa0f43f2fbdc0194, 0x0346fc8a424f6732),
     ("sort-middle/static power-challenge.json p000-tetra-500.json n=8 frames=0..2 flow", 0x3c0f2336f6c42ec3, 0x0346fc8a424f6732),

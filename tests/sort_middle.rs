@@ -240,3 +240,43 @@ fn recording_a_timeline_changes_no_result() {
     assert_eq!(plain.stats.links, watched.stats.links);
     assert_eq!(plain.image.hash(), watched.image.hash());
 }
+
+/// Paper 002 measures a frame rate over a viewing sequence, so whatever processor 0 waits for
+/// between frames belongs to a frame: with the previous frame's counts each frame begins where
+/// the one before ended, and a summing tree slower than a frame lengthens the next frame (it
+/// once fell between frames and made the load balancing free).
+#[test]
+fn ellsworth_frames_follow_each_other_and_count_the_summing_tree() {
+    let run = |count_sum: &str| {
+        let mut s = spec(
+            "delta.json",
+            "plb-head-standin.json",
+            "sort-middle/ellsworth",
+            64,
+            &[("machine.cpu.costs.count_sum", count_sum)],
+        );
+        s.frames = Some("0..3".into());
+        simulate(&s)
+    };
+    let regions = 8 * 64u64; // the default granularity ratio 8, 64 processors
+    for count_sum_us in [0.43f64, 100.0] {
+        let r = run(&format!("{count_sum_us}us"));
+        for pair in r.frames.windows(2) {
+            assert_eq!(
+                pair[1].start, pair[0].end,
+                "frame {} begins where {} ends",
+                pair[1].frame, pair[0].frame
+            );
+        }
+        if count_sum_us == 100.0 {
+            // Processor 0 sums at least one child's counts for every region before frame 1's
+            // regions can be assigned.
+            let floor = 100e-6 * regions as f64;
+            let frame_1 = r.frames[1].time().as_secs_f64();
+            assert!(
+                frame_1 >= floor,
+                "frame 1 took {frame_1} s, the summing alone {floor} s"
+            );
+        }
+    }
+}

@@ -230,6 +230,8 @@ pub struct RunConfig {
 pub struct FrameRecord {
     pub frame: u32,
     pub start: SimTime,
+    /// `start` is set: the frame has begun at the node that times frames.
+    pub begun: bool,
     pub end: SimTime,
     /// Triangles that survived culling and clipping (the papers' "triangles in view").
     pub triangles_in_view: u64,

@@ -13,7 +13,7 @@ use crate::algo::sort_middle::regions::RegionGrid;
 use crate::algo::sort_middle::two_step::Groups;
 use crate::algo::sort_middle::utilization::{self, CountsMode};
 use crate::algo::sort_middle::DEFAULT_BUFFER;
-use crate::algo::RunResult;
+use crate::algo::{FrameRecord, RunResult};
 use crate::machine::{MachineConfig, Op};
 use crate::report::plot::{ChartOptions, Series};
 use crate::scene::summary::summary;
@@ -21,7 +21,7 @@ use crate::scene::Scene;
 use crate::spec::machine::load_machine;
 use crate::units::SimTime;
 
-use super::runs::{frame_s, mean, run_jobs, triangles_per_s, Job};
+use super::runs::{mean, run_jobs, Job};
 use super::{paper_value, Chart, Measured, Measurements, PaperData, PaperOptions};
 
 const DELTA: &str = "delta.json";
@@ -30,6 +30,31 @@ const PLB: &str = "plb-head-standin.json";
 const PROCS: [u32; 6] = [16, 32, 64, 128, 256, 512];
 const MODES: [&str; 2] = ["off", "on"];
 const AA: (&str, &str) = ("aa", "supersample:16");
+
+/// The frames of a run that stand for the paper's viewing sequences: all but the first, which
+/// deals regions r mod N and waits for no assignment. In the paper's averages over 80 and 110
+/// frames the first weighs about 1%; in a run of a few frames it would weigh a third or a half.
+fn sequence_frames(r: &RunResult) -> &[FrameRecord] {
+    if r.frames.len() > 1 {
+        &r.frames[1..]
+    } else {
+        &r.frames
+    }
+}
+
+/// Triangles in view over frame time, averaged over frames (the paper's measure).
+fn triangles_per_s(r: &RunResult) -> f64 {
+    mean(
+        sequence_frames(r)
+            .iter()
+            .map(|f| f.triangles_in_view as f64 / f.time().as_secs_f64()),
+    )
+}
+
+/// Mean frame time in seconds.
+fn frame_s(r: &RunResult) -> f64 {
+    mean(sequence_frames(r).iter().map(|f| f.time().as_secs_f64()))
+}
 
 fn ellsworth(scene: &str, procs: u32, two_step: &str, frames: &str) -> Job {
     Job::new(DELTA, scene, "sort-middle/ellsworth", procs)
@@ -555,12 +580,15 @@ fn figure_9_rows(
         Measured::value(largest.1, format!("largest at {}", largest.0)),
     );
     let gain = |name: &str| gains.iter().find(|g| g.0 == name).map_or(f64::NAN, |g| g.1);
+    let (g16, g32) = (gain("PLB head 16"), gain("PLB head 32"));
     let (g256, g512) = (gain("PLB head 256"), gain("PLB head 512"));
     m.put(
         "two-step-helps-small-many",
         Measured::shape(
-            g256 > 0.0 && g512 > g256,
-            format!("PLB head gain: {g256:+.0}% at 256, {g512:+.0}% at 512"),
+            g256.min(g512) > 0.0 && g256.min(g512) > g16.max(g32),
+            format!(
+                "PLB head gain: {g16:+.0}% at 16, {g32:+.0}% at 32, {g256:+.0}% at 256, {g512:+.0}% at 512"
+            ),
         ),
     );
     m.put(

@@ -95,11 +95,6 @@ pub fn triangles_per_s(r: &RunResult) -> f64 {
     )
 }
 
-/// Mean simulated frame time in seconds.
-pub fn frame_s(r: &RunResult) -> f64 {
-    mean(r.frames.iter().map(|f| f.time().as_secs_f64()))
-}
-
 pub fn mean(v: impl Iterator<Item = f64>) -> f64 {
     let (sum, n) = v.fold((0.0, 0usize), |(s, n), x| (s + x, n + 1));
     if n == 0 {

@@ -255,6 +255,17 @@ impl Ctx {
         self.book.record(frame, f)
     }
 
+    /// `frame` begins at `now` at processor 0, unless it has begun already: a frame's time
+    /// runs from its beginning to its end, whatever processor 0 waits for in between.
+    pub(crate) fn begin_frame(&self, frame: u32, now: SimTime) {
+        self.record(frame, |r| {
+            if !r.begun {
+                r.start = now;
+                r.begun = true;
+            }
+        });
+    }
+
     pub(crate) fn count_message(&self, frame: u32, bytes: Bytes) {
         self.book.count_message(frame, bytes)
     }
@@ -319,8 +330,7 @@ pub(crate) async fn start_frame(
         .await;
     }
     if me == 0 {
-        let now = node.now();
-        ctx.record(frame, |r| r.start = now);
+        ctx.begin_frame(frame, node.now());
     }
     assignment
 }
