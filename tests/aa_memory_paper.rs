@@ -291,9 +291,12 @@ fn eight_processors_use_close_to_a_megabyte_each() {
     }
 }
 
+/// Paper 002's measure over a viewing sequence: triangles in view over frame time, averaged
+/// over the frames after the first (which deals regions r mod N and waits for no assignment;
+/// it is 1 of the sequence's 80 frames).
 fn triangles_per_s(r: &RunResult) -> f64 {
     mean(
-        r.frames
+        r.frames[1..]
             .iter()
             .map(|f| f.triangles_in_view as f64 / f.time().as_secs_f64()),
     )
@@ -303,10 +306,10 @@ fn triangles_per_s(r: &RunResult) -> f64 {
 /// triangles-per-second performance is 36 percent of the aliased performance ... With 512
 /// processors, and with 256 processors for all models except polio, the antialiased
 /// performance equals the aliased performance." 16 samples per pixel, PLB head stand-in on
-/// the Delta. The anti-aliasing costs in machines/delta.json are estimates relative to
-/// pixel_test, not fitted, so the level at 8 processors is held loosely (25% .. 70%; the
-/// model gives about 57%): what must hold is the shape, a large cost on few processors that
-/// all but vanishes on many (at least 90% at 256 and 512), where communication dominates.
+/// the Delta, whose anti-aliasing costs are fitted to paper 002 with its other costs
+/// (machines/fits/delta-to-002-fig9.json): 36% at 8 processors within the paper row's 10
+/// points, and a cost that all but vanishes on many processors (at least 90% at 256 and 512),
+/// where communication and the load-balancing tree dominate.
 #[test]
 fn anti_aliasing_costs_much_on_8_processors_and_little_on_256_and_512() {
     let head = scene("plb-head-standin.json");
@@ -316,7 +319,7 @@ fn anti_aliasing_costs_much_on_8_processors_and_little_on_256_and_512() {
             &head,
             "sort-middle/ellsworth",
             procs,
-            "0..2",
+            "0..3",
             &[],
         );
         let aa = simulate(
@@ -324,7 +327,7 @@ fn anti_aliasing_costs_much_on_8_processors_and_little_on_256_and_512() {
             &head,
             "sort-middle/ellsworth",
             procs,
-            "0..2",
+            "0..3",
             &[("aa", "supersample:16")],
         );
         let r = triangles_per_s(&aa) / triangles_per_s(&none);
@@ -332,7 +335,7 @@ fn anti_aliasing_costs_much_on_8_processors_and_little_on_256_and_512() {
         r
     };
     let r8 = ratio(8);
-    assert!((0.25..0.70).contains(&r8), "{r8}");
+    assert!((0.26..=0.46).contains(&r8), "{r8}");
     for procs in [256, 512] {
         let r = ratio(procs);
         assert!((0.90..=1.02).contains(&r), "{procs}: {r}");

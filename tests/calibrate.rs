@@ -112,3 +112,59 @@ fn a_target_the_paper_does_not_have_is_refused() {
     assert_eq!(out.status.code(), Some(2));
     assert!(String::from_utf8_lossy(&out.stderr).contains("a claim without a number"));
 }
+
+#[test]
+fn a_machine_the_papers_do_not_use_is_refused_unless_it_names_the_one_it_replaces() {
+    let dir = tempfile::tempdir().unwrap();
+    let original =
+        Path::new(env!("CARGO_MANIFEST_DIR")).join("machines/multicluster-pipeline.json");
+    let renamed = dir.path().join("pipeline-start.json");
+    std::fs::copy(&original, &renamed).unwrap();
+    let write = |replaces: Option<&str>| {
+        let mut text = serde_json::json!({
+            "machine": renamed,
+            "paper": "001",
+            "targets": ["uni-zbuffer-teapot"],
+            "parameters": [{"name": "cpu costs", "fields": ["cpu.costs.*"], "range": [0.5, 2.0]}],
+            "max_evaluations": 2
+        });
+        if let Some(name) = replaces {
+            text["replaces"] = name.into();
+        }
+        let file = dir.path().join("fit.json");
+        std::fs::write(&file, text.to_string()).unwrap();
+        file.to_str().unwrap().to_string()
+    };
+    // Under its own name the candidates would never be run: the fit would search a flat cost.
+    let out = sortsim(&[
+        "calibrate",
+        &write(None),
+        "-o",
+        dir.path().join("o").to_str().unwrap(),
+    ]);
+    assert_eq!(out.status.code(), Some(2));
+    let err = String::from_utf8_lossy(&out.stderr);
+    assert!(
+        err.contains("pipeline-start.json") && err.contains("replaces"),
+        "{err}"
+    );
+    let out = sortsim(&[
+        "calibrate",
+        &write(Some("multicluster-pipeline.json")),
+        "--jobs",
+        "1",
+        "-o",
+        dir.path().join("o").to_str().unwrap(),
+    ]);
+    assert!(
+        out.status.success(),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    let c: Value = serde_json::from_str(
+        &std::fs::read_to_string(dir.path().join("o/calibration.json")).unwrap(),
+    )
+    .unwrap();
+    // The candidates stood in for the bundled machine the paper's experiments use.
+    assert_eq!(c["machine"], "multicluster-pipeline.json", "{c}");
+}

@@ -35,6 +35,10 @@ pub struct CalibrationSpec {
     pub note: Option<String>,
     /// The machine file to fit, relative to the spec's folder.
     pub machine: PathBuf,
+    /// The bundled machine file (in `machines/`) the candidates stand in for in the paper's
+    /// experiments; the fitted machine's own file name when absent.
+    #[serde(default)]
+    pub replaces: Option<String>,
     /// The paper whose rows are the targets: "000" .. "003".
     pub paper: String,
     /// Row ids of papers/NNN.json; each must have a number (value or range).
@@ -309,11 +313,22 @@ pub fn calibrate(
         &vec![1.0; spec.parameters.len()],
     )
     .map_err(|e| bad(format!("{}: {e}", spec.machine.display())))?;
-    let file_name = spec
-        .machine
-        .file_name()
-        .map(|n| n.to_string_lossy().into_owned())
-        .ok_or_else(|| bad("the machine has no file name".into()))?;
+    let file_name = match &spec.replaces {
+        Some(name) => name.clone(),
+        None => spec
+            .machine
+            .file_name()
+            .map(|n| n.to_string_lossy().into_owned())
+            .ok_or_else(|| bad("the machine has no file name".into()))?,
+    };
+    // A candidate under any other name would sit unused beside the bundled machines, and the
+    // fit would search a flat cost.
+    if !root.join("machines").join(&file_name).is_file() {
+        return Err(bad(format!(
+            "{file_name} is not a machine in machines/, so the paper's experiments would not run on the candidates; \
+             name the bundled machine the fitted one stands in for with \"replaces\" (e.g. \"delta.json\")"
+        )));
+    }
     // The candidates live beside copies of every bundled machine, since a paper's experiments
     // may use several.
     let dir = tempdir_for_candidates(root).map_err(CalibrationError::Failed)?;
