@@ -217,3 +217,43 @@ fn a_speedup_scene_is_the_baseline_of_every_point() {
         Some(row.mean_triangles_per_s.unwrap() / base_tps)
     );
 }
+
+#[test]
+fn warm_up_frames_are_left_out_of_the_means() {
+    // Ellsworth's first frame deals regions r mod N and waits for no assignment; a sweep with
+    // `warmup_frames` averages the frames after it (paper 002's 80-frame averages nearly do).
+    let json = r#"{"machine": "machines/delta.json", "scene": "scenes/plb-head-standin.json",
+        "algo": "sort-middle/ellsworth", "procs": [16], "frames": "0..3", "warmup_frames": 1,
+        "set": {"machine.cpu.costs": "{\"transform_vertex\": \"1us\", \"setup_triangle\": \"3us\", \"pixel_write\": \"80ns\"}"}}"#;
+    let sweep =
+        parse_sweep(&root().join("test-sweep.json"), json).unwrap_or_else(|e| panic!("{e}"));
+    let dir = out_dir("warmup");
+    let outcome = run(&sweep, &dir, 2);
+    let point = std::fs::read_dir(dir.join("points"))
+        .unwrap()
+        .map(|e| e.unwrap().path())
+        .find(|p| p.to_str().unwrap().contains("_p0016_"))
+        .expect("the 16-processor point ran");
+    let summary: serde_json::Value =
+        serde_json::from_slice(&read(&point.join("summary.json"))).unwrap();
+    let frames = summary["per_frame"].as_array().unwrap();
+    assert_eq!(frames.len(), 3, "the runs keep every frame");
+    let mean = |key: &str| {
+        frames[1..]
+            .iter()
+            .map(|f| f[key].as_f64().unwrap())
+            .sum::<f64>()
+            / 2.0
+    };
+    let row = outcome.rows.iter().find(|r| r.procs == 16).unwrap();
+    assert_eq!(row.mean_triangles_per_s, Some(mean("triangles_per_s")));
+    assert_eq!(row.mean_frame_s, Some(mean("time_s")));
+    assert_eq!(row.mean_bytes_per_frame, Some(mean("bytes")));
+    assert_ne!(
+        row.mean_triangles_per_s,
+        summary["mean_triangles_per_s"].as_f64(),
+        "the first frame differs from the others, so leaving it out shows"
+    );
+    let table: serde_json::Value = serde_json::from_slice(&read(&dir.join("sweep.json"))).unwrap();
+    assert_eq!(table["warmup_frames"], 1);
+}

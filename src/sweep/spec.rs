@@ -51,6 +51,12 @@ pub struct SweepSpec {
     /// (paper 002's Figure 10 divides every model by the single-processor PLB head).
     #[serde(default)]
     pub speedup_scene: Option<PathBuf>,
+    /// Frames at the start of every run left out of the table's means (the runs and their
+    /// summary.json keep them): the first frame of a frame-coherent algorithm waits for no
+    /// region assignment, which in a run of a few frames would weigh far more than in a
+    /// viewing sequence. Needs `frames` with more frames than this.
+    #[serde(default)]
+    pub warmup_frames: u32,
 }
 
 /// The keys a sweep may also spell in the plural (serde aliases), and whether one of the two
@@ -130,6 +136,8 @@ pub struct Sweep {
     pub note: Option<String>,
     /// The scene speedups divide by, as written, when not each point's own.
     pub speedup_scene: Option<String>,
+    /// Frames at the start of every run the table's means leave out.
+    pub warmup_frames: u32,
     pub dims: Vec<Dim>,
     pub points: Vec<Point>,
 }
@@ -191,6 +199,7 @@ impl Sweep {
             file: file.to_path_buf(),
             note: spec.note.clone(),
             speedup_scene,
+            warmup_frames: spec.warmup_frames,
             dims,
             points,
         })
@@ -308,15 +317,26 @@ fn validate_values(file: &Path, spec: &SweepSpec) -> Result<(), SpecError> {
             msg,
         ));
     }
+    let mut frame_count = None;
     if let Some(frames) = &spec.frames {
         // The scene's frame count is checked when the scene is loaded; here only the form.
-        if crate::spec::run::parse_frames(Some(frames), u32::MAX).is_err() {
-            return Err(SpecError::invalid(
-                file,
-                "frames",
-                format!("`{frames}`: write A..B (B excluded) or A"),
-            ));
+        match crate::spec::run::parse_frames(Some(frames), u32::MAX) {
+            Ok(range) => frame_count = Some(range.len() as u32),
+            Err(_) => {
+                return Err(SpecError::invalid(
+                    file,
+                    "frames",
+                    format!("`{frames}`: write A..B (B excluded) or A"),
+                ))
+            }
         }
+    }
+    let warmup = spec.warmup_frames;
+    if warmup > 0 && frame_count.is_none_or(|n| n <= warmup) {
+        let msg = format!(
+            "{warmup} warm-up frames leave no frame to average; give `frames` a range of more than {warmup} frames, or set warmup_frames below the frames run"
+        );
+        return Err(SpecError::invalid(file, "warmup_frames", msg));
     }
     Ok(())
 }

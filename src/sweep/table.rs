@@ -22,6 +22,39 @@ pub struct PointMetrics {
     pub mean_bytes_per_frame: f64,
     pub mean_messages_per_frame: f64,
     pub machine_metrics: MachineMetrics,
+    pub per_frame: Vec<FrameMetrics>,
+}
+
+/// One frame of a run's summary.json.
+#[derive(Debug, Clone, Deserialize)]
+pub struct FrameMetrics {
+    pub time_s: f64,
+    pub triangles_per_s: f64,
+    pub load_imbalance_pct: f64,
+    pub bytes: u64,
+    pub messages: u64,
+}
+
+impl PointMetrics {
+    /// The per-frame means over the frames after the first `warmup` (as the run summary
+    /// computes them over all frames); unchanged when `warmup` is 0.
+    fn after_warmup(&self, warmup: u32) -> PointMetrics {
+        let frames = self.per_frame.get(warmup as usize..).unwrap_or_default();
+        if warmup == 0 || frames.is_empty() {
+            return self.clone();
+        }
+        let mean = |f: &dyn Fn(&FrameMetrics) -> f64| {
+            frames.iter().map(f).sum::<f64>() / frames.len() as f64
+        };
+        PointMetrics {
+            mean_triangles_per_s: mean(&|f| f.triangles_per_s),
+            mean_frame_s: mean(&|f| f.time_s),
+            mean_load_imbalance_pct: mean(&|f| f.load_imbalance_pct),
+            mean_bytes_per_frame: mean(&|f| f.bytes as f64),
+            mean_messages_per_frame: mean(&|f| f.messages as f64),
+            ..self.clone()
+        }
+    }
 }
 
 #[derive(Debug, Clone, Deserialize)]
@@ -70,6 +103,9 @@ pub struct Row {
 pub struct SweepTable<'a> {
     pub note: Option<&'a str>,
     pub frames: Option<&'a str>,
+    /// Frames at the start of every run that the means leave out.
+    #[serde(skip_serializing_if = "is_zero")]
+    pub warmup_frames: u32,
     /// Product order, outermost first; the values as written in the spec.
     pub dims: &'a [super::spec::Dim],
     pub speedup: &'static str,
@@ -81,6 +117,7 @@ impl<'a> SweepTable<'a> {
         SweepTable {
             note: sweep.note.as_deref(),
             frames: sweep.points.first().and_then(|p| p.run.frames.as_deref()),
+            warmup_frames: sweep.warmup_frames,
             dims: &sweep.dims,
             speedup: "mean_triangles_per_s over that of the same machine, scene (or the sweep's speedup_scene), algorithm, options and seed on 1 processor; efficiency = speedup / procs",
             rows,
@@ -88,13 +125,22 @@ impl<'a> SweepTable<'a> {
     }
 }
 
-/// The rows of the listed points, in product order.
+fn is_zero(n: &u32) -> bool {
+    *n == 0
+}
+
+/// The rows of the listed points, in product order; the means over the frames after the
+/// sweep's warm-up frames.
 pub fn rows(
     sweep: &Sweep,
     names: &[String],
     metrics: &[Option<PointMetrics>],
     failures: &[PointFailure],
 ) -> Vec<Row> {
+    let metrics: Vec<Option<PointMetrics>> = metrics
+        .iter()
+        .map(|m| m.as_ref().map(|m| m.after_warmup(sweep.warmup_frames)))
+        .collect();
     let index: BTreeMap<&[String], usize> = sweep
         .points
         .iter()
