@@ -3,6 +3,8 @@
 //! that `sortsim check` accepts with its source updated, lists every target, and is
 //! reproducible. A spec naming a row the paper does not have is bad input.
 
+mod common;
+
 use std::path::Path;
 use std::process::{Command, Output};
 
@@ -16,15 +18,33 @@ fn sortsim(args: &[&str]) -> Output {
         .expect("sortsim runs")
 }
 
+fn pipeline() -> std::path::PathBuf {
+    Path::new(env!("CARGO_MANIFEST_DIR")).join("machines/multicluster-pipeline.json")
+}
+
+/// A spec fitting the pipeline's cpu costs to `targets` of paper 001.
 fn spec(dir: &Path, targets: &[&str], max_evaluations: u32) -> String {
-    let machine = Path::new(env!("CARGO_MANIFEST_DIR")).join("machines/multicluster-pipeline.json");
-    let text = serde_json::json!({
+    spec_of(dir, &pipeline(), None, targets, max_evaluations)
+}
+
+/// A spec fitting `machine` (standing in for `replaces`, if given).
+fn spec_of(
+    dir: &Path,
+    machine: &Path,
+    replaces: Option<&str>,
+    targets: &[&str],
+    max_evaluations: u32,
+) -> String {
+    let mut text = serde_json::json!({
         "machine": machine,
         "paper": "001",
         "targets": targets,
         "parameters": [{"name": "cpu costs", "fields": ["cpu.costs.*"], "range": [0.5, 2.0]}],
         "max_evaluations": max_evaluations
     });
+    if let Some(name) = replaces {
+        text["replaces"] = name.into();
+    }
     let file = dir.join("fit.json");
     std::fs::write(&file, text.to_string()).unwrap();
     file.to_str().unwrap().to_string()
@@ -116,55 +136,32 @@ fn a_target_the_paper_does_not_have_is_refused() {
 #[test]
 fn a_machine_the_papers_do_not_use_is_refused_unless_it_names_the_one_it_replaces() {
     let dir = tempfile::tempdir().unwrap();
-    let original =
-        Path::new(env!("CARGO_MANIFEST_DIR")).join("machines/multicluster-pipeline.json");
     let renamed = dir.path().join("pipeline-start.json");
-    std::fs::copy(&original, &renamed).unwrap();
-    let write = |replaces: Option<&str>| {
-        let mut text = serde_json::json!({
-            "machine": renamed,
-            "paper": "001",
-            "targets": ["uni-zbuffer-teapot"],
-            "parameters": [{"name": "cpu costs", "fields": ["cpu.costs.*"], "range": [0.5, 2.0]}],
-            "max_evaluations": 2
-        });
-        if let Some(name) = replaces {
-            text["replaces"] = name.into();
-        }
-        let file = dir.path().join("fit.json");
-        std::fs::write(&file, text.to_string()).unwrap();
-        file.to_str().unwrap().to_string()
-    };
+    std::fs::copy(pipeline(), &renamed).unwrap();
+    let out_dir = dir.path().join("o");
+    let out = out_dir.to_str().unwrap();
+    let targets = ["uni-zbuffer-teapot"];
     // Under its own name the candidates would never be run: the fit would search a flat cost.
-    let out = sortsim(&[
-        "calibrate",
-        &write(None),
-        "-o",
-        dir.path().join("o").to_str().unwrap(),
-    ]);
-    assert_eq!(out.status.code(), Some(2));
-    let err = String::from_utf8_lossy(&out.stderr);
-    assert!(
-        err.contains("pipeline-start.json") && err.contains("replaces"),
-        "{err}"
+    let file = spec_of(dir.path(), &renamed, None, &targets, 2);
+    let refused = sortsim(&["calibrate", &file, "-o", out]);
+    common::assert_refused(&refused, "a renamed machine", "pipeline-start.json");
+    common::assert_refused(&refused, "a renamed machine", "replaces");
+    let file = spec_of(
+        dir.path(),
+        &renamed,
+        Some("multicluster-pipeline.json"),
+        &targets,
+        2,
     );
-    let out = sortsim(&[
-        "calibrate",
-        &write(Some("multicluster-pipeline.json")),
-        "--jobs",
-        "1",
-        "-o",
-        dir.path().join("o").to_str().unwrap(),
-    ]);
+    let run = sortsim(&["calibrate", &file, "--jobs", "1", "-o", out]);
     assert!(
-        out.status.success(),
+        run.status.success(),
         "{}",
-        String::from_utf8_lossy(&out.stderr)
+        String::from_utf8_lossy(&run.stderr)
     );
-    let c: Value = serde_json::from_str(
-        &std::fs::read_to_string(dir.path().join("o/calibration.json")).unwrap(),
-    )
-    .unwrap();
+    let c: Value =
+        serde_json::from_str(&std::fs::read_to_string(out_dir.join("calibration.json")).unwrap())
+            .unwrap();
     // The candidates stood in for the bundled machine the paper's experiments use.
     assert_eq!(c["machine"], "multicluster-pipeline.json", "{c}");
 }

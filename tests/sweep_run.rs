@@ -45,6 +45,16 @@ fn read(path: &Path) -> Vec<u8> {
     std::fs::read(path).unwrap_or_else(|e| panic!("{}: {e}", path.display()))
 }
 
+/// The summary.json of the point under `dir` whose folder name contains `fragment`.
+fn point_summary(dir: &Path, fragment: &str) -> serde_json::Value {
+    let point = std::fs::read_dir(dir.join("points"))
+        .unwrap()
+        .map(|e| e.unwrap().path())
+        .find(|p| p.to_str().unwrap().contains(fragment))
+        .unwrap_or_else(|| panic!("no point named like {fragment} ran"));
+    serde_json::from_slice(&read(&point.join("summary.json"))).unwrap()
+}
+
 /// Every file under `dir` except the host-dependent cost files, by relative path.
 fn deterministic_files(dir: &Path) -> Vec<(PathBuf, Vec<u8>)> {
     let mut out = Vec::new();
@@ -203,13 +213,7 @@ fn a_speedup_scene_is_the_baseline_of_every_point() {
         outcome.ran, 2,
         "the teapot point and the PLB head's one-processor baseline"
     );
-    let base_dir = std::fs::read_dir(dir.join("points"))
-        .unwrap()
-        .map(|e| e.unwrap().path())
-        .find(|p| p.to_str().unwrap().contains("plb-head"))
-        .expect("the baseline ran on the PLB head");
-    let base: serde_json::Value =
-        serde_json::from_slice(&read(&base_dir.join("summary.json"))).unwrap();
+    let base = point_summary(&dir, "plb-head");
     let base_tps = base["mean_triangles_per_s"].as_f64().unwrap();
     let row = &outcome.rows[0];
     assert_eq!(
@@ -229,13 +233,7 @@ fn warm_up_frames_are_left_out_of_the_means() {
         parse_sweep(&root().join("test-sweep.json"), json).unwrap_or_else(|e| panic!("{e}"));
     let dir = out_dir("warmup");
     let outcome = run(&sweep, &dir, 2);
-    let point = std::fs::read_dir(dir.join("points"))
-        .unwrap()
-        .map(|e| e.unwrap().path())
-        .find(|p| p.to_str().unwrap().contains("_p0016_"))
-        .expect("the 16-processor point ran");
-    let summary: serde_json::Value =
-        serde_json::from_slice(&read(&point.join("summary.json"))).unwrap();
+    let summary = point_summary(&dir, "_p0016_");
     let frames = summary["per_frame"].as_array().unwrap();
     assert_eq!(frames.len(), 3, "the runs keep every frame");
     let mean = |key: &str| {
