@@ -21,7 +21,7 @@ use crate::scene::Scene;
 use crate::spec::machine::load_machine;
 use crate::units::SimTime;
 
-use super::runs::{mean, run_jobs, Job};
+use super::runs::{mean, run_jobs, triangles_per_s_over, Job};
 use super::{paper_value, Chart, Measured, Measurements, PaperData, PaperOptions};
 
 const DELTA: &str = "delta.json";
@@ -44,11 +44,7 @@ fn sequence_frames(r: &RunResult) -> &[FrameRecord] {
 
 /// Triangles in view over frame time, averaged over frames (the paper's measure).
 fn triangles_per_s(r: &RunResult) -> f64 {
-    mean(
-        sequence_frames(r)
-            .iter()
-            .map(|f| f.triangles_in_view as f64 / f.time().as_secs_f64()),
-    )
+    triangles_per_s_over(sequence_frames(r))
 }
 
 /// Mean frame time in seconds.

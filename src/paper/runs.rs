@@ -9,7 +9,7 @@ use std::sync::Arc;
 
 use rayon::prelude::*;
 
-use crate::algo::{run, RunResult};
+use crate::algo::{run, FrameRecord, RunResult};
 use crate::scene::Scene;
 use crate::spec::run::RunSpec;
 
@@ -88,8 +88,13 @@ pub fn run_jobs(options: &PaperOptions, jobs: &[Job]) -> Result<Vec<RunResult>, 
 
 /// Mean over frames of triangles in view per simulated second.
 pub fn triangles_per_s(r: &RunResult) -> f64 {
+    triangles_per_s_over(&r.frames)
+}
+
+/// Mean over `frames` of triangles in view per simulated second.
+pub fn triangles_per_s_over(frames: &[FrameRecord]) -> f64 {
     mean(
-        r.frames
+        frames
             .iter()
             .map(|f| f.triangles_in_view as f64 / f.time().as_secs_f64()),
     )
