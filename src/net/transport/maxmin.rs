@@ -68,9 +68,6 @@ pub struct MaxMin {
     flows: Vec<Flow>,
     /// Links that lost a flow since the last solve.
     shrunk: Vec<LinkId>,
-    /// Links that gained a flow since the last solve: each must be evaluated, since its new
-    /// flow may have no other link to fix it.
-    grown: Vec<LinkId>,
     /// Suspects that failed their check in this solve: dirty from the start when it runs again.
     forced: Vec<LinkId>,
     /// Flows added since the last solve.
@@ -194,7 +191,6 @@ impl MaxMin {
             group_entries: vec![Vec::new(); links],
             flows: Vec::new(),
             shrunk: Vec::new(),
-            grown: Vec::new(),
             forced: Vec::new(),
             added: Vec::new(),
             #[cfg(test)]
@@ -231,7 +227,6 @@ impl MaxMin {
         for &l in route {
             self.links[l as usize].flows.push(slot);
         }
-        self.grown.extend_from_slice(route);
         self.added.push(slot);
     }
 
@@ -327,7 +322,6 @@ impl MaxMin {
         }
         self.commit(changed);
         self.added.clear();
-        self.grown.clear();
         self.shrunk.clear();
         self.forced.clear();
     }
@@ -351,11 +345,17 @@ impl MaxMin {
                 key: NONE,
             };
         }
-        for i in 0..self.grown.len() {
-            self.mark_dirty(self.grown[i]);
-        }
         for i in 0..self.forced.len() {
             self.mark_dirty(self.forced[i]);
+        }
+        for i in 0..self.added.len() {
+            self.mark_fixer_of_added(self.added[i]);
+        }
+        for i in 0..self.added.len() {
+            let slot = self.added[i] as usize;
+            for j in 0..self.flows[slot].route.len() {
+                self.note(self.flows[slot].route[j]);
+            }
         }
         for i in 0..self.shrunk.len() {
             self.note(self.shrunk[i]);
@@ -381,6 +381,46 @@ impl MaxMin {
             }
         }
         self.forced.len() == forced
+    }
+
+    /// Added flow `slot`'s links gained it. All are noted once the sweep begins (a link that
+    /// fixed flows last time turns dirty, one that fixed none is a suspect); here the suspects
+    /// likely to fail their check are made dirty first, saving a second sweep: those whose
+    /// load would come within its flow count of the capacity if the new flow took as much as
+    /// its tightest link leaves room for. And one link must be dirty to fix the new flow: if
+    /// no other is, its tightest link is. Which links are dirty only changes the cost: a
+    /// suspect that should have fixed flows fails its check and the sweep runs again.
+    fn mark_fixer_of_added(&mut self, slot: u32) {
+        let f = &self.flows[slot as usize];
+        if !f.live {
+            return; // removed again before this solve: `shrunk` holds its links
+        }
+        // A guess at the new flow's rate: the most it could get on its tightest link.
+        let mut guess = u64::MAX;
+        let mut tightest = None;
+        for &l in &f.route {
+            let link = &self.links[l as usize];
+            let share = self.capacity / link.flows.len() as u64;
+            let room = self.capacity.saturating_sub(link.load).max(share);
+            if room < guess {
+                guess = room;
+                tightest = Some(l);
+            }
+        }
+        let mut fixer = tightest;
+        for i in 0..self.flows[slot as usize].route.len() {
+            let l = self.flows[slot as usize].route[i];
+            let link = &self.links[l as usize];
+            if self.keys[l as usize] != NONE {
+                fixer = None;
+            } else if link.load + guess + link.flows.len() as u64 > self.capacity {
+                self.mark_dirty(l);
+                fixer = None;
+            }
+        }
+        if let Some(l) = fixer {
+            self.mark_dirty(l);
+        }
     }
 
     /// A flow on `link` changed: a link that fixed flows last time is dirty, one that fixed
@@ -677,7 +717,7 @@ impl MaxMin {
             self.settled_as.1 += 1;
         }
         let delta = rate as i64 - old_rate as i64;
-        // An added flow's links are all dirty already.
+        // An added flow's links were all noted when the sweep began.
         let moved = old_key != NONE && (old_rate != rate || old_key != at);
         for i in 0..self.flows[slot as usize].route.len() {
             let l = self.flows[slot as usize].route[i];
@@ -731,7 +771,11 @@ impl MaxMin {
             }
         }
         for &l in &s.suspects {
-            // A settled flow's links are all dirty or suspects, so every delta lands here.
+            // A settled flow's links are all dirty or suspects, so every delta lands here
+            // (once: a link made dirty after it was suspected took its delta above).
+            if s.links[l as usize].epoch == s.epoch {
+                continue;
+            }
             let link = &mut self.links[l as usize];
             link.load = (link.load as i64 + s.links[l as usize].delta) as u64;
         }
@@ -801,7 +845,6 @@ impl MaxMin {
     /// What [`MaxMin::solve`] must do, done plainly: every rate from [`reference_rates`].
     pub fn solve_from_scratch(&mut self, changed: &mut Vec<(u32, u64)>) {
         self.added.clear();
-        self.grown.clear();
         self.shrunk.clear();
         let live: Vec<u32> = (0..self.flows.len() as u32)
             .filter(|&s| self.flows[s as usize].live)
