@@ -64,6 +64,76 @@ fn one_cpu_serves_compute_requests_first_come_first_served() {
     assert_eq!(stats.end, SimTime::from_us(24));
 }
 
+/// A ring node whose cpu slices work into `timeslice` pieces.
+fn sliced_ring(timeslice: &str) -> sortsim::machine::MachineConfig {
+    let mut m = common::ring(2, "0us", "0us", true);
+    m.cpu.timeslice = Some(timeslice.parse().unwrap());
+    m
+}
+
+#[test]
+fn a_time_sliced_cpu_lets_a_short_job_in_after_one_slice_of_a_long_one() {
+    for (timeslice, short_ends, long_ends) in [
+        // 100us of work against 1us that arrives at 5us: without slicing the short job waits
+        // for all of the long one; with 10us slices it runs after the first slice, and the
+        // long one ends 1us later than alone.
+        (None, 101, 100),
+        (Some("10us"), 11, 101),
+        // A slice longer than the work changes nothing.
+        (Some("1ms"), 101, 100),
+    ] {
+        let m = match timeslice {
+            Some(t) => sliced_ring(t),
+            None => common::ring(2, "0us", "0us", true),
+        };
+        let mut sim: Sim<Msg> = Sim::new(&m, 1).unwrap();
+        let l: Log = Default::default();
+        let (node, log_long) = (sim.node(0), l.clone());
+        sim.spawn(0, "long", async move {
+            node.compute_for(SimTime::from_us(100)).await;
+            log(&log_long, node.now(), "long");
+            Ok(())
+        });
+        let (node, log_short) = (sim.node(0), l.clone());
+        sim.spawn(0, "short", async move {
+            node.sleep(SimTime::from_us(5)).await;
+            node.compute_for(SimTime::from_us(1)).await;
+            log(&log_short, node.now(), "short");
+            Ok(())
+        });
+        let stats = sim.run().unwrap();
+        let mut want = vec![
+            (short_ends * 1_000_000, "short".to_string()),
+            (long_ends * 1_000_000, "long".to_string()),
+        ];
+        want.sort();
+        assert_eq!(*l.borrow(), want, "timeslice {timeslice:?}");
+        // Slicing moves work in time, never adds or drops any.
+        assert_eq!(stats.nodes[0].busy(), SimTime::from_us(101));
+    }
+}
+
+#[test]
+fn alone_on_its_cpu_a_sliced_computation_ends_when_an_unsliced_one_would() {
+    for timeslice in ["1us", "7us", "10us", "33us"] {
+        let mut sim: Sim<Msg> = Sim::new(&sliced_ring(timeslice), 1).unwrap();
+        let l: Log = Default::default();
+        let (node, l2) = (sim.node(0), l.clone());
+        sim.spawn(0, "alone", async move {
+            node.compute(Counts::of(Op::PixelWrite, 1000).add(Op::SetupTriangle, 90))
+                .await;
+            log(&l2, node.now(), "alone");
+            Ok(())
+        });
+        sim.run().unwrap();
+        assert_eq!(
+            *l.borrow(),
+            vec![(100_000_000, "alone".into())],
+            "{timeslice}"
+        );
+    }
+}
+
 #[test]
 fn a_message_costs_send_overhead_transfer_and_receive_overhead() {
     // 1000 B at 1 MB/s = 1ms; one hop of 1us; 5us to send, 7us to receive.

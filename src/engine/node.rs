@@ -131,13 +131,20 @@ impl<M: Payload> Node<M> {
         self.compute_for(t)
     }
 
-    /// Occupies this node's cpu for `t` (queued behind work already on it).
+    /// Occupies this node's cpu for `t` (queued behind work already on it; on a time-sliced
+    /// cpu a slice at a time, each queued when the one before ends).
     pub fn compute_for(&self, t: SimTime) -> Until<'_, M> {
-        let end = self.st.borrow_mut().reserve_cpu(self.id, t, false);
+        let mut st = self.st.borrow_mut();
+        let (now, left) = match st.cpu.timeslice {
+            Some(slice) if t > slice => (slice, t - slice),
+            _ => (t, SimTime::ZERO),
+        };
+        let end = st.reserve_cpu(self.id, now, false);
         Until {
             node: self,
             at: end,
             armed: false,
+            left,
         }
     }
 
@@ -148,6 +155,7 @@ impl<M: Payload> Node<M> {
             node: self,
             at,
             armed: false,
+            left: SimTime::ZERO,
         }
     }
 
@@ -182,6 +190,7 @@ impl<M: Payload> Node<M> {
                 node: self,
                 at: end,
                 armed: false,
+                left: SimTime::ZERO,
             }
             .await;
         }
@@ -290,17 +299,31 @@ impl<M: Payload> Node<M> {
     }
 }
 
-/// Resolves once the clock reaches `at`.
+/// Resolves once the clock reaches `at` and no cpu work is `left` to queue.
 pub struct Until<'a, M: Payload> {
     node: &'a Node<M>,
     at: SimTime,
     armed: bool,
+    /// Computation still to queue, a slice at a time, once the slice ending at `at` is done.
+    left: SimTime,
 }
 
 impl<M: Payload> Future for Until<'_, M> {
     type Output = ();
     fn poll(mut self: Pin<&mut Self>, _cx: &mut Context<'_>) -> Poll<()> {
         let mut st = self.node.st.borrow_mut();
+        if st.now >= self.at && self.left > SimTime::ZERO {
+            // Behind whatever other programs queued during the slice just ended.
+            let slice = st.cpu.timeslice.expect("work is left only on a sliced cpu");
+            let next = self.left.min(slice);
+            let id = self.node.id;
+            let end = st.reserve_cpu(id, next, false);
+            drop(st);
+            self.left = self.left - next;
+            self.at = end;
+            self.armed = false;
+            st = self.node.st.borrow_mut();
+        }
         if st.now >= self.at {
             return Poll::Ready(());
         }

@@ -177,6 +177,8 @@ pub struct CpuConfig {
     /// True: a send costs the cpu only its overhead and the transfer runs beside computation.
     /// False: the sending program stays blocked until the message is delivered.
     pub overlap: bool,
+    /// Work is queued on the cpu at most this much at a time (round-robin time slicing).
+    pub timeslice: Option<SimTime>,
 }
 
 impl CpuConfig {

@@ -40,6 +40,13 @@ pub struct CpuSpec {
     #[serde(default)]
     pub recv_per_byte: SimTime,
     pub overlap: bool,
+    /// Round-robin time slicing between the programs on a node (a transputer's scheduler
+    /// deschedules a low-priority process after two 1,024 us timeslices when another is
+    /// ready): work is queued on the cpu a slice at a time, so a program that becomes ready
+    /// waits at most one slice behind a long computation. Omitted: each computation holds the
+    /// cpu until it ends.
+    #[serde(default)]
+    pub timeslice: Option<SimTime>,
 }
 
 #[derive(Deserialize, Debug, schemars::JsonSchema)]
@@ -160,6 +167,12 @@ pub fn validate(path: &Path, spec: MachineSpec) -> Result<MachineConfig, SpecErr
         })?;
         costs.set(op, cost);
     }
+    if spec.cpu.timeslice == Some(SimTime::ZERO) {
+        return Err(invalid(
+            "cpu.timeslice",
+            "must be greater than 0ns (omit it for no time slicing)".into(),
+        ));
+    }
     if spec.memory.capacity_per_node == Bytes::ZERO {
         return Err(invalid(
             "memory.capacity_per_node",
@@ -179,6 +192,7 @@ pub fn validate(path: &Path, spec: MachineSpec) -> Result<MachineConfig, SpecErr
             recv_overhead: spec.cpu.recv_overhead,
             recv_per_byte: spec.cpu.recv_per_byte,
             overlap: spec.cpu.overlap,
+            timeslice: spec.cpu.timeslice,
         },
         memory_per_node: spec.memory.capacity_per_node,
         reconfigurable: spec.network.reconfigurable,

@@ -11,9 +11,11 @@
 //! ```
 //!
 //! The balancer is a helper program on each node answering requests between batches (the
-//! cpu serves it first come, first served). A work packet carries its primitives at
-//! `DATABASE_BYTES_PER_TRIANGLE` each (sort-middle's database triangle: three vertices with
-//! position and normal, and a colour), plus a small header.
+//! cpu serves it first come, first served; on a time-sliced cpu, such as the MultiCluster's
+//! transputers, it waits at most a slice behind the renderer, as the paper's balancer runs
+//! "concurrently with the main task"). A work packet carries its primitives as the nodes
+//! hold them, screen-space triangles (paper 001 renders screen-space input):
+//! `ScreenTriangle::PAYLOAD_BYTES` each, plus a small header.
 //!
 //! Must never merge: it returns the node's rendered frame and records when rasterization
 //! finished.
@@ -25,9 +27,12 @@ use std::rc::Rc;
 use super::full_frame::{self, tag, Msg, CONTROL_BYTES, WORK_PACKET, WORK_REQUEST};
 use super::pixel::ShippedPixel;
 use super::{local, Assignment, Ctx};
-use crate::algo::sort_middle::DATABASE_BYTES_PER_TRIANGLE;
 use crate::engine::{Filter, Node, SimError};
+use crate::raster::ScreenTriangle;
 use crate::units::{Bytes, SimTime};
+
+/// What a work packet carries per primitive: the screen-space triangle its donor holds.
+const WORK_PACKET_BYTES_PER_PRIMITIVE: u64 = ScreenTriangle::PAYLOAD_BYTES as u64;
 
 /// The rendering phase of a frame for the variants that merge after rendering: waits for
 /// the frame to start, clears this node's full frame, renders its share (balancing on
@@ -145,7 +150,7 @@ async fn balancer<P: ShippedPixel>(
         };
         match packet {
             Some(prims) => {
-                let bytes = CONTROL_BYTES + prims.len() as u64 * DATABASE_BYTES_PER_TRIANGLE;
+                let bytes = CONTROL_BYTES + prims.len() as u64 * WORK_PACKET_BYTES_PER_PRIMITIVE;
                 let prims: Vec<u32> = prims.into();
                 let msg = Msg::WorkPacket { frame, prims };
                 ctx.send(&node, frame, origin, Bytes::new(bytes), msg).await;
