@@ -182,3 +182,39 @@ fn request_balancing_helps_big_primitives_only() {
         }
     }
 }
+
+/// Paper 001 names request balancing's splitting factor but not its value; the default (4) is
+/// the one whose Gears and Mountain imbalances with balancing on deviate least from Table 1's.
+#[test]
+fn the_default_splitting_factor_matches_table_1_best() {
+    // Table 1, balancing enabled: load imbalance % at 2, 4, 8 and 16 nodes.
+    let table_1 = [
+        ("spd-gears.json", [0.8, 0.6, 4.4, 11.4]),
+        ("spd-mountain.json", [0.7, 1.2, 7.8, 8.2]),
+    ];
+    let deviation = |split: &str| -> f64 {
+        let mut sum = 0.0;
+        for (name, paper) in &table_1 {
+            let scene = load(name);
+            for (procs, want) in [2, 4, 8, 16].into_iter().zip(paper) {
+                let mut set = vec![("assign", "request")];
+                if !split.is_empty() {
+                    set.push(("split", split));
+                }
+                let r = simulate("sort-last/pc", procs, &scene, name, &set);
+                sum += (r.frames[0].load_imbalance_pct() - want).abs();
+            }
+        }
+        sum
+    };
+    let default = deviation("");
+    assert_eq!(default, deviation("4"), "the default is split=4");
+    for other in ["2", "8"] {
+        let d = deviation(other);
+        eprintln!("split={other}: {d:.1} points, default: {default:.1}");
+        assert!(
+            default < d,
+            "split={other}: {d:.1} points against the default's {default:.1}"
+        );
+    }
+}

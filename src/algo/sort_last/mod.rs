@@ -478,7 +478,7 @@ struct Common {
 impl Common {
     /// A variant that takes only the assignment (request balancing's parameters unused).
     fn dealt(assign: AssignRule) -> Common {
-        Common::balanced(assign, SplitFactor(2), Primitives(16))
+        Common::balanced(assign, SplitFactor(4), Primitives(16))
     }
 
     /// A variant that may balance on request; dense pieces, one-row chunks, no radices.
