@@ -215,17 +215,19 @@ fn paper_002_delta() {
     let (json, _dir) = quick_report("002");
     hold(
         &json,
-        25,
-        // util-previous-drop-other-512 (the 12% on another model) differs, and the four
+        26,
+        // util-previous-drop-other-512 (the 12% on another model) differs, and the three
         // Figure 9 rows checked below.
-        5,
+        4,
         &[
             ("delta-nodes", "exact"),
             // Figure 9's peak: the summing tree's wait counted in the next frame puts it at 256.
             ("peak-polio-procs", "exact"),
             ("peaks-then-falls", "shape-holds"),
-            // The Delta's fit to paper 002 (machines/fits/delta-to-002-fig9.json): each target
-            // within the paper row's tolerance (Figure 9, Discussion, Implementation).
+            // The Delta's fit to paper 002 (machines/fits/delta-to-002-fig9.json, then
+            // delta-to-002-split.json): each target within the paper row's tolerance (Figure 9,
+            // Discussion, Implementation) but the polio peak, checked below.
+            ("plb-fps-128", "within-tolerance"),
             ("two-step-largest-gain", "within-tolerance"),
             ("peak-polio-aa", "within-tolerance"),
             ("aa-ratio-8", "within-tolerance"),
@@ -253,24 +255,25 @@ fn paper_002_delta() {
         row["sortsim"].as_f64().unwrap()
     };
     // Figure 9's polio peak (2.8 M, tolerance 10%) and the PLB head's 19 frames/s at 128
-    // (tolerance 10%) pull against each other on the stand-ins; the fit lands at 2.14 M
-    // (-24%) and 21.05 frames/s (+11%).
+    // (tolerance 10%) pull against each other on the stand-ins; with the cpu costs split
+    // into per-triangle and per-pixel factors the fit lands at 2.41 M (-14%) and 20.9
+    // frames/s (+9.8%, within).
     let peak = value("peak-polio");
-    assert!((2.0..=2.3).contains(&peak), "polio peak {peak} M");
+    assert!((2.3..=2.52).contains(&peak), "polio peak {peak} M");
     let fps = value("plb-fps-128");
     assert!(
-        (19.5..=22.5).contains(&fps),
+        (19.0..=20.9).contains(&fps),
         "PLB head at 128: {fps} frames/s"
     );
     // The bisection links' 2.5 MB/s (tolerance 25%): sortsim's screen triangles carry about
-    // a quarter of the bytes per triangle the paper's figure implies; 0.68 MB/s today.
+    // a quarter of the bytes per triangle the paper's figure implies; 0.76 MB/s today.
     let bisection = value("bisection-link-rate");
     assert!(
         (0.5..=0.9).contains(&bisection),
         "bisection {bisection} MB/s"
     );
     // 40% of cpu time in communication (tolerance 5 points): sortsim counts the message
-    // overheads alone; 4.7% today.
+    // overheads alone; 6.6% today.
     let comm = value("comm-share-128");
     assert!((3.0..=7.0).contains(&comm), "communication {comm}%");
 }
