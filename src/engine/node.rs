@@ -135,11 +135,11 @@ impl<M: Payload> Node<M> {
     /// cpu a slice at a time, each queued when the one before ends).
     pub fn compute_for(&self, t: SimTime) -> Until<'_, M> {
         let mut st = self.st.borrow_mut();
-        let (now, left) = match st.cpu.timeslice {
+        let (first, left) = match st.cpu.timeslice {
             Some(slice) if t > slice => (slice, t - slice),
             _ => (t, SimTime::ZERO),
         };
-        let end = st.reserve_cpu(self.id, now, false);
+        let end = st.reserve_cpu(self.id, first, false);
         Until {
             node: self,
             at: end,
@@ -311,18 +311,15 @@ pub struct Until<'a, M: Payload> {
 impl<M: Payload> Future for Until<'_, M> {
     type Output = ();
     fn poll(mut self: Pin<&mut Self>, _cx: &mut Context<'_>) -> Poll<()> {
-        let mut st = self.node.st.borrow_mut();
+        let node = self.node;
+        let mut st = node.st.borrow_mut();
         if st.now >= self.at && self.left > SimTime::ZERO {
             // Behind whatever other programs queued during the slice just ended.
             let slice = st.cpu.timeslice.expect("work is left only on a sliced cpu");
             let next = self.left.min(slice);
-            let id = self.node.id;
-            let end = st.reserve_cpu(id, next, false);
-            drop(st);
+            self.at = st.reserve_cpu(node.id, next, false);
             self.left = self.left - next;
-            self.at = end;
             self.armed = false;
-            st = self.node.st.borrow_mut();
         }
         if st.now >= self.at {
             return Poll::Ready(());
