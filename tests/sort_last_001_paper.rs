@@ -117,8 +117,8 @@ fn scanline_flow_is_superlinear_early_and_wins_from_8_nodes() {
                 &[],
             ));
             // Figure 3: efficiency above 100% at 2 and 4 nodes on Tetra and Misc_III. Missed
-            // on Tetra at 4 nodes (97.6%): the pipeline's link bandwidth is fitted to Table 1's
-            // throughputs (0.238 MB/s; at the 0.3 MB/s fitted to the merge alone it was 104%),
+            // on Tetra at 4 nodes (97.5%): the pipeline's link bandwidth is fitted to Table 1's
+            // throughputs (0.237 MB/s; at the 0.3 MB/s fitted to the merge alone it was 104%),
             // and the slower merge stream costs ScanlineFlow on the stand-in's small triangles.
             let eff = sf1 / (procs as f64 * t);
             let floor = if name == "spd-tetra.json" && procs == 4 {
