@@ -30,6 +30,11 @@
 //! proves that without sorting (every share then exceeds each flow's rate by at least 1). A
 //! suspect that fails is made dirty and the solve runs again from the same state.
 //!
+//! A flow removed when nothing else is pending, whose bottleneck fixed it alone and none of
+//! whose other links fixed anything, needs no sweep at all: removing a flow only raises the
+//! shares of the links it crosses, so none of them pops earlier, and its bottleneck simply
+//! fixes nothing any more.
+//!
 //! Must never use floating point, never iterate a hash map, and never depend on anything but
 //! the flows' routes and the link capacity (not on the order flows were added).
 
@@ -84,6 +89,9 @@ pub struct MaxMin {
     /// Groups fixed again whole, and flows settled one by one.
     #[cfg(test)]
     settled_as: (u64, u64),
+    /// Flows removed without a sweep (`leaves_every_rate_as_it_is`).
+    #[cfg(test)]
+    removed_alone: u64,
 }
 
 #[derive(Default)]
@@ -197,6 +205,8 @@ impl MaxMin {
             reruns: 0,
             #[cfg(test)]
             settled_as: (0, 0),
+            #[cfg(test)]
+            removed_alone: 0,
             sweep: Sweep {
                 links: vec![SweepLink::default(); links],
                 pops: vec![NONE; links],
@@ -233,6 +243,7 @@ impl MaxMin {
     /// Removes flow `slot`; the others' rates change at the next solve.
     pub fn remove(&mut self, slot: u32) {
         let old = self.flows[slot as usize].key;
+        let alone = self.leaves_every_rate_as_it_is(slot);
         if old != NONE {
             self.leave(slot, link_of(old));
         }
@@ -249,7 +260,32 @@ impl MaxMin {
                 .expect("flow on its link");
             flows.swap_remove(pos);
         }
-        self.shrunk.extend_from_slice(&f.route);
+        if alone {
+            self.keys[link_of(old) as usize] = NONE;
+            #[cfg(test)]
+            {
+                self.removed_alone += 1;
+            }
+        } else {
+            self.shrunk.extend_from_slice(&f.route);
+        }
+    }
+
+    /// Whether removing flow `slot` from the last solve's state changes no other flow's rate:
+    /// nothing else is pending, its bottleneck fixed it alone, and no other link it crosses
+    /// fixed anything. Removing a flow only raises the shares of the links it crosses, so
+    /// those that fixed nothing still fix nothing, and no other link's pop can move; its
+    /// bottleneck is left with no flow to fix.
+    fn leaves_every_rate_as_it_is(&self, slot: u32) -> bool {
+        let f = &self.flows[slot as usize];
+        if f.key == NONE || !(self.added.is_empty() && self.shrunk.is_empty()) {
+            return false;
+        }
+        let g = link_of(f.key);
+        self.groups[g as usize].members == 1
+            && f.route
+                .iter()
+                .all(|&l| l == g || self.keys[l as usize] == NONE)
     }
 
     /// Flow `slot` becomes one of the flows link `g` fixes.
@@ -942,13 +978,13 @@ mod tests {
         check_counting(capacity, links, steps).map(|_| ())
     }
 
-    /// [`check`], returning how many groups were fixed again whole and how many flows were
-    /// settled one by one.
+    /// [`check`], returning how many groups were fixed again whole, how many flows were
+    /// settled one by one and how many were removed without a sweep.
     fn check_counting(
         capacity: u64,
         links: u32,
         steps: &[Step],
-    ) -> Result<(u64, u64), TestCaseError> {
+    ) -> Result<(u64, u64, u64), TestCaseError> {
         let mut mm = MaxMin::new(capacity, links as usize);
         let mut live: Vec<(u32, Vec<LinkId>)> = Vec::new();
         let mut free: Vec<u32> = Vec::new();
@@ -998,7 +1034,7 @@ mod tests {
                 before[*slot as usize] = mm.rate(*slot);
             }
         }
-        Ok(mm.settled_as)
+        Ok((mm.settled_as.0, mm.settled_as.1, mm.removed_alone))
     }
 
     proptest! {
@@ -1079,9 +1115,11 @@ mod tests {
                 remove: (0..rng.gen_range(0..7)).map(|_| rng.gen()).collect(),
             })
             .collect();
-        let (whole, one_by_one) = check_counting(1_000_003, links, &steps).unwrap();
-        // Both ways of settling ran, so the agreement covers each.
+        let (whole, one_by_one, alone) = check_counting(1_000_003, links, &steps).unwrap();
+        // Both ways of settling ran, and removals that need no sweep were taken, so the
+        // agreement covers each.
         assert!(whole > 100, "groups fixed again whole: {whole}");
         assert!(one_by_one > 100, "flows settled one by one: {one_by_one}");
+        assert!(alone > 10, "flows removed without a sweep: {alone}");
     }
 }
