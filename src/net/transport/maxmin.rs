@@ -385,12 +385,10 @@ impl MaxMin {
             self.mark_dirty(self.forced[i]);
         }
         for i in 0..self.added.len() {
-            self.mark_fixer_of_added(self.added[i]);
-        }
-        for i in 0..self.added.len() {
-            let slot = self.added[i] as usize;
-            for j in 0..self.flows[slot].route.len() {
-                self.note(self.flows[slot].route[j]);
+            let slot = self.added[i];
+            self.mark_fixer_of_added(slot);
+            for j in 0..self.flows[slot as usize].route.len() {
+                self.note(self.flows[slot as usize].route[j]);
             }
         }
         for i in 0..self.shrunk.len() {
@@ -419,9 +417,9 @@ impl MaxMin {
         self.forced.len() == forced
     }
 
-    /// Added flow `slot`'s links gained it. All are noted once the sweep begins (a link that
+    /// Added flow `slot`'s links gained it. All are noted as the sweep begins (a link that
     /// fixed flows last time turns dirty, one that fixed none is a suspect); here the suspects
-    /// likely to fail their check are made dirty first, saving a second sweep: those whose
+    /// likely to fail their check are made dirty instead, saving a second sweep: those whose
     /// load would come within its flow count of the capacity if the new flow took as much as
     /// its tightest link leaves room for. And one link must be dirty to fix the new flow: if
     /// no other is, its tightest link is. Which links are dirty only changes the cost: a
@@ -808,7 +806,8 @@ impl MaxMin {
         }
         for &l in &s.suspects {
             // A settled flow's links are all dirty or suspects, so every delta lands here
-            // (once: a link made dirty after it was suspected took its delta above).
+            // (once: a link suspected for one added flow and made dirty for another took its
+            // delta above).
             if s.links[l as usize].epoch == s.epoch {
                 continue;
             }
