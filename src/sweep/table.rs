@@ -37,10 +37,10 @@ pub struct FrameMetrics {
 
 impl PointMetrics {
     /// The per-frame means over the frames after the first `warmup` (as the run summary
-    /// computes them over all frames); unchanged when `warmup` is 0.
+    /// computes them over all frames); unchanged when no frame would be left.
     fn after_warmup(&self, warmup: u32) -> PointMetrics {
         let frames = self.per_frame.get(warmup as usize..).unwrap_or_default();
-        if warmup == 0 || frames.is_empty() {
+        if frames.is_empty() {
             return self.clone();
         }
         let mean = |f: &dyn Fn(&FrameMetrics) -> f64| {
@@ -137,10 +137,16 @@ pub fn rows(
     metrics: &[Option<PointMetrics>],
     failures: &[PointFailure],
 ) -> Vec<Row> {
-    let metrics: Vec<Option<PointMetrics>> = metrics
-        .iter()
-        .map(|m| m.as_ref().map(|m| m.after_warmup(sweep.warmup_frames)))
-        .collect();
+    let after_warmup: Vec<Option<PointMetrics>>;
+    let metrics = if sweep.warmup_frames == 0 {
+        metrics
+    } else {
+        after_warmup = metrics
+            .iter()
+            .map(|m| m.as_ref().map(|m| m.after_warmup(sweep.warmup_frames)))
+            .collect();
+        &after_warmup
+    };
     let index: BTreeMap<&[String], usize> = sweep
         .points
         .iter()
