@@ -35,6 +35,13 @@
 //! shares of the links it crosses, so none of them pops earlier, and its bottleneck simply
 //! fixes nothing any more.
 //!
+//! Likewise a flow added when nothing else is pending, none of whose links fixed anything,
+//! needs no sweep when the link leaving it the least room would fix it alone there and no
+//! other link it crosses would come to fix anything (each checked by walking that link's
+//! flows in key order, or by a slack certificate): the filling is the old one with that one
+//! pop inserted. Most messages of a large sort-middle frame start on links no one else is
+//! bottlenecked on.
+//!
 //! Must never use floating point, never iterate a hash map, and never depend on anything but
 //! the flows' routes and the link capacity (not on the order flows were added).
 
@@ -92,6 +99,9 @@ pub struct MaxMin {
     /// Flows removed without a sweep (`leaves_every_rate_as_it_is`).
     #[cfg(test)]
     removed_alone: u64,
+    /// Flows added without a sweep (`fixer_if_added_alone`).
+    #[cfg(test)]
+    added_alone: u64,
 }
 
 #[derive(Default)]
@@ -207,6 +217,8 @@ impl MaxMin {
             settled_as: (0, 0),
             #[cfg(test)]
             removed_alone: 0,
+            #[cfg(test)]
+            added_alone: 0,
             sweep: Sweep {
                 links: vec![SweepLink::default(); links],
                 pops: vec![NONE; links],
@@ -288,6 +300,107 @@ impl MaxMin {
                 .all(|&l| l == g || self.keys[l as usize] == NONE)
     }
 
+    /// If adding flow `slot` (the only change since the last solve) leaves every other rate
+    /// as it is, the key at which it is fixed. That holds when none of its links fixed
+    /// anything and, with the link `b` that leaves it the least room fixing it alone at that
+    /// room: `b`'s other flows are all fixed (by other links) before its share, with the new
+    /// flow counted, falls to theirs, and no other link's share, with the new flow counted
+    /// until `b` fixes it and at its rate after, ever falls to that of the next flow it sees
+    /// fixed. The filling is then the old one with `b`'s pop inserted in key order.
+    fn fixer_if_added_alone(&mut self, slot: u32) -> Option<Key> {
+        let f = &self.flows[slot as usize];
+        if !f.live {
+            return None;
+        }
+        let mut fixer = NONE;
+        for &l in &f.route {
+            if self.keys[l as usize] != NONE {
+                return None;
+            }
+            let room = self.capacity.saturating_sub(self.links[l as usize].load);
+            fixer = fixer.min(key(room, l));
+        }
+        let b = link_of(fixer);
+        if !self.fixes_only_the_added(b, slot, fixer) {
+            return None;
+        }
+        for i in 0..self.flows[slot as usize].route.len() {
+            let l = self.flows[slot as usize].route[i];
+            if l != b && !self.stays_out_with_added(l, slot, fixer) {
+                return None;
+            }
+        }
+        Some(fixer)
+    }
+
+    /// Whether link `b`, gaining flow `slot`, fixes it alone at key `at`: walking its other
+    /// flows in key order with `slot` counted unfixed, its share stays above the next one's
+    /// key (at the last step a share of `(room + rate) / 2` above it puts `at`, the room,
+    /// above it too). With room of at least their largest rate plus their count plus one,
+    /// every share on the walk exceeds the next flow's rate, so no sort is needed.
+    fn fixes_only_the_added(&mut self, b: LinkId, slot: u32, at: Key) -> bool {
+        let room = share_of(at);
+        let flows = &self.links[b as usize].flows;
+        let others = flows.len() as u64 - 1;
+        let largest = flows
+            .iter()
+            .filter(|&&s| s != slot)
+            .map(|&s| self.flows[s as usize].rate)
+            .max()
+            .unwrap_or(0);
+        if room > largest + others {
+            return true;
+        }
+        let mut ahead = std::mem::take(&mut self.sweep.ahead);
+        ahead.clear();
+        ahead.extend(flows.iter().filter(|&&s| s != slot).map(|&s| {
+            let f = &self.flows[s as usize];
+            (f.key, f.rate)
+        }));
+        let alone = share_stays_above(self.capacity, b, &mut ahead, 1);
+        self.sweep.ahead = ahead;
+        alone
+    }
+
+    /// Whether link `l`, which fixed nothing, still fixes nothing once flow `slot` on it is
+    /// fixed at key `at` (elsewhere). Alone on it, the flow is fixed by a link with no more
+    /// room, ties to the lower index; with slack for every flow, `stays_out`'s certificate;
+    /// otherwise its walk.
+    fn stays_out_with_added(&mut self, l: LinkId, slot: u32, at: Key) -> bool {
+        let rate = share_of(at).max(1);
+        let link = &self.links[l as usize];
+        if link.flows.len() == 1 || link.load + rate + link.flows.len() as u64 <= self.capacity {
+            return true;
+        }
+        let mut ahead = std::mem::take(&mut self.sweep.ahead);
+        ahead.clear();
+        ahead.extend(link.flows.iter().map(|&s| match s == slot {
+            true => (at, rate),
+            false => (self.flows[s as usize].key, self.flows[s as usize].rate),
+        }));
+        let out = share_stays_above(self.capacity, l, &mut ahead, 0);
+        self.sweep.ahead = ahead;
+        out
+    }
+
+    /// Commits flow `slot`, added alone, as fixed by its link `b` alone at key `at`.
+    fn fix_added_alone(&mut self, slot: u32, at: Key, changed: &mut Vec<(u32, u64)>) {
+        let rate = share_of(at).max(1);
+        let f = &mut self.flows[slot as usize];
+        changed.push((slot, f.rate));
+        f.rate = rate;
+        f.key = at;
+        for &l in &f.route {
+            self.links[l as usize].load += rate;
+        }
+        self.keys[link_of(at) as usize] = at;
+        self.join(slot, link_of(at));
+        #[cfg(test)]
+        {
+            self.added_alone += 1;
+        }
+    }
+
     /// Flow `slot` becomes one of the flows link `g` fixes.
     fn join(&mut self, slot: u32, g: LinkId) {
         let group = &mut self.groups[g as usize];
@@ -350,6 +463,14 @@ impl MaxMin {
     /// `(slot, old rate)` for every flow whose rate changed (0 for an added flow), in the
     /// order the filling fixed them.
     pub fn solve(&mut self, changed: &mut Vec<(u32, u64)>) {
+        if let ([slot], []) = (&self.added[..], &self.shrunk[..]) {
+            let slot = *slot;
+            if let Some(fixer) = self.fixer_if_added_alone(slot) {
+                self.fix_added_alone(slot, fixer, changed);
+                self.added.clear();
+                return;
+            }
+        }
         while !self.sweep_and_check() {
             #[cfg(test)]
             {
@@ -492,18 +613,7 @@ impl MaxMin {
                 }
             }
         }
-        ahead.sort_unstable();
-        let mut left = self.capacity;
-        let mut unfixed = ahead.len() as u64;
-        let mut out = true;
-        for &(k, rate) in &ahead {
-            if key(left / unfixed, link) <= k {
-                out = false;
-                break;
-            }
-            left = left.saturating_sub(rate);
-            unfixed -= 1;
-        }
+        let out = share_stays_above(self.capacity, link, &mut ahead, 0);
         self.sweep.ahead = ahead;
         out
     }
@@ -904,6 +1014,23 @@ impl MaxMin {
     }
 }
 
+/// Whether `link`'s share, as the flows in `ahead` (key, rate) are fixed elsewhere in key
+/// order and `extra` more stay unfixed throughout, always stays above the key of the next one
+/// to be fixed (so it never is the smallest link while they are). Sorts `ahead`.
+fn share_stays_above(capacity: u64, link: LinkId, ahead: &mut [(Key, u64)], extra: u64) -> bool {
+    ahead.sort_unstable();
+    let mut left = capacity;
+    let mut unfixed = ahead.len() as u64 + extra;
+    for &(k, rate) in ahead.iter() {
+        if key(left / unfixed, link) <= k {
+            return false;
+        }
+        left = left.saturating_sub(rate);
+        unfixed -= 1;
+    }
+    true
+}
+
 #[cfg(test)]
 /// Progressive filling from scratch over every link: the plain procedure [`MaxMin`] must
 /// agree with. `routes[i]` is flow i's route; returns its rate.
@@ -978,12 +1105,12 @@ mod tests {
     }
 
     /// [`check`], returning how many groups were fixed again whole, how many flows were
-    /// settled one by one and how many were removed without a sweep.
+    /// settled one by one, and how many were removed and added without a sweep.
     fn check_counting(
         capacity: u64,
         links: u32,
         steps: &[Step],
-    ) -> Result<(u64, u64, u64), TestCaseError> {
+    ) -> Result<(u64, u64, u64, u64), TestCaseError> {
         let mut mm = MaxMin::new(capacity, links as usize);
         let mut live: Vec<(u32, Vec<LinkId>)> = Vec::new();
         let mut free: Vec<u32> = Vec::new();
@@ -1033,7 +1160,12 @@ mod tests {
                 before[*slot as usize] = mm.rate(*slot);
             }
         }
-        Ok((mm.settled_as.0, mm.settled_as.1, mm.removed_alone))
+        Ok((
+            mm.settled_as.0,
+            mm.settled_as.1,
+            mm.removed_alone,
+            mm.added_alone,
+        ))
     }
 
     proptest! {
@@ -1050,6 +1182,22 @@ mod tests {
         #[test]
         fn equals_progressive_filling_from_scratch_real_capacity(s in steps(24)) {
             check(136_000_000, 24, &s)?;
+        }
+
+        /// One change per solve, as messages mostly start and end: adds and removals each
+        /// meet their no-sweep tests and fall back to the sweep.
+        #[test]
+        fn equals_progressive_filling_one_change_at_a_time(
+            capacity in prop_oneof![1u64..40, Just(1_000_003u64)],
+            s in proptest::collection::vec(
+                prop_oneof![
+                    route(10).prop_map(|r| Step { add: vec![r], remove: vec![] }),
+                    any::<usize>().prop_map(|i| Step { add: vec![], remove: vec![i] }),
+                ],
+                1..60,
+            )
+        ) {
+            check(capacity, 10, &s)?;
         }
     }
 
@@ -1101,24 +1249,41 @@ mod tests {
         use rand::{Rng, SeedableRng};
         let mut rng = rand_chacha::ChaCha8Rng::seed_from_u64(11);
         let links = 64u32;
-        let steps: Vec<Step> = (0..400)
+        let mut route = |rng: &mut rand_chacha::ChaCha8Rng| -> Vec<LinkId> {
+            let first = rng.gen_range(0..links);
+            (first..first + rng.gen_range(1..9))
+                .map(|l| l % links)
+                .collect()
+        };
+        // 400 steps of several changes, then one change at a time (as messages mostly start
+        // and end): 250 removals, draining the links, then 400 adds or removals.
+        let mut steps: Vec<Step> = (0..400)
             .map(|_| Step {
-                add: (0..rng.gen_range(0..8))
-                    .map(|_| {
-                        let first = rng.gen_range(0..links);
-                        (first..first + rng.gen_range(1..9))
-                            .map(|l| l % links)
-                            .collect()
-                    })
-                    .collect(),
+                add: (0..rng.gen_range(0..8)).map(|_| route(&mut rng)).collect(),
                 remove: (0..rng.gen_range(0..7)).map(|_| rng.gen()).collect(),
             })
             .collect();
-        let (whole, one_by_one, alone) = check_counting(1_000_003, links, &steps).unwrap();
-        // Both ways of settling ran, and removals that need no sweep were taken, so the
-        // agreement covers each.
+        let one_change = |add: bool, rng: &mut rand_chacha::ChaCha8Rng| match add {
+            true => Step {
+                add: vec![route(rng)],
+                remove: vec![],
+            },
+            false => Step {
+                add: vec![],
+                remove: vec![rng.gen()],
+            },
+        };
+        steps.extend((0..250).map(|_| one_change(false, &mut rng)));
+        steps.extend((0..400).map(|_| {
+            let add = rng.gen_bool(0.5);
+            one_change(add, &mut rng)
+        }));
+        let (whole, one_by_one, removed, added) = check_counting(1_000_003, links, &steps).unwrap();
+        // Both ways of settling ran, and removals and adds that need no sweep were taken, so
+        // the agreement covers each.
         assert!(whole > 100, "groups fixed again whole: {whole}");
         assert!(one_by_one > 100, "flows settled one by one: {one_by_one}");
-        assert!(alone > 10, "flows removed without a sweep: {alone}");
+        assert!(removed > 10, "flows removed without a sweep: {removed}");
+        assert!(added > 40, "flows added without a sweep: {added}");
     }
 }
