@@ -736,6 +736,7 @@ impl MaxMin {
         ahead.clear();
         let mut left = self.capacity;
         let mut unfixed = 0u64;
+        let (mut ahead_rates, mut ahead_share) = (0u64, 0u64);
         for &slot in &self.links[link as usize].flows {
             let sf = &self.sweep.flows[slot as usize];
             if sf.epoch == self.sweep.epoch {
@@ -751,25 +752,16 @@ impl MaxMin {
                 left = left.saturating_sub(f.rate);
             } else {
                 unfixed += 1;
+                ahead_rates += f.rate;
+                ahead_share = ahead_share.max(share_of(f.key));
                 ahead.push((f.key, f.rate));
             }
         }
-        ahead.sort_unstable();
-        let mut pop = NONE;
-        let mut next = ahead.iter();
-        while unfixed > 0 {
-            let candidate = key(left / unfixed, link);
-            match next.next() {
-                Some(&(k, rate)) if k < candidate => {
-                    left = left.saturating_sub(rate);
-                    unfixed -= 1;
-                }
-                _ => {
-                    pop = candidate;
-                    break;
-                }
-            }
-        }
+        let pop =
+            match passes_all_ahead(left, unfixed, ahead.len() as u64, ahead_rates, ahead_share) {
+                Some(share) => share.map_or(NONE, |share| key(share, link)),
+                None => walk_to_pop(left, unfixed, link, &mut ahead),
+            };
         self.sweep.ahead = ahead;
         debug_assert!(pop >= now, "link {link}'s pop fell below the sweep");
         self.sweep.pops[link as usize] = pop;
@@ -1012,6 +1004,46 @@ impl MaxMin {
             self.links[l].load = flows.iter().map(|&s| self.flows[s as usize].rate).sum();
         }
     }
+}
+
+/// Where a link pops with `left` capacity and `unfixed` flows, of which `ahead` are still to
+/// be fixed elsewhere at their (key, rate) in key order: the first share, as they are, that
+/// does not lie above the next one's key. Sorts `ahead`.
+fn walk_to_pop(mut left: u64, mut unfixed: u64, link: LinkId, ahead: &mut [(Key, u64)]) -> Key {
+    ahead.sort_unstable();
+    let mut next = ahead.iter();
+    while unfixed > 0 {
+        let candidate = key(left / unfixed, link);
+        match next.next() {
+            Some(&(k, rate)) if k < candidate => {
+                left = left.saturating_sub(rate);
+                unfixed -= 1;
+            }
+            _ => return candidate,
+        }
+    }
+    NONE
+}
+
+/// [`walk_to_pop`] without the sort, when a certificate shows the link's share stays above
+/// every one of the `ahead` flows' keys (summing to `rates`, the largest share `share`): with
+/// room, once they are all fixed, of the `unfixed - ahead` other flows' `share + 1` each plus
+/// one per flow ahead, every share on the walk exceeds the next key's share. Then the link
+/// pops at its share after them all, or not at all if no other flow is left (`Some(None)`);
+/// `None` if the certificate does not hold.
+fn passes_all_ahead(
+    left: u64,
+    unfixed: u64,
+    ahead: u64,
+    rates: u64,
+    share: u64,
+) -> Option<Option<u64>> {
+    let others = unfixed - ahead;
+    let room = left.checked_sub(rates)?;
+    if room < others.saturating_mul(share + 1).saturating_add(ahead) {
+        return None;
+    }
+    Some((others > 0).then(|| room / others))
 }
 
 /// Whether `link`'s share, as the flows in `ahead` (key, rate) are fixed elsewhere in key
