@@ -122,18 +122,43 @@ struct Group {
     links: Vec<(LinkId, u32)>,
 }
 
+/// A flow: its rate and key as of the last solve and its state in the current sweep side by
+/// side in the first cache line (every link a sweep visits reads both for each of its flows),
+/// its route after them.
+#[repr(C, align(64))]
 struct Flow {
-    route: Vec<LinkId>,
-    rate: u64,
     key: Key,
+    swept_key: Key,
+    rate: u64,
+    swept_rate: u64,
+    swept_epoch: u64,
+    settled: bool,
     live: bool,
+    route: Vec<LinkId>,
+}
+
+impl Flow {
+    fn swept(&self) -> SweepFlow {
+        SweepFlow {
+            epoch: self.swept_epoch,
+            settled: self.settled,
+            rate: self.swept_rate,
+            key: self.swept_key,
+        }
+    }
+
+    fn sweep_to(&mut self, s: SweepFlow) {
+        self.swept_epoch = s.epoch;
+        self.settled = s.settled;
+        self.swept_rate = s.rate;
+        self.swept_key = s.key;
+    }
 }
 
 /// Per-solve state; `epoch` stamps what belongs to the current solve.
 #[derive(Default)]
 struct Sweep {
     epoch: u64,
-    flows: Vec<SweepFlow>,
     links: Vec<SweepLink>,
     /// Where each dirty link pops, as last evaluated; `NONE` if it fixes nothing as things
     /// stand. Apart from `links`, which every visit of a link reads.
@@ -158,7 +183,8 @@ struct Sweep {
     ahead: Vec<(Key, u64)>,
 }
 
-#[derive(Clone, Copy, Default)]
+/// A flow's state in one sweep (kept in [`Flow`]).
+#[derive(Clone, Copy)]
 struct SweepFlow {
     epoch: u64,
     settled: bool,
@@ -233,12 +259,15 @@ impl MaxMin {
         let i = slot as usize;
         if i >= self.flows.len() {
             self.flows.resize_with(i + 1, || Flow {
-                route: Vec::new(),
-                rate: 0,
                 key: NONE,
+                swept_key: NONE,
+                rate: 0,
+                swept_rate: 0,
+                swept_epoch: 0,
+                settled: false,
                 live: false,
+                route: Vec::new(),
             });
-            self.sweep.flows.resize(i + 1, SweepFlow::default());
         }
         let f = &mut self.flows[i];
         f.route.clear();
@@ -495,12 +524,12 @@ impl MaxMin {
         s.suspects.clear();
         s.heap.clear();
         for &slot in &self.added {
-            s.flows[slot as usize] = SweepFlow {
+            self.flows[slot as usize].sweep_to(SweepFlow {
                 epoch: s.epoch,
                 settled: false,
                 rate: 0,
                 key: NONE,
-            };
+            });
         }
         for i in 0..self.forced.len() {
             self.mark_dirty(self.forced[i]);
@@ -620,7 +649,7 @@ impl MaxMin {
 
     /// Flow `slot`'s rate and key once this sweep is done; None if nothing fixed it.
     fn final_rate_and_key(&self, slot: u32) -> Option<(u64, Key)> {
-        let sf = &self.sweep.flows[slot as usize];
+        let sf = self.flows[slot as usize].swept();
         if sf.epoch == self.sweep.epoch {
             return sf.settled.then_some((sf.rate, sf.key));
         }
@@ -650,15 +679,14 @@ impl MaxMin {
         };
         for i in 0..fixed_some {
             let slot = self.links[l].flows[i];
-            let f = &self.flows[slot as usize];
-            let sf = &mut self.sweep.flows[slot as usize];
-            if sf.epoch != epoch && f.key == old {
-                *sf = SweepFlow {
+            let f = &mut self.flows[slot as usize];
+            if f.swept_epoch != epoch && f.key == old {
+                f.sweep_to(SweepFlow {
                     epoch,
                     settled: false,
                     rate: f.rate,
                     key: f.key,
-                };
+                });
                 self.sweep.unsettled.push(slot);
             }
         }
@@ -719,11 +747,10 @@ impl MaxMin {
     /// Whether `slot` is fixed when the sweep stands at `at`: settled in this sweep, or
     /// untouched with an old key below `at`.
     fn fixed_rate(&self, slot: u32, at: Key) -> Option<u64> {
-        let sf = &self.sweep.flows[slot as usize];
-        if sf.epoch == self.sweep.epoch {
-            return sf.settled.then_some(sf.rate);
-        }
         let f = &self.flows[slot as usize];
+        if f.swept_epoch == self.sweep.epoch {
+            return f.settled.then_some(f.swept_rate);
+        }
         (f.key < at).then_some(f.rate)
     }
 
@@ -738,16 +765,15 @@ impl MaxMin {
         let mut unfixed = 0u64;
         let (mut ahead_rates, mut ahead_share) = (0u64, 0u64);
         for &slot in &self.links[link as usize].flows {
-            let sf = &self.sweep.flows[slot as usize];
-            if sf.epoch == self.sweep.epoch {
-                if sf.settled {
-                    left = left.saturating_sub(sf.rate);
+            let f = &self.flows[slot as usize];
+            if f.swept_epoch == self.sweep.epoch {
+                if f.settled {
+                    left = left.saturating_sub(f.swept_rate);
                 } else {
                     unfixed += 1;
                 }
                 continue;
             }
-            let f = &self.flows[slot as usize];
             if f.key < now {
                 left = left.saturating_sub(f.rate);
             } else {
@@ -805,19 +831,18 @@ impl MaxMin {
     /// concerned; returns its rate and key before.
     fn fix(&mut self, slot: u32, rate: u64, at: Key) -> (u64, Key) {
         let s = &mut self.sweep;
-        let sf = &mut s.flows[slot as usize];
-        let old = if sf.epoch == s.epoch {
-            (sf.rate, sf.key)
+        let f = &mut self.flows[slot as usize];
+        let old = if f.swept_epoch == s.epoch {
+            (f.swept_rate, f.swept_key)
         } else {
-            let f = &self.flows[slot as usize];
             (f.rate, f.key)
         };
-        *sf = SweepFlow {
+        f.sweep_to(SweepFlow {
             epoch: s.epoch,
             settled: true,
             rate,
             key: at,
-        };
+        });
         s.settled.push(slot);
         old
     }
@@ -874,7 +899,7 @@ impl MaxMin {
         let run = &self.sweep.unsettled[start as usize..end as usize];
         let unfixed = run
             .iter()
-            .filter(|&&slot| !self.sweep.flows[slot as usize].settled)
+            .filter(|&&slot| !self.flows[slot as usize].settled)
             .count();
         if unfixed as u32 == self.groups[link as usize].members {
             // The whole group is still unfixed: its links once each.
@@ -886,7 +911,7 @@ impl MaxMin {
         }
         for i in start..end {
             let slot = self.sweep.unsettled[i as usize];
-            if self.sweep.flows[slot as usize].settled {
+            if self.flows[slot as usize].settled {
                 continue;
             }
             for j in 0..self.flows[slot as usize].route.len() {
@@ -918,8 +943,8 @@ impl MaxMin {
         }
         for i in 0..self.sweep.settled.len() {
             let slot = self.sweep.settled[i];
-            let sf = self.sweep.flows[slot as usize];
             let f = &mut self.flows[slot as usize];
+            let sf = f.swept();
             if f.rate != sf.rate {
                 changed.push((slot, f.rate));
             }
