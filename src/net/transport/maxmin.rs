@@ -87,7 +87,7 @@ pub struct MaxMin {
     /// `groups[l]`: the flows link `l` fixed in the last solve and the links they cross.
     groups: Vec<Group>,
     /// `group_entries[l]`: `(g, i)` for every group `g` with a flow crossing link `l`, where
-    /// `groups[g].links[i]` counts them.
+    /// `groups[g].links[i]` counts them (and points back).
     group_entries: Vec<Vec<(LinkId, u32)>>,
     sweep: Sweep,
     /// Sweeps run again because a suspect failed its check.
@@ -119,7 +119,16 @@ struct Link {
 #[derive(Default)]
 struct Group {
     members: u32,
-    links: Vec<(LinkId, u32)>,
+    links: Vec<GroupLink>,
+}
+
+/// A link a group's flows cross: how many of them, and where the group's entry sits in
+/// the link's `group_entries` (so a link the group stops crossing drops it without a search).
+#[derive(Clone, Copy)]
+struct GroupLink {
+    link: LinkId,
+    crossing: u32,
+    entry: u32,
 }
 
 /// A flow: its rate and key as of the last solve and its state in the current sweep side by
@@ -430,46 +439,74 @@ impl MaxMin {
         }
     }
 
-    /// Flow `slot` becomes one of the flows link `g` fixes.
+    /// Flow `slot` becomes one of the flows link `g` fixes. Into an empty group its links go
+    /// without a search.
     fn join(&mut self, slot: u32, g: LinkId) {
         let group = &mut self.groups[g as usize];
+        let fresh = group.members == 0;
         group.members += 1;
         for &l in &self.flows[slot as usize].route {
             let entries = &mut self.group_entries[l as usize];
-            match entries.iter().find(|e| e.0 == g) {
-                Some(&(_, i)) => group.links[i as usize].1 += 1,
+            // A new group's entries are the last of their links' lists.
+            let found = match fresh {
+                true => entries.last().filter(|e| e.0 == g),
+                false => entries.iter().find(|e| e.0 == g),
+            };
+            match found {
+                Some(&(_, i)) => group.links[i as usize].crossing += 1,
                 None => {
                     entries.push((g, group.links.len() as u32));
-                    group.links.push((l, 1));
+                    group.links.push(GroupLink {
+                        link: l,
+                        crossing: 1,
+                        entry: entries.len() as u32 - 1,
+                    });
                 }
             }
         }
     }
 
-    /// Flow `slot` stops being one of the flows link `g` fixes.
+    /// Flow `slot` stops being one of the flows link `g` fixes. The last member takes the
+    /// group's links with it without a search: they are its route's.
     fn leave(&mut self, slot: u32, g: LinkId) {
         let group = &mut self.groups[g as usize];
         group.members -= 1;
-        for &l in &self.flows[slot as usize].route {
-            let entries = &mut self.group_entries[l as usize];
+        if group.members == 0 {
+            let mut links = std::mem::take(&mut group.links);
+            for gl in links.drain(..) {
+                self.drop_entry(gl.link, gl.entry);
+            }
+            self.groups[g as usize].links = links;
+            return;
+        }
+        for j in 0..self.flows[slot as usize].route.len() {
+            let l = self.flows[slot as usize].route[j];
+            let entries = &self.group_entries[l as usize];
             let e = entries
                 .iter()
                 .position(|e| e.0 == g)
                 .expect("a member's link is in its group");
             let i = entries[e].1 as usize;
-            group.links[i].1 -= 1;
-            if group.links[i].1 > 0 {
+            let group = &mut self.groups[g as usize];
+            group.links[i].crossing -= 1;
+            if group.links[i].crossing > 0 {
                 continue;
             }
-            entries.swap_remove(e);
             group.links.swap_remove(i);
-            if let Some(&(moved, _)) = group.links.get(i) {
-                let entry = self.group_entries[moved as usize]
-                    .iter_mut()
-                    .find(|e| e.0 == g)
-                    .expect("a group's link has its entry");
-                entry.1 = i as u32;
+            if let Some(&moved) = group.links.get(i) {
+                self.group_entries[moved.link as usize][moved.entry as usize].1 = i as u32;
             }
+            self.drop_entry(l, e as u32);
+        }
+    }
+
+    /// Removes entry `e` of `link`'s `group_entries`, repointing the group whose entry moves
+    /// into its place.
+    fn drop_entry(&mut self, link: LinkId, e: u32) {
+        let entries = &mut self.group_entries[link as usize];
+        entries.swap_remove(e as usize);
+        if let Some(&(g, i)) = entries.get(e as usize) {
+            self.groups[g as usize].links[i as usize].entry = e;
         }
     }
 
@@ -694,7 +731,7 @@ impl MaxMin {
         if end - start == self.groups[l].members {
             // The whole group: its links once each.
             for i in 0..self.groups[l].links.len() {
-                let other = self.groups[l].links[i].0;
+                let other = self.groups[l].links[i].link;
                 self.make_pending(other);
             }
         } else {
@@ -860,7 +897,9 @@ impl MaxMin {
             self.settled_as.0 += 1;
         }
         for i in 0..self.groups[link as usize].links.len() {
-            let (l, crossing) = self.groups[link as usize].links[i];
+            let GroupLink {
+                link: l, crossing, ..
+            } = self.groups[link as usize].links[i];
             self.sweep.link_seen(l).delta += delta * crossing as i64;
             self.make_pending(l);
             if moved {
@@ -904,7 +943,7 @@ impl MaxMin {
         if unfixed as u32 == self.groups[link as usize].members {
             // The whole group is still unfixed: its links once each.
             for i in 0..self.groups[link as usize].links.len() {
-                let l = self.groups[link as usize].links[i].0;
+                let l = self.groups[link as usize].links[i].link;
                 self.note(l);
             }
             return;
@@ -975,18 +1014,23 @@ impl MaxMin {
             }
         }
         let entries_point_back = self.group_entries.iter().enumerate().all(|(l, es)| {
-            es.iter()
-                .all(|&(g, i)| self.groups[g as usize].links[i as usize].0 == l as LinkId)
+            es.iter().enumerate().all(|(e, &(g, i))| {
+                let gl = self.groups[g as usize].links[i as usize];
+                gl.link == l as LinkId && gl.entry == e as u32
+            })
         });
         entries_point_back
             && self.groups.iter().enumerate().all(|(g, group)| {
-                let have: std::collections::BTreeMap<LinkId, u32> =
-                    group.links.iter().copied().collect();
+                let have: std::collections::BTreeMap<LinkId, u32> = group
+                    .links
+                    .iter()
+                    .map(|gl| (gl.link, gl.crossing))
+                    .collect();
                 group.members == members[g]
                     && have == want[g]
                     && group.links.len() == have.len()
-                    && group.links.iter().all(|&(l, _)| {
-                        self.group_entries[l as usize]
+                    && group.links.iter().all(|gl| {
+                        self.group_entries[gl.link as usize]
                             .iter()
                             .any(|e| e.0 == g as LinkId)
                     })
