@@ -529,13 +529,17 @@ impl MaxMin {
     /// `(slot, old rate)` for every flow whose rate changed (0 for an added flow), in the
     /// order the filling fixed them.
     pub fn solve(&mut self, changed: &mut Vec<(u32, u64)>) {
-        if let ([slot], []) = (&self.added[..], &self.shrunk[..]) {
-            let slot = *slot;
-            if let Some(fixer) = self.fixer_if_added_alone(slot) {
-                self.fix_added_alone(slot, fixer, changed);
-                self.added.clear();
-                return;
+        match (&self.added[..], &self.shrunk[..]) {
+            // Nothing since the last solve but removals that moved no other rate.
+            ([], []) => return,
+            (&[slot], []) => {
+                if let Some(fixer) = self.fixer_if_added_alone(slot) {
+                    self.fix_added_alone(slot, fixer, changed);
+                    self.added.clear();
+                    return;
+                }
             }
+            _ => {}
         }
         while !self.sweep_and_check() {
             #[cfg(test)]
