@@ -141,3 +141,31 @@ fn describe_names_size_frames_and_triangles() {
         "scene: 64x48, 3 frames, 1 objects, 152 triangles per frame, perspective camera, back-face culling on"
     );
 }
+
+/// A frame built in an earlier frame's memory (as a run does, to spare the kernel zeroing
+/// fresh pages every frame) is the frame built afresh, vertex for vertex; a larger earlier
+/// frame's leftovers do not survive into it.
+#[test]
+fn a_frame_built_in_reused_memory_equals_a_fresh_one() {
+    let s = Scene::load(&common::root().join("scenes/p000-letter-b.json")).unwrap();
+    let frames = s.frame_count().min(4);
+    assert!(frames >= 2, "the letter B animates over several frames");
+    for n in 1..frames {
+        let fresh = s.frame(n).unwrap();
+        let reused = s.frame_reusing(n, Some(s.frame(n - 1).unwrap())).unwrap();
+        assert_ne!(
+            s.frame(n - 1).unwrap().vertices,
+            fresh.vertices,
+            "frames {} and {n} differ, so reuse is tested",
+            n - 1
+        );
+        assert_eq!(reused.vertices, fresh.vertices, "frame {n}");
+        assert_eq!(reused.triangles, fresh.triangles, "frame {n}");
+    }
+    let mut big = s.frame(0).unwrap();
+    big.vertices.extend_from_within(..);
+    big.triangles.extend_from_within(..);
+    let reused = s.frame_reusing(1, Some(big)).unwrap();
+    assert_eq!(reused.vertices, s.frame(1).unwrap().vertices);
+    assert_eq!(reused.triangles, s.frame(1).unwrap().triangles);
+}

@@ -1,6 +1,6 @@
 //! What every algorithm family's processors share on the host during one run: the scene's
 //! geometry per frame and its prepared vertices (computed once per frame, not once per
-//! processor) and the per-frame records being written (start, end, traffic, rasterization
+//! processor, in the memory of the frame dropped before it) and the per-frame records being written (start, end, traffic, rasterization
 //! finishing times).
 //!
 //! Must never hold simulated state: nothing here is charged to the machine, and nothing here
@@ -24,6 +24,8 @@ pub(crate) struct FrameBook {
     /// Where the run draws: every processor's vertices are prepared for it.
     viewport: Viewport,
     geometry: RefCell<BTreeMap<u32, Shared>>,
+    /// A dropped frame's geometry and vertex cache, whose memory the next frame reuses.
+    spare: RefCell<Option<(FrameGeometry, VertexCache)>>,
     records: RefCell<BTreeMap<u32, FrameRecord>>,
 }
 
@@ -37,12 +39,23 @@ struct Shared {
 }
 
 impl Shared {
-    fn new(geometry: Rc<FrameGeometry>, viewport: Viewport) -> Shared {
-        let vertices = VertexCache::new(geometry.vertices.len(), viewport);
+    fn new(geometry: Rc<FrameGeometry>, viewport: Viewport, spare: Option<VertexCache>) -> Shared {
+        let count = geometry.vertices.len();
+        let vertices = match spare {
+            Some(cache) => cache.emptied(count, viewport),
+            None => VertexCache::new(count, viewport),
+        };
         Shared {
             geometry,
             vertices: Rc::new(RefCell::new(vertices)),
         }
+    }
+
+    /// Its memory back, unless a processor still holds it.
+    fn into_spare(self) -> Option<(FrameGeometry, VertexCache)> {
+        let geometry = Rc::try_unwrap(self.geometry).ok()?;
+        let vertices = Rc::try_unwrap(self.vertices).ok()?.into_inner();
+        Some((geometry, vertices))
     }
 }
 
@@ -60,7 +73,11 @@ impl FrameBook {
             scene,
             n,
             viewport,
-            geometry: RefCell::new(BTreeMap::from([(frame, Shared::new(first, viewport))])),
+            geometry: RefCell::new(BTreeMap::from([(
+                frame,
+                Shared::new(first, viewport, None),
+            )])),
+            spare: RefCell::default(),
             records: RefCell::default(),
         }
     }
@@ -90,13 +107,20 @@ impl FrameBook {
         if let Some(g) = cache.get(&frame) {
             return Ok(g.clone());
         }
+        let mut spare = self.spare.borrow_mut();
+        while let Some((&f, _)) = cache.first_key_value().filter(|&(&f, _)| f + 1 < frame) {
+            let dropped = cache.remove(&f).expect("the first key is in the map");
+            if let Some(memory) = dropped.into_spare() {
+                *spare = Some(memory);
+            }
+        }
+        let (old_geometry, old_vertices) = spare.take().unzip();
         let g = Rc::new(
             self.scene
-                .frame(frame)
+                .frame_reusing(frame, old_geometry)
                 .map_err(|e| node.error(e.to_string()))?,
         );
-        let shared = Shared::new(g, self.viewport);
-        cache.retain(|&f, _| f + 1 >= frame);
+        let shared = Shared::new(g, self.viewport, old_vertices);
         cache.insert(frame, shared.clone());
         Ok(shared)
     }

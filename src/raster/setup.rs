@@ -284,6 +284,16 @@ impl VertexCache {
         }
     }
 
+    /// An empty cache like [`VertexCache::new`]'s, in this one's memory.
+    pub fn emptied(mut self, vertex_count: usize, viewport: Viewport) -> VertexCache {
+        self.slots.clear();
+        self.slots.resize(vertex_count, Slot::Empty);
+        VertexCache {
+            viewport,
+            slots: self.slots,
+        }
+    }
+
     /// The viewport every vertex here is prepared for.
     pub fn viewport(&self) -> Viewport {
         self.viewport

@@ -184,6 +184,17 @@ impl Scene {
 
     /// The geometry of frame `n` (0-based), transformed to clip space and lit.
     pub fn frame(&self, n: u32) -> Result<FrameGeometry, SceneError> {
+        self.frame_reusing(n, None)
+    }
+
+    /// [`Scene::frame`], filling the vertex and triangle lists of `spare` (an earlier
+    /// frame's, no longer needed) instead of fresh ones: a large scene's frame is tens of
+    /// megabytes, which fresh pages would have the kernel zero every frame.
+    pub fn frame_reusing(
+        &self,
+        n: u32,
+        spare: Option<FrameGeometry>,
+    ) -> Result<FrameGeometry, SceneError> {
         if n >= self.spec.frames {
             return Err(SceneError::FrameOutOfRange {
                 file: self.file.clone(),
@@ -195,8 +206,14 @@ impl Scene {
         let to_clip = view_projection(&self.spec, n);
         let light = Lighting::from(&self.spec.shading);
         let total_v: usize = self.objects.iter().map(|o| o.mesh.positions.len()).sum();
-        let mut vertices = Vec::with_capacity(total_v);
-        let mut triangles = Vec::with_capacity(self.triangle_count());
+        let (mut vertices, mut triangles) = match spare {
+            Some(g) => (g.vertices, g.triangles),
+            None => (Vec::new(), Vec::new()),
+        };
+        vertices.clear();
+        vertices.reserve(total_v);
+        triangles.clear();
+        triangles.reserve(self.triangle_count());
         for object in &self.objects {
             let base = vertices.len() as u32;
             object.emit(n, &to_clip, &light, &mut vertices);
