@@ -1354,7 +1354,7 @@ mod tests {
         use rand::{Rng, SeedableRng};
         let mut rng = rand_chacha::ChaCha8Rng::seed_from_u64(11);
         let links = 64u32;
-        let mut route = |rng: &mut rand_chacha::ChaCha8Rng| -> Vec<LinkId> {
+        let route = |rng: &mut rand_chacha::ChaCha8Rng| -> Vec<LinkId> {
             let first = rng.gen_range(0..links);
             (first..first + rng.gen_range(1..9))
                 .map(|l| l % links)
