@@ -247,8 +247,9 @@ pub struct Network {
     topology: Box<dyn Topology>,
     transport: Box<dyn Transport>,
     timing: Timing,
-    bytes: Vec<Bytes>,
-    messages: Vec<u64>,
+    /// Per link: (bytes, messages) that crossed it, side by side (an injection updates both
+    /// for every link of its route).
+    carried: Vec<(Bytes, u64)>,
     routes: routes::Routes,
     /// Per-message link occupancy, when a timeline is recorded.
     occupancy: Option<occupancy::Occupancy>,
@@ -278,8 +279,7 @@ impl Network {
             topology,
             transport,
             timing,
-            bytes: vec![Bytes::ZERO; links],
-            messages: vec![0; links],
+            carried: vec![(Bytes::ZERO, 0); links],
             routes: routes::Routes::new(nodes),
             occupancy: None,
         })
@@ -409,8 +409,9 @@ impl Network {
             ),
         };
         for &l in route {
-            self.bytes[l as usize] += bytes;
-            self.messages[l as usize] += 1;
+            let carried = &mut self.carried[l as usize];
+            carried.0 += bytes;
+            carried.1 += 1;
         }
         let hops = route.len() as u32 / self.topology.links_per_hop();
         let arrival = self.transport.inject(now, msg, route, hops, bytes);
@@ -461,8 +462,8 @@ impl Network {
                     from: link.from,
                     to: link.to,
                     name: link.name(),
-                    bytes: self.bytes[i],
-                    messages: self.messages[i],
+                    bytes: self.carried[i].0,
+                    messages: self.carried[i].1,
                     busy: usage.busy,
                     peak_queue: usage.peak_queue,
                 }
