@@ -284,6 +284,24 @@ fn bad_flags_are_refused_with_exit_code_2() {
             "has no option 'colour'; valid options:",
         ),
         (
+            // Options are checked before the scene is read (or built: a large stand-in takes
+            // a while), so a mistyped key is reported even when the scene would fail too.
+            &[
+                "run",
+                "--machine",
+                "machines/delta.json",
+                "--scene",
+                "scenes/no-such-scene.json",
+                "--algo",
+                "sort-middle/ellsworth",
+                "--procs",
+                "4",
+                "--set",
+                "colour=red",
+            ],
+            "sort-middle/ellsworth has no option 'colour'; valid options:",
+        ),
+        (
             &[
                 "run",
                 "--machine",

@@ -130,6 +130,34 @@ impl AlgorithmId {
         all
     }
 
+    /// Parses `o` as a run of this algorithm will (names and values, anti-aliasing ones
+    /// included), needing neither machine nor scene, so a mistyped `--set` is reported before
+    /// a large scene is built. What depends on the machine or the scene is checked later.
+    pub fn check_option_values(self, o: &Options) -> Result<(), OptionError> {
+        use options::parse;
+        let id = self.id();
+        match self {
+            AlgorithmId::SortMiddleStatic => parse::<sort_middle::StaticOptions>(o, id).map(drop),
+            AlgorithmId::SortMiddleEllsworth => {
+                parse::<sort_middle::EllsworthOptions>(o, id).map(drop)
+            }
+            AlgorithmId::SortFirstMueller => parse::<sort_first::SortFirstOptions>(o, id).map(drop),
+            AlgorithmId::SortLastDf => parse::<sort_last::DfOptions>(o, id).map(drop),
+            AlgorithmId::SortLastTree => parse::<sort_last::CompositeOptions>(o, id).map(drop),
+            AlgorithmId::SortLastBinarySwap | AlgorithmId::SortLastTwoThreeSwap => {
+                parse::<sort_last::SwapOptions>(o, id).map(drop)
+            }
+            AlgorithmId::SortLastRadixK => parse::<sort_last::RadixKOptions>(o, id).map(drop),
+            AlgorithmId::SortLastPc => parse::<sort_last::PcOptions>(o, id).map(drop),
+            AlgorithmId::SortLastDirectSend => {
+                parse::<sort_last::DirectSendOptions>(o, id).map(drop)
+            }
+            AlgorithmId::SortLastScanlineFlow
+            | AlgorithmId::SortLastPixelFlow
+            | AlgorithmId::SortLastSnooping => parse::<sort_last::DealOptions>(o, id).map(drop),
+        }
+    }
+
     /// The options of this algorithm's own struct, without the anti-aliasing ones.
     fn own_option_docs(self) -> Vec<options::OptionDoc> {
         use options::docs;

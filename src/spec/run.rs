@@ -73,6 +73,15 @@ impl RunSpec {
         let machine = machine
             .with_nodes(self.procs)
             .map_err(|e| RunSpecError::Invalid(format!("--procs {}: {e}", self.procs)))?;
+        let options = Options::new(
+            self.set
+                .iter()
+                .filter(|(k, _)| !k.starts_with("machine."))
+                .map(|(k, v)| (k.clone(), v.clone()))
+                .collect(),
+        );
+        algo.check_option_values(&options)
+            .map_err(|e| RunSpecError::Invalid(e.to_string()))?;
         let scene = match scene {
             Some(s) => s,
             None => Arc::new(Scene::load(&self.scene)?),
@@ -83,13 +92,6 @@ impl RunSpec {
                 self.frames.as_deref().unwrap_or("")
             ))
         })?;
-        let options = Options::new(
-            self.set
-                .iter()
-                .filter(|(k, _)| !k.starts_with("machine."))
-                .map(|(k, v)| (k.clone(), v.clone()))
-                .collect(),
-        );
         Ok(RunConfig {
             machine,
             scene,
