@@ -19,6 +19,9 @@ pub mod sort_middle;
 use std::ops::Range;
 use std::sync::Arc;
 
+use schemars::JsonSchema;
+use serde::de::DeserializeOwned;
+
 use crate::engine::RunStats;
 use crate::machine::MachineConfig;
 use crate::raster::aa::AaStats;
@@ -58,6 +61,13 @@ pub enum AlgorithmId {
     /// Sort-first (Mueller 1995): processors keep the primitives of their screen regions
     /// from frame to frame; only those crossing into other regions move.
     SortFirstMueller,
+}
+
+/// Something done with an algorithm's options struct, whichever it is
+/// ([`AlgorithmId::with_options_struct`]): parsing, documenting, describing as a schema.
+trait OptionsUse {
+    type Out;
+    fn with<T: DeserializeOwned + JsonSchema>(self) -> Self::Out;
 }
 
 impl AlgorithmId {
@@ -121,7 +131,6 @@ impl AlgorithmId {
         AlgorithmId::ALL.into_iter().find(|a| a.id() == id)
     }
 
-    /// The valid ids, for error messages.
     /// The options this algorithm takes (its own, then the anti-aliasing ones), read from
     /// their structs: the same source as parsing, the schema and `--help`.
     pub fn option_docs(self) -> Vec<options::OptionDoc> {
@@ -134,48 +143,46 @@ impl AlgorithmId {
     /// included), needing neither machine nor scene, so a mistyped `--set` is reported before
     /// a large scene is built. What depends on the machine or the scene is checked later.
     pub fn check_option_values(self, o: &Options) -> Result<(), OptionError> {
-        use options::parse;
-        let id = self.id();
-        match self {
-            AlgorithmId::SortMiddleStatic => parse::<sort_middle::StaticOptions>(o, id).map(drop),
-            AlgorithmId::SortMiddleEllsworth => {
-                parse::<sort_middle::EllsworthOptions>(o, id).map(drop)
+        struct Check<'a>(&'a Options, &'static str);
+        impl OptionsUse for Check<'_> {
+            type Out = Result<(), OptionError>;
+            fn with<T: DeserializeOwned + JsonSchema>(self) -> Self::Out {
+                options::parse::<T>(self.0, self.1).map(drop)
             }
-            AlgorithmId::SortFirstMueller => parse::<sort_first::SortFirstOptions>(o, id).map(drop),
-            AlgorithmId::SortLastDf => parse::<sort_last::DfOptions>(o, id).map(drop),
-            AlgorithmId::SortLastTree => parse::<sort_last::CompositeOptions>(o, id).map(drop),
-            AlgorithmId::SortLastBinarySwap | AlgorithmId::SortLastTwoThreeSwap => {
-                parse::<sort_last::SwapOptions>(o, id).map(drop)
-            }
-            AlgorithmId::SortLastRadixK => parse::<sort_last::RadixKOptions>(o, id).map(drop),
-            AlgorithmId::SortLastPc => parse::<sort_last::PcOptions>(o, id).map(drop),
-            AlgorithmId::SortLastDirectSend => {
-                parse::<sort_last::DirectSendOptions>(o, id).map(drop)
-            }
-            AlgorithmId::SortLastScanlineFlow
-            | AlgorithmId::SortLastPixelFlow
-            | AlgorithmId::SortLastSnooping => parse::<sort_last::DealOptions>(o, id).map(drop),
         }
+        self.with_options_struct(Check(o, self.id()))
     }
 
     /// The options of this algorithm's own struct, without the anti-aliasing ones.
     fn own_option_docs(self) -> Vec<options::OptionDoc> {
-        use options::docs;
-        match self {
-            AlgorithmId::SortMiddleStatic => docs::<sort_middle::StaticOptions>(),
-            AlgorithmId::SortMiddleEllsworth => docs::<sort_middle::EllsworthOptions>(),
-            AlgorithmId::SortFirstMueller => docs::<sort_first::SortFirstOptions>(),
-            AlgorithmId::SortLastDf => docs::<sort_last::DfOptions>(),
-            AlgorithmId::SortLastTree => docs::<sort_last::CompositeOptions>(),
-            AlgorithmId::SortLastBinarySwap | AlgorithmId::SortLastTwoThreeSwap => {
-                docs::<sort_last::SwapOptions>()
+        struct Docs;
+        impl OptionsUse for Docs {
+            type Out = Vec<options::OptionDoc>;
+            fn with<T: DeserializeOwned + JsonSchema>(self) -> Self::Out {
+                options::docs::<T>()
             }
-            AlgorithmId::SortLastRadixK => docs::<sort_last::RadixKOptions>(),
-            AlgorithmId::SortLastPc => docs::<sort_last::PcOptions>(),
-            AlgorithmId::SortLastDirectSend => docs::<sort_last::DirectSendOptions>(),
+        }
+        self.with_options_struct(Docs)
+    }
+
+    /// `what`, done with this algorithm's options struct: the one place that says which
+    /// struct an algorithm reads its options into.
+    fn with_options_struct<U: OptionsUse>(self, what: U) -> U::Out {
+        match self {
+            AlgorithmId::SortMiddleStatic => what.with::<sort_middle::StaticOptions>(),
+            AlgorithmId::SortMiddleEllsworth => what.with::<sort_middle::EllsworthOptions>(),
+            AlgorithmId::SortFirstMueller => what.with::<sort_first::SortFirstOptions>(),
+            AlgorithmId::SortLastDf => what.with::<sort_last::DfOptions>(),
+            AlgorithmId::SortLastTree => what.with::<sort_last::CompositeOptions>(),
+            AlgorithmId::SortLastBinarySwap | AlgorithmId::SortLastTwoThreeSwap => {
+                what.with::<sort_last::SwapOptions>()
+            }
+            AlgorithmId::SortLastRadixK => what.with::<sort_last::RadixKOptions>(),
+            AlgorithmId::SortLastPc => what.with::<sort_last::PcOptions>(),
+            AlgorithmId::SortLastDirectSend => what.with::<sort_last::DirectSendOptions>(),
             AlgorithmId::SortLastScanlineFlow
             | AlgorithmId::SortLastPixelFlow
-            | AlgorithmId::SortLastSnooping => docs::<sort_last::DealOptions>(),
+            | AlgorithmId::SortLastSnooping => what.with::<sort_last::DealOptions>(),
         }
     }
 
@@ -183,23 +190,14 @@ impl AlgorithmId {
     /// anti-aliasing ones).
     pub fn options_schema(self) -> serde_json::Value {
         use schemars::schema_for;
-        let own = match self {
-            AlgorithmId::SortMiddleStatic => schema_for!(sort_middle::StaticOptions),
-            AlgorithmId::SortMiddleEllsworth => schema_for!(sort_middle::EllsworthOptions),
-            AlgorithmId::SortFirstMueller => schema_for!(sort_first::SortFirstOptions),
-            AlgorithmId::SortLastDf => schema_for!(sort_last::DfOptions),
-            AlgorithmId::SortLastTree => schema_for!(sort_last::CompositeOptions),
-            AlgorithmId::SortLastBinarySwap | AlgorithmId::SortLastTwoThreeSwap => {
-                schema_for!(sort_last::SwapOptions)
+        struct Schema;
+        impl OptionsUse for Schema {
+            type Out = serde_json::Value;
+            fn with<T: DeserializeOwned + JsonSchema>(self) -> Self::Out {
+                schema_for!(T).to_value()
             }
-            AlgorithmId::SortLastRadixK => schema_for!(sort_last::RadixKOptions),
-            AlgorithmId::SortLastPc => schema_for!(sort_last::PcOptions),
-            AlgorithmId::SortLastDirectSend => schema_for!(sort_last::DirectSendOptions),
-            AlgorithmId::SortLastScanlineFlow
-            | AlgorithmId::SortLastPixelFlow
-            | AlgorithmId::SortLastSnooping => schema_for!(sort_last::DealOptions),
-        };
-        let mut own = own.to_value();
+        }
+        let mut own = self.with_options_struct(Schema);
         let aa = schema_for!(aa::AaOptions).to_value();
         for key in ["properties", "$defs"] {
             if let (Some(into), Some(from)) = (
@@ -230,6 +228,7 @@ impl AlgorithmId {
         text
     }
 
+    /// The valid ids, for error messages.
     pub fn valid_ids() -> String {
         AlgorithmId::ALL
             .iter()
