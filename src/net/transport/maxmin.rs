@@ -827,7 +827,7 @@ impl MaxMin {
         let pop =
             match passes_all_ahead(left, unfixed, ahead.len() as u64, ahead_rates, ahead_share) {
                 Some(share) => share.map_or(NONE, |share| key(share, link)),
-                None => walk_to_pop(left, unfixed, link, &mut ahead),
+                None => walk_to_pop(left, unfixed, link, &mut ahead).0,
             };
         self.sweep.ahead = ahead;
         debug_assert!(pop >= now, "link {link}'s pop fell below the sweep");
@@ -1081,21 +1081,28 @@ impl MaxMin {
 
 /// Where a link pops with `left` capacity and `unfixed` flows, of which `ahead` are still to
 /// be fixed elsewhere at their (key, rate) in key order: the first share, as they are, that
-/// does not lie above the next one's key. Sorts `ahead`.
-fn walk_to_pop(mut left: u64, mut unfixed: u64, link: LinkId, ahead: &mut [(Key, u64)]) -> Key {
+/// does not lie above the next one's key (`NONE` if none is left unfixed); and how many of
+/// `ahead` were fixed before it. Sorts `ahead`.
+fn walk_to_pop(
+    mut left: u64,
+    mut unfixed: u64,
+    link: LinkId,
+    ahead: &mut [(Key, u64)],
+) -> (Key, usize) {
     ahead.sort_unstable();
-    let mut next = ahead.iter();
+    let mut passed = 0;
     while unfixed > 0 {
         let candidate = key(left / unfixed, link);
-        match next.next() {
+        match ahead.get(passed) {
             Some(&(k, rate)) if k < candidate => {
                 left = left.saturating_sub(rate);
                 unfixed -= 1;
+                passed += 1;
             }
-            _ => return candidate,
+            _ => return (candidate, passed),
         }
     }
-    NONE
+    (NONE, passed)
 }
 
 /// [`walk_to_pop`] without the sort, when a certificate shows the link's share stays above
@@ -1123,17 +1130,8 @@ fn passes_all_ahead(
 /// order and `extra` more stay unfixed throughout, always stays above the key of the next one
 /// to be fixed (so it never is the smallest link while they are). Sorts `ahead`.
 fn share_stays_above(capacity: u64, link: LinkId, ahead: &mut [(Key, u64)], extra: u64) -> bool {
-    ahead.sort_unstable();
-    let mut left = capacity;
-    let mut unfixed = ahead.len() as u64 + extra;
-    for &(k, rate) in ahead.iter() {
-        if key(left / unfixed, link) <= k {
-            return false;
-        }
-        left = left.saturating_sub(rate);
-        unfixed -= 1;
-    }
-    true
+    let all = ahead.len();
+    walk_to_pop(capacity, all as u64 + extra, link, ahead).1 == all
 }
 
 #[cfg(test)]
