@@ -1,7 +1,7 @@
 //! What every algorithm family's processors share on the host during one run: the scene's
 //! geometry per frame and its prepared vertices (computed once per frame, not once per
-//! processor, in the memory of the frame dropped before it) and the per-frame records being written (start, end, traffic, rasterization
-//! finishing times).
+//! processor, in the memory of the frame dropped before it) and the per-frame records being
+//! written (start, end, traffic, rasterization finishing times).
 //!
 //! Must never hold simulated state: nothing here is charged to the machine, and nothing here
 //! may change what a node program decides, only what the run reports.
@@ -24,8 +24,6 @@ pub(crate) struct FrameBook {
     /// Where the run draws: every processor's vertices are prepared for it.
     viewport: Viewport,
     geometry: RefCell<BTreeMap<u32, Shared>>,
-    /// A dropped frame's geometry and vertex cache, whose memory the next frame reuses.
-    spare: RefCell<Option<(FrameGeometry, VertexCache)>>,
     records: RefCell<BTreeMap<u32, FrameRecord>>,
 }
 
@@ -77,7 +75,6 @@ impl FrameBook {
                 frame,
                 Shared::new(first, viewport, None),
             )])),
-            spare: RefCell::default(),
             records: RefCell::default(),
         }
     }
@@ -107,14 +104,11 @@ impl FrameBook {
         if let Some(g) = cache.get(&frame) {
             return Ok(g.clone());
         }
-        let mut spare = self.spare.borrow_mut();
-        while let Some((&f, _)) = cache.first_key_value().filter(|&(&f, _)| f + 1 < frame) {
-            let dropped = cache.remove(&f).expect("the first key is in the map");
-            if let Some(memory) = dropped.into_spare() {
-                *spare = Some(memory);
-            }
-        }
-        let (old_geometry, old_vertices) = spare.take().unzip();
+        // Frames before the one before are done with; the new frame takes their memory.
+        let kept = cache.split_off(&frame.saturating_sub(1));
+        let dropped = std::mem::replace(&mut *cache, kept);
+        let spare = dropped.into_values().filter_map(Shared::into_spare).next_back();
+        let (old_geometry, old_vertices) = spare.unzip();
         let g = Rc::new(
             self.scene
                 .frame_reusing(frame, old_geometry)

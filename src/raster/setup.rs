@@ -288,10 +288,8 @@ impl VertexCache {
     pub fn emptied(mut self, vertex_count: usize, viewport: Viewport) -> VertexCache {
         self.slots.clear();
         self.slots.resize(vertex_count, Slot::Empty);
-        VertexCache {
-            viewport,
-            slots: self.slots,
-        }
+        self.viewport = viewport;
+        self
     }
 
     /// The viewport every vertex here is prepared for.
