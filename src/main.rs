@@ -458,11 +458,7 @@ fn paper(args: &cli::PaperArgs) -> Result<(), Failure> {
         Some(id) => vec![id],
         None => PaperId::ALL.to_vec(),
     };
-    // An unwritable folder is bad input, found before minutes of simulation.
-    std::fs::create_dir_all(&args.out)
-        .and_then(|()| sortsim::report::write_atomic(&args.out.join(".writable"), b""))
-        .and_then(|()| std::fs::remove_file(args.out.join(".writable")))
-        .map_err(|e| Failure::BadInput(format!("{}: cannot write: {e}", args.out.display())))?;
+    writable_folder(&args.out)?;
     let options = PaperOptions {
         quick: args.quick,
         jobs: jobs(args.jobs),
@@ -498,8 +494,7 @@ fn calibrate(args: &cli::CalibrateArgs) -> Result<(), Failure> {
     };
     let spec = load_spec(&args.spec).map_err(to_failure)?;
     let out = out_dir(&args.out, &args.spec, "reports/calibrate-");
-    std::fs::create_dir_all(&out)
-        .map_err(|e| Failure::BadInput(format!("{}: cannot write: {e}", out.display())))?;
+    writable_folder(&out)?;
     let root = Path::new(env!("CARGO_MANIFEST_DIR"));
     let result = calibrate(&spec, &args.spec, root, jobs(args.jobs)).map_err(to_failure)?;
     sortsim::report::calibration::write(&out, &result)?;
@@ -522,8 +517,7 @@ fn validate(args: &cli::ValidateArgs) -> Result<(), Failure> {
             Failure::Internal(e.to_string())
         }
     };
-    std::fs::create_dir_all(&args.out)
-        .map_err(|e| Failure::BadInput(format!("{}: cannot write: {e}", args.out.display())))?;
+    writable_folder(&args.out)?;
     let work = tempfile::tempdir()
         .map_err(|e| Failure::Internal(format!("cannot make a temporary folder: {e}")))?;
     let mut result = Validation::default();
@@ -591,8 +585,19 @@ fn fidelity(f: FidelityArg) -> Fidelity {
     }
 }
 
+/// Creates `dir` and proves a file can be written in it: an unwritable folder is bad input,
+/// found before minutes of simulation rather than after.
+fn writable_folder(dir: &Path) -> Result<(), Failure> {
+    let probe = dir.join(".writable");
+    std::fs::create_dir_all(dir)
+        .and_then(|()| sortsim::report::write_atomic(&probe, b""))
+        .and_then(|()| std::fs::remove_file(&probe))
+        .map_err(|e| Failure::BadInput(format!("{}: cannot write: {e}", dir.display())))
+}
+
 fn bench_scale(quick: bool, frames: Option<u32>, out: &Path) -> Result<(), Failure> {
     use sortsim::bench::scale::{scale, table, ScaleConfig};
+    writable_folder(out)?;
     let root = Path::new(env!("CARGO_MANIFEST_DIR"));
     let mut cfg = if quick {
         ScaleConfig::quick(root)

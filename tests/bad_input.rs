@@ -854,3 +854,32 @@ fn a_sample_grid_too_large_is_refused_before_allocating() {
         );
     }
 }
+
+/// The long benchmark and calibration commands find an unwritable report folder before they
+/// run anything (a plain file stands where a folder should be made).
+#[test]
+fn an_unwritable_report_folder_is_refused_before_the_benchmark_runs() {
+    let dir = tempfile::tempdir().unwrap();
+    let file = dir.path().join("a-file");
+    std::fs::write(&file, "").unwrap();
+    let out = file.join("report");
+    let out = out.to_str().unwrap();
+    for args in [
+        &["bench", "scale", "--quick", "-o", out][..],
+        &[
+            "calibrate",
+            "machines/fits/multicluster-to-001-table1.json",
+            "-o",
+            out,
+        ][..],
+    ] {
+        let result = sortsim(args);
+        common::assert_refused(&result, &format!("{args:?}"), "a-file/report: cannot write");
+        let err = String::from_utf8_lossy(&result.stderr);
+        assert!(
+            !err.contains("measuring:"),
+            "{args:?} ran before refusing: {err}"
+        );
+        assert!(result.stdout.is_empty(), "{args:?} printed a report");
+    }
+}

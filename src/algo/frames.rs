@@ -107,7 +107,10 @@ impl FrameBook {
         // Frames before the one before are done with; the new frame takes their memory.
         let kept = cache.split_off(&frame.saturating_sub(1));
         let dropped = std::mem::replace(&mut *cache, kept);
-        let spare = dropped.into_values().filter_map(Shared::into_spare).next_back();
+        let spare = dropped
+            .into_values()
+            .filter_map(Shared::into_spare)
+            .next_back();
         let (old_geometry, old_vertices) = spare.unzip();
         let g = Rc::new(
             self.scene
