@@ -369,6 +369,13 @@ pub struct CalibrateArgs {
     /// Simulations at a time; the number of cores when absent.
     #[arg(long, value_name = "J", value_parser = clap::value_parser!(u32).range(1..))]
     pub jobs: Option<u32>,
+    /// Targets of the spec to leave out of the fit (comma-separated row ids); the report
+    /// gives their residuals on the fitted machine, a test of what the fit predicts.
+    #[arg(long, value_name = "ID,ID", value_delimiter = ',')]
+    pub hold_out: Vec<String>,
+    /// Allow targets that papers/NNN.json marks predicted (mark them fitted afterwards).
+    #[arg(long)]
+    pub allow_predicted: bool,
 }
 
 #[derive(Args, Debug)]

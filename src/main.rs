@@ -468,13 +468,17 @@ fn paper(args: &cli::PaperArgs) -> Result<(), Failure> {
     let mut reports = Vec::new();
     for id in ids {
         let clock = Stopwatch::start();
-        let report = run_paper(id, &options).map_err(|e| Failure::Internal(e.to_string()))?;
+        let report = run_paper(id, &options).map_err(|e| match e {
+            // A data file or machine the user edited into disagreement: bad input.
+            sortsim::paper::PaperError::Data { .. } => Failure::BadInput(e.to_string()),
+            _ => Failure::Internal(e.to_string()),
+        })?;
         let dir = args.out.join(id.id());
         write_paper(&report, &dir)?;
         println!(
             "paper {}: {} ({:.1} s) -> {}",
             id.id(),
-            report.tally.headline(),
+            report.headline(),
             clock.cost(0).wall_s,
             dir.join("index.html").display()
         );
@@ -496,7 +500,12 @@ fn calibrate(args: &cli::CalibrateArgs) -> Result<(), Failure> {
     let out = out_dir(&args.out, &args.spec, "reports/calibrate-");
     writable_folder(&out)?;
     let root = Path::new(env!("CARGO_MANIFEST_DIR"));
-    let result = calibrate(&spec, &args.spec, root, jobs(args.jobs)).map_err(to_failure)?;
+    let options = sortsim::calibrate::FitOptions {
+        jobs: jobs(args.jobs),
+        hold_out: args.hold_out.clone(),
+        allow_predicted: args.allow_predicted,
+    };
+    let result = calibrate(&spec, &args.spec, root, &options).map_err(to_failure)?;
     sortsim::report::calibration::write(&out, &result)?;
     print!("{}", sortsim::report::calibration::markdown(&result));
     println!(

@@ -165,3 +165,176 @@ fn a_machine_the_papers_do_not_use_is_refused_unless_it_names_the_one_it_replace
     // The candidates stood in for the bundled machine the paper's experiments use.
     assert_eq!(c["machine"], "multicluster-pipeline.json", "{c}");
 }
+
+#[test]
+fn a_predicted_input_or_definition_row_is_not_a_target_unless_told() {
+    let dir = tempfile::tempdir().unwrap();
+    // Table 1's imbalances are predicted rows: fitting one turns its evidence into a fit.
+    let file = spec(dir.path(), &["t1-mountain-on-16-imbalance"], 2);
+    let out = sortsim(&["calibrate", &file]);
+    common::assert_refused(&out, "a predicted target", "predicted row");
+    common::assert_refused(&out, "a predicted target", "--allow-predicted");
+    // An input row no machine cost can move (paper 000's pixel cell size).
+    let text = std::fs::read_to_string(&file)
+        .unwrap()
+        .replace("\"001\"", "\"000\"")
+        .replace("t1-mountain-on-16-imbalance", "pixel-bytes");
+    std::fs::write(&file, text).unwrap();
+    let out = sortsim(&["calibrate", &file, "--allow-predicted"]);
+    common::assert_refused(&out, "an input target", "an input row");
+}
+
+#[test]
+fn a_predicted_row_fitted_when_told_is_recorded_in_the_machine() {
+    let dir = tempfile::tempdir().unwrap();
+    let file = spec(
+        dir.path(),
+        &["uni-zbuffer-teapot", "t1-mountain-on-16-imbalance"],
+        2,
+    );
+    let out_dir = dir.path().join("o");
+    let run = sortsim(&[
+        "calibrate",
+        &file,
+        "--allow-predicted",
+        "--jobs",
+        "2",
+        "-o",
+        out_dir.to_str().unwrap(),
+    ]);
+    assert!(
+        run.status.success(),
+        "{}",
+        String::from_utf8_lossy(&run.stderr)
+    );
+    let machine: Value = serde_json::from_str(
+        &std::fs::read_to_string(out_dir.join("multicluster-pipeline.json")).unwrap(),
+    )
+    .unwrap();
+    let records = machine["fitted_to"].as_array().unwrap();
+    let last = records.last().unwrap();
+    assert_eq!(last["paper"], "001");
+    assert_eq!(
+        last["rows"],
+        serde_json::json!(["uni-zbuffer-teapot", "t1-mountain-on-16-imbalance"])
+    );
+    assert!(
+        last["spec"].as_str().unwrap().ends_with("fit.json"),
+        "{last}"
+    );
+    // The start machine's own fits are kept before it.
+    assert_eq!(records.len(), 3, "{records:?}");
+}
+
+#[test]
+fn held_out_targets_leave_the_cost_and_are_reported_on_the_fitted_machine() {
+    let dir = tempfile::tempdir().unwrap();
+    let targets = [
+        "uni-zbuffer-teapot",
+        "uni-zbuffer-misc3",
+        "uni-scanline-tetra",
+    ];
+    let file = spec(dir.path(), &targets, 4);
+    let out_dir = dir.path().join("o");
+    let run = sortsim(&[
+        "calibrate",
+        &file,
+        "--hold-out",
+        "uni-scanline-tetra",
+        "--jobs",
+        "2",
+        "-o",
+        out_dir.to_str().unwrap(),
+    ]);
+    assert!(
+        run.status.success(),
+        "{}",
+        String::from_utf8_lossy(&run.stderr)
+    );
+    let c: Value =
+        serde_json::from_str(&std::fs::read_to_string(out_dir.join("calibration.json")).unwrap())
+            .unwrap();
+    let ids = |key: &str| -> Vec<String> {
+        c[key]
+            .as_array()
+            .unwrap()
+            .iter()
+            .map(|r| r["id"].as_str().unwrap().to_string())
+            .collect()
+    };
+    assert_eq!(ids("rows"), ["uni-zbuffer-teapot", "uni-zbuffer-misc3"]);
+    assert_eq!(ids("held_out"), ["uni-scanline-tetra"]);
+    let held = &c["held_out"][0];
+    assert!(held["fitted"].as_f64().unwrap() > 0.0, "{held}");
+    assert!(held["start"].as_f64().unwrap() > 0.0, "{held}");
+    // The cost is over the fitted rows alone: a fit of the same two rows, nothing held out,
+    // reaches the same cost.
+    let two = spec(dir.path(), &targets[..2], 4);
+    let plain_dir = dir.path().join("p");
+    let run = sortsim(&[
+        "calibrate",
+        &two,
+        "--jobs",
+        "2",
+        "-o",
+        plain_dir.to_str().unwrap(),
+    ]);
+    assert!(run.status.success());
+    let plain: Value =
+        serde_json::from_str(&std::fs::read_to_string(plain_dir.join("calibration.json")).unwrap())
+            .unwrap();
+    assert_eq!(plain["fitted_cost"], c["fitted_cost"]);
+    assert_eq!(plain["factors"], c["factors"]);
+    let machine = std::fs::read_to_string(out_dir.join("multicluster-pipeline.json")).unwrap();
+    assert!(
+        machine.contains("Held out of this fit: uni-scanline-tetra"),
+        "{machine}"
+    );
+    let md = std::fs::read_to_string(out_dir.join("calibration.md")).unwrap();
+    assert!(md.contains("| held out |"), "{md}");
+    // A held-out row must be a target, and something must be left to fit.
+    let out = sortsim(&["calibrate", &file, "--hold-out", "uni-zbuffer-gears"]);
+    common::assert_refused(
+        &out,
+        "a held-out row that is not a target",
+        "not one of the spec's targets",
+    );
+    let out = sortsim(&[
+        "calibrate",
+        &two,
+        "--hold-out",
+        "uni-zbuffer-teapot,uni-zbuffer-misc3",
+    ]);
+    common::assert_refused(&out, "holding out every target", "no target to fit");
+}
+
+/// Every shipped calibration spec's targets are recorded, under that spec, by the bundled
+/// machine it fitted, so `papers/NNN.json` marks them fitted (checked when it is loaded).
+#[test]
+fn every_shipped_fit_is_recorded_by_the_machine_it_produced() {
+    let root = Path::new(env!("CARGO_MANIFEST_DIR"));
+    let mut specs = 0;
+    for entry in std::fs::read_dir(root.join("machines/fits")).unwrap() {
+        let path = entry.unwrap().path();
+        let spec: Value = serde_json::from_str(&std::fs::read_to_string(&path).unwrap()).unwrap();
+        let Some(targets) = spec["targets"].as_array() else {
+            continue; // an intermediate machine, not a spec
+        };
+        specs += 1;
+        let name = format!("fits/{}", path.file_name().unwrap().to_str().unwrap());
+        let recorded = std::fs::read_dir(root.join("machines"))
+            .unwrap()
+            .map(|e| e.unwrap().path())
+            .filter(|p| p.extension().is_some_and(|x| x == "json"))
+            .any(|p| {
+                let m: Value = serde_json::from_str(&std::fs::read_to_string(&p).unwrap()).unwrap();
+                m["fitted_to"].as_array().is_some_and(|records| {
+                    records.iter().any(|r| {
+                        r["spec"] == name.as_str() && r["rows"].as_array() == Some(targets)
+                    })
+                })
+            });
+        assert!(recorded, "no bundled machine records the fit {name}");
+    }
+    assert_eq!(specs, 4);
+}

@@ -10,6 +10,12 @@
 //!                                       best factors ─> fitted machine (source updated) + residual table
 //! ```
 //!
+//! A target must be a row the data file marks `fitted` (a refit) or, when told
+//! (`--allow-predicted`), `predicted`; inputs and definitions are never targets. The fitted
+//! machine's `fitted_to` gains a record of the rows the fit saw, which `sortsim paper` checks
+//! against the rows' roles. `--hold-out` leaves targets out of the fit and reports how the
+//! fitted machine does on them: a prediction of the fit, not a target of it.
+//!
 //! Owns the objective and the scaling of machine fields. Must never change how a run
 //! simulates, nor invent a target: targets are the paper's rows, with their own tolerances.
 //! Deterministic: the same spec gives the same fit and the same files.
@@ -21,8 +27,9 @@ use argmin::core::{CostFunction, Executor, State};
 use argmin::solver::neldermead::NelderMead;
 use serde::{Deserialize, Serialize};
 
-use crate::paper::data::{Reference, Relation, Tolerance};
+use crate::paper::data::{Reference, Relation, Role, Tolerance};
 use crate::paper::{run_paper, PaperId, PaperOptions, PaperReport, Verdict};
+use crate::spec::machine::FitRecord;
 use crate::units::{Bandwidth, SimTime};
 
 /// A calibration spec file.
@@ -79,6 +86,17 @@ pub enum CalibrationError {
     Failed(String),
 }
 
+/// How to fit, beside the spec.
+#[derive(Clone, Debug, Default)]
+pub struct FitOptions {
+    /// Simulations at a time.
+    pub jobs: usize,
+    /// Targets of the spec left out of the fit; their residuals are reported afterwards.
+    pub hold_out: Vec<String>,
+    /// Fit rows the data file marks `predicted` (they become fitted: relabel them after).
+    pub allow_predicted: bool,
+}
+
 /// The outcome: the factors found, the fitted machine's JSON text, and the targets' rows at
 /// the start and at the fit.
 #[derive(Debug, Serialize)]
@@ -90,6 +108,8 @@ pub struct Calibration {
     pub start_cost: f64,
     pub fitted_cost: f64,
     pub rows: Vec<Residual>,
+    /// The held-out targets: not in the cost, measured on the start and the fitted machine.
+    pub held_out: Vec<Residual>,
     #[serde(skip)]
     pub fitted_machine: String,
 }
@@ -212,6 +232,11 @@ pub fn row_cost(reference: &Reference, measured: Option<f64>) -> f64 {
 
 struct Objective<'a> {
     spec: &'a CalibrationSpec,
+    /// The targets in the cost: the spec's, less the held-out ones.
+    fitting: Vec<String>,
+    held_out: Vec<String>,
+    /// The spec as the machine's fit record names it (relative to machines/ when under it).
+    spec_name: String,
     machine: serde_json::Value,
     id: PaperId,
     options: PaperOptions,
@@ -237,8 +262,7 @@ impl Objective<'_> {
     }
 
     fn cost_of(&self, report: &PaperReport, data: &crate::paper::PaperData) -> f64 {
-        self.spec
-            .targets
+        self.fitting
             .iter()
             .map(|id| {
                 let reference = data.rows.iter().find(|r| &r.id == id).expect("checked");
@@ -276,7 +300,7 @@ pub fn calibrate(
     spec: &CalibrationSpec,
     spec_file: &Path,
     root: &Path,
-    jobs: usize,
+    fit_options: &FitOptions,
 ) -> Result<Calibration, CalibrationError> {
     let bad = |message: String| CalibrationError::Spec {
         file: spec_file.to_path_buf(),
@@ -300,8 +324,25 @@ pub fn calibrate(
             Some(r) if r.value.is_none() && r.range.is_none() => {
                 return Err(bad(format!("target {t:?} is a claim without a number")))
             }
-            Some(_) => {}
+            Some(r) => check_target_role(r, &spec.paper, fit_options).map_err(&bad)?,
         }
+    }
+    for h in &fit_options.hold_out {
+        if !spec.targets.contains(h) {
+            return Err(bad(format!(
+                "--hold-out {h:?} is not one of the spec's targets ({})",
+                spec.targets.join(", ")
+            )));
+        }
+    }
+    if spec
+        .targets
+        .iter()
+        .all(|t| fit_options.hold_out.contains(t))
+    {
+        return Err(bad(
+            "--hold-out leaves no target to fit; hold out fewer rows".into(),
+        ));
     }
     let text = crate::spec::read_input(&spec.machine)
         .map_err(|e| bad(format!("{}: {e}", spec.machine.display())))?;
@@ -337,9 +378,17 @@ pub fn calibrate(
         spec,
         machine: machine.clone(),
         id,
+        fitting: spec
+            .targets
+            .iter()
+            .filter(|t| !fit_options.hold_out.contains(t))
+            .cloned()
+            .collect(),
+        held_out: fit_options.hold_out.clone(),
+        spec_name: spec_name(spec_file, root),
         options: PaperOptions {
             quick: spec.quick,
-            jobs,
+            jobs: fit_options.jobs,
             root: root.to_path_buf(),
             machines: Some(work.clone()),
         },
@@ -394,27 +443,29 @@ fn fit(
         .evaluations
         .lock()
         .unwrap_or_else(|e| e.into_inner());
-    let rows = spec
-        .targets
-        .iter()
-        .map(|id| {
-            let (s, f) = (
-                start.row(id).expect("reported"),
-                fitted.row(id).expect("reported"),
-            );
-            Residual {
-                id: id.clone(),
-                quantity: f.quantity.clone(),
-                unit: f.unit.clone(),
-                paper: f.paper.clone(),
-                start: s.sortsim,
-                fitted: f.sortsim,
-                fitted_deviation_pct: f.deviation_pct,
-                tolerance: f.tolerance.clone(),
-                fitted_verdict: f.verdict,
-            }
-        })
-        .collect();
+    let residuals = |ids: &[String]| -> Vec<Residual> {
+        ids.iter()
+            .map(|id| {
+                let (s, f) = (
+                    start.row(id).expect("reported"),
+                    fitted.row(id).expect("reported"),
+                );
+                Residual {
+                    id: id.clone(),
+                    quantity: f.quantity.clone(),
+                    unit: f.unit.clone(),
+                    paper: f.paper.clone(),
+                    start: s.sortsim,
+                    fitted: f.sortsim,
+                    fitted_deviation_pct: f.deviation_pct,
+                    tolerance: f.tolerance.clone(),
+                    fitted_verdict: f.verdict,
+                }
+            })
+            .collect()
+    };
+    let rows = residuals(&objective.fitting);
+    let held_out = residuals(&objective.held_out);
     let named: Vec<(String, f64)> = spec
         .parameters
         .iter()
@@ -428,10 +479,41 @@ fn fit(
         .and_then(|s| s.as_str())
         .unwrap_or("")
         .to_string();
+    let held_out_text = if held_out.is_empty() {
+        String::new()
+    } else {
+        format!(
+            " Held out of this fit: {}.",
+            held_out
+                .iter()
+                .map(|r| format!(
+                    "{} {} ({})",
+                    r.id,
+                    r.fitted_deviation_pct
+                        .map_or("no number".to_string(), |d| format!("{d:+.1}%")),
+                    r.fitted_verdict.label()
+                ))
+                .collect::<Vec<_>>()
+                .join(", ")
+        )
+    };
+    let mut records: Vec<FitRecord> = match machine.get("fitted_to") {
+        Some(v) => serde_json::from_value(v.clone())
+            .map_err(|e| failed(format!("the machine's fitted_to: {e}")))?,
+        None => Vec::new(),
+    };
+    // A refit from its own output replaces its record rather than repeating it.
+    records.retain(|r| r.spec.as_deref() != Some(objective.spec_name.as_str()));
+    records.push(FitRecord {
+        paper: spec.paper.clone(),
+        rows: objective.fitting.clone(),
+        spec: Some(objective.spec_name.clone()),
+    });
+    machine["fitted_to"] = serde_json::to_value(&records).map_err(|e| failed(e.to_string()))?;
     machine["source"] = format!(
-        "{source} Fitted by sortsim calibrate to paper {} ({}): {}; cost {:.3} (start {:.3}) over {} runs.",
+        "{source} Fitted by sortsim calibrate to paper {} ({}): {}; cost {:.3} (start {:.3}) over {} runs.{held_out_text}",
         spec.paper,
-        spec.targets.join(", "),
+        objective.fitting.join(", "),
         named
             .iter()
             .map(|(n, f)| format!("{n} x{f:.4}"))
@@ -454,8 +536,46 @@ fn fit(
         start_cost,
         fitted_cost,
         rows,
+        held_out,
         fitted_machine,
     })
+}
+
+/// Whether a row may be a target: a refit of a fitted row, a predicted row when told, never
+/// an input or a definition.
+fn check_target_role(r: &Reference, paper: &str, options: &FitOptions) -> Result<(), String> {
+    match r.role {
+        Role::Fitted => Ok(()),
+        Role::Predicted if options.allow_predicted => Ok(()),
+        Role::Predicted => Err(format!(
+            "target {:?} is a predicted row of papers/{paper}.json: fitting to it would turn the \
+             evidence it gives into a fit. Hold it out (--hold-out {}) to see how the fit predicts \
+             it, or pass --allow-predicted and then mark it \"role\": \"fitted\" with the machine \
+             in \"fit\"",
+            r.id, r.id
+        )),
+        Role::Input | Role::Definition => Err(format!(
+            "target {:?} is {} row of papers/{paper}.json (a machine's costs cannot move it); \
+             fit fitted or predicted rows",
+            r.id,
+            if r.role == Role::Input {
+                "an input"
+            } else {
+                "a definition"
+            }
+        )),
+    }
+}
+
+/// The spec's path as a fit record names it: relative to `root/machines` when it lies there.
+fn spec_name(spec_file: &Path, root: &Path) -> String {
+    let machines = root.join("machines");
+    let absolute = |p: &Path| std::fs::canonicalize(p).unwrap_or_else(|_| p.to_path_buf());
+    let (file, machines) = (absolute(spec_file), absolute(&machines));
+    file.strip_prefix(&machines)
+        .unwrap_or(&file)
+        .to_string_lossy()
+        .replace('\\', "/")
 }
 
 /// A fresh temporary folder holding a copy of every bundled machine, deleted when dropped
@@ -521,7 +641,8 @@ mod tests {
 
     fn reference(value: f64, tolerance: Option<Tolerance>, relation: Relation) -> Reference {
         serde_json::from_value::<Reference>(serde_json::json!({
-            "id": "x", "figure": "F", "location": "S", "quantity": "q", "value": value
+            "id": "x", "figure": "F", "location": "S", "quantity": "q", "role": "fitted",
+            "fit": "m.json", "value": value
         }))
         .map(|mut r| {
             r.tolerance = tolerance;

@@ -3,14 +3,21 @@
 //! the words it is quoted from, the tolerance sortsim is held to and, where sortsim is known
 //! to differ, why.
 //!
-//! Owns the file format and how a row prints its claim and deviation. Must never hold a
-//! measured value.
+//! Every row says what it is (`role`): an `input` read back, a `definition` true by
+//! construction, a `fitted` calibration target naming the machine fitted to it, or a
+//! `predicted` number nothing was tuned to. The fitted rows are exactly those that the
+//! bundled machines' `fitted_to` records list, checked at load, so roles cannot drift from
+//! the fits.
+//!
+//! Owns the file format, the roles' consistency with the machines, and how a row prints its
+//! claim and deviation. Must never hold a measured value.
 
 use std::path::Path;
 
-use serde::Deserialize;
+use serde::{Deserialize, Serialize};
 
 use super::{PaperError, PaperId};
+use crate::spec::machine::MachineSpec;
 
 /// A paper's data file.
 #[derive(Clone, Debug, Deserialize)]
@@ -34,6 +41,12 @@ pub struct Reference {
     /// Where the number stands: the section (the plain-text copies carry no page numbers).
     pub location: String,
     pub quantity: String,
+    /// What kind of evidence the row is: only `predicted` rows make a paper's headline.
+    pub role: Role,
+    /// For a `fitted` row: the bundled machine file (in `machines/`) whose `fitted_to`
+    /// records list it. Only fitted rows name one.
+    #[serde(default)]
+    pub fit: Option<String>,
     #[serde(default)]
     pub unit: String,
     /// The paper's number, in `unit`, with the digits the paper prints.
@@ -57,6 +70,33 @@ pub struct Reference {
     /// model difference); printed when the row holds only in shape or differs.
     #[serde(default)]
     pub why: Option<String>,
+}
+
+/// What a row's agreement is evidence of.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, PartialOrd, Ord, Deserialize, Serialize)]
+#[serde(rename_all = "kebab-case")]
+pub enum Role {
+    /// Nothing was tuned to it: the only rows that test the model.
+    Predicted,
+    /// A target a machine's costs were fitted to (by `sortsim calibrate` or by hand).
+    Fitted,
+    /// A parameter read back: a machine or scene was built to this number.
+    Input,
+    /// True by construction: arithmetic of inputs, or the algorithm doing what it is.
+    Definition,
+}
+
+impl Role {
+    pub const ALL: [Role; 4] = [Role::Predicted, Role::Fitted, Role::Input, Role::Definition];
+
+    pub fn label(self) -> &'static str {
+        match self {
+            Role::Predicted => "predicted",
+            Role::Fitted => "fitted",
+            Role::Input => "input",
+            Role::Definition => "definition",
+        }
+    }
 }
 
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Deserialize)]
@@ -161,6 +201,156 @@ pub fn load(root: &Path, id: PaperId) -> Result<PaperData, PaperError> {
                 r.id
             )));
         }
+        match (r.role, &r.fit) {
+            (Role::Fitted, None) => {
+                return Err(fail(format!(
+                    "row {}: a fitted row names the machine fitted to it in \"fit\" (e.g. \"delta.json\")",
+                    r.id
+                )))
+            }
+            (role, Some(_)) if role != Role::Fitted => {
+                return Err(fail(format!(
+                    "row {}: only a fitted row names a \"fit\"; this one is {}",
+                    r.id,
+                    role.label()
+                )))
+            }
+            _ => {}
+        }
     }
+    let fits = machine_fits(&root.join("machines"))?;
+    check_roles(&data, &fits).map_err(fail)?;
     Ok(data)
+}
+
+/// (machine file, paper, row) for every row a bundled machine says it was fitted to.
+pub type FitList = Vec<(String, String, String)>;
+
+/// Reads the `fitted_to` records of every machine in `dir` (not its subfolders: the
+/// intermediate machines under `machines/fits/` are a fit's history, carried forward in the
+/// records of the machine it produced).
+pub fn machine_fits(dir: &Path) -> Result<FitList, PaperError> {
+    let entries = std::fs::read_dir(dir).map_err(|e| PaperError::Data {
+        path: dir.to_path_buf(),
+        message: e.to_string(),
+    })?;
+    let mut files: Vec<_> = entries
+        .filter_map(|e| e.ok().map(|e| e.path()))
+        .filter(|p| p.extension().is_some_and(|x| x == "json"))
+        .collect();
+    files.sort();
+    let mut fits = FitList::new();
+    for path in files {
+        let spec: MachineSpec = crate::spec::load_json(&path).map_err(|e| PaperError::Data {
+            path: path.clone(),
+            message: e.to_string(),
+        })?;
+        let name = path
+            .file_name()
+            .map(|n| n.to_string_lossy().into_owned())
+            .unwrap_or_default();
+        for record in &spec.fitted_to {
+            for row in &record.rows {
+                fits.push((name.clone(), record.paper.clone(), row.clone()));
+            }
+        }
+    }
+    Ok(fits)
+}
+
+/// A row is `fitted`, naming machine M, exactly when M's `fitted_to` lists it: a fit that
+/// used a row the data file calls predicted, or a fitted row no machine was fitted to, is a
+/// mistake in one of the two files.
+pub fn check_roles(data: &PaperData, fits: &FitList) -> Result<(), String> {
+    let listed = |machine: &str, row: &str| {
+        fits.iter()
+            .any(|(m, p, r)| m == machine && p == &data.paper && r == row)
+    };
+    for r in &data.rows {
+        if let (Role::Fitted, Some(machine)) = (r.role, &r.fit) {
+            if !listed(machine, &r.id) {
+                return Err(format!(
+                    "row {} is marked fitted to {machine}, but machines/{machine} lists no fit to it in \"fitted_to\"",
+                    r.id
+                ));
+            }
+        }
+    }
+    for (machine, paper, row) in fits.iter().filter(|(_, p, _)| p == &data.paper) {
+        let Some(r) = data.rows.iter().find(|r| &r.id == row) else {
+            return Err(format!(
+                "machines/{machine} says it was fitted to paper {paper}'s row {row}, which the data file does not list"
+            ));
+        };
+        if r.role != Role::Fitted || r.fit.as_deref() != Some(machine) {
+            return Err(format!(
+                "row {row} is marked {}, but machines/{machine} was fitted to it: mark it \"role\": \"fitted\", \"fit\": \"{machine}\"",
+                r.role.label()
+            ));
+        }
+    }
+    Ok(())
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn data(rows: serde_json::Value) -> PaperData {
+        serde_json::from_value(serde_json::json!({"paper": "002", "title": "t", "rows": rows}))
+            .unwrap()
+    }
+
+    fn row(id: &str, role: &str, fit: Option<&str>) -> serde_json::Value {
+        let mut r = serde_json::json!({"id": id, "figure": "F", "location": "S",
+                                       "quantity": "q", "role": role, "value": 1.0});
+        if let Some(f) = fit {
+            r["fit"] = f.into();
+        }
+        r
+    }
+
+    fn fits(list: &[(&str, &str, &str)]) -> FitList {
+        list.iter()
+            .map(|(m, p, r)| (m.to_string(), p.to_string(), r.to_string()))
+            .collect()
+    }
+
+    #[test]
+    fn roles_agree_with_the_machines_fits_or_the_data_is_refused() {
+        let d = data(serde_json::json!([
+            row("a", "fitted", Some("delta.json")),
+            row("b", "predicted", None)
+        ]));
+        assert!(check_roles(&d, &fits(&[("delta.json", "002", "a")])).is_ok());
+        // Another paper's fits do not concern this one.
+        assert!(check_roles(
+            &d,
+            &fits(&[("delta.json", "002", "a"), ("x.json", "001", "b")])
+        )
+        .is_ok());
+        // A machine fitted to a row the data calls predicted.
+        let e = check_roles(
+            &d,
+            &fits(&[("delta.json", "002", "a"), ("delta.json", "002", "b")]),
+        )
+        .unwrap_err();
+        assert!(e.contains("row b is marked predicted"), "{e}");
+        // A fitted row no machine was fitted to, or fitted to another machine.
+        let e = check_roles(&d, &fits(&[])).unwrap_err();
+        assert!(e.contains("lists no fit to it"), "{e}");
+        let e = check_roles(
+            &d,
+            &fits(&[("delta.json", "002", "a"), ("other.json", "002", "a")]),
+        )
+        .unwrap_err();
+        assert!(e.contains("other.json"), "{e}");
+        // A fit naming a row the paper does not have.
+        let e = check_roles(
+            &d,
+            &fits(&[("delta.json", "002", "a"), ("delta.json", "002", "z")]),
+        )
+        .unwrap_err();
+        assert!(e.contains("row z"), "{e}");
+    }
 }

@@ -25,7 +25,7 @@ use std::path::PathBuf;
 use serde::Serialize;
 
 use crate::report::plot::{ChartOptions, Series};
-pub use data::{PaperData, Reference};
+pub use data::{PaperData, Reference, Role};
 pub use verdict::{judge, Tally, Verdict};
 
 /// One of the four papers sortsim reproduces.
@@ -153,6 +153,10 @@ pub struct RowReport {
     pub location: String,
     pub quantity: String,
     pub unit: String,
+    pub role: Role,
+    /// The machine a fitted row was fitted to.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub fit: Option<String>,
     /// The paper's number or claim as printed ("2.8", "< 5", "0.017 .. 0.030", "shape").
     pub paper: String,
     pub sortsim: Option<f64>,
@@ -170,7 +174,10 @@ pub struct PaperReport {
     pub paper: String,
     pub title: String,
     pub quick: bool,
+    /// The headline: the verdicts of the predicted rows, the only ones that test the model.
     pub tally: Tally,
+    /// Every role's verdicts (predicted, fitted, input, definition; roles without rows left out).
+    pub by_role: BTreeMap<Role, Tally>,
     pub rows: Vec<RowReport>,
     #[serde(skip)]
     pub charts: Vec<Chart>,
@@ -186,6 +193,22 @@ impl PaperReport {
             }
         }
         seen
+    }
+
+    /// "predicted: 12 rows: 3 exact, 5 within tolerance, 2 shape holds, 2 differ; not
+    /// evidence: 7 fitted, 10 input, 4 definition".
+    pub fn headline(&self) -> String {
+        let others: Vec<String> = self
+            .by_role
+            .iter()
+            .filter(|(role, _)| **role != Role::Predicted)
+            .map(|(role, t)| format!("{} {}", t.total(), role.label()))
+            .collect();
+        let mut line = format!("predicted: {}", self.tally.headline());
+        if !others.is_empty() {
+            line.push_str(&format!("; not evidence: {}", others.join(", ")));
+        }
+        line
     }
 
     pub fn row(&self, id: &str) -> Option<&RowReport> {
@@ -252,10 +275,19 @@ fn assemble(
         paper: id.id().to_string(),
         title: data.title.clone(),
         quick: false,
-        tally: Tally::of(rows.iter().map(|r| r.verdict)),
+        tally: tally_of(&rows, Role::Predicted),
+        by_role: Role::ALL
+            .into_iter()
+            .map(|role| (role, tally_of(&rows, role)))
+            .filter(|(_, t)| t.total() > 0)
+            .collect(),
         rows,
         charts: measured.charts,
     })
+}
+
+fn tally_of(rows: &[RowReport], role: Role) -> Tally {
+    Tally::of(rows.iter().filter(|r| r.role == role).map(|r| r.verdict))
 }
 
 fn row_report(reference: &Reference, m: Measured) -> RowReport {
@@ -275,6 +307,8 @@ fn row_report(reference: &Reference, m: Measured) -> RowReport {
         location: reference.location.clone(),
         quantity: reference.quantity.clone(),
         unit: reference.unit.clone(),
+        role: reference.role,
+        fit: reference.fit.clone(),
         paper: reference.claim(),
         sortsim: m.value,
         deviation_pct: m.value.and_then(|v| reference.deviation_pct(v)),

@@ -174,10 +174,12 @@ fn figure_6_rows(root: &Path, data: &PaperData, m: &mut Measurements) -> Result<
     let live = mean(reclaimed.iter().map(|s| pct(s.live_super_pixels, s)));
     m.put(
         "letter-b-reclaimed-share",
-        Measured::value_and_shape(
+        Measured::value(
             live,
-            live < mean(plain.iter().map(|s| pct(s.supersampled_pixels, s))),
-            format!("{note}; the claim: reclaiming lowers the share"),
+            format!(
+                "{note}; without reclaiming {:.2}%",
+                mean(plain.iter().map(|s| pct(s.supersampled_pixels, s)))
+            ),
         ),
     );
     m.put(
@@ -253,25 +255,38 @@ fn figure_6_rows(root: &Path, data: &PaperData, m: &mut Measurements) -> Result<
     });
 
     let many = frames_of(root, "p000-tetra-3000.json")?;
-    let mut steps_ok = true;
-    let mut details = Vec::new();
     let mut most = 0.0f64;
+    let mut runs = Vec::new();
     for reclaim in [false, true] {
         let s = render_adaptive_sequence(&many, reclaim);
-        let sides: Vec<u32> = s.iter().map(|s| s.grid_side).collect();
-        steps_ok &= s[0].grid_side == 4 && s[0].overflowed_pixels > 0;
-        steps_ok &= reclaim || s.get(1).is_some_and(|f| f.grid_side == 2);
-        steps_ok &= s[1..]
-            .iter()
-            .all(|f| f.grid_side < 4 && f.overflowed_pixels == 0);
         most = most.max(
             s[1..]
                 .iter()
                 .map(|f| pct(f.supersampled_pixels, f))
                 .fold(0.0, f64::max),
         );
-        details.push(format!("reclaiming {reclaim}: grids {sides:?}"));
+        runs.push(s);
     }
+    // Section 7.1 renders the 3000 tetrahedra with reclaiming and finds 2 x 2 set: the claim
+    // is checked on that run, the one without reclaiming shown beside it.
+    let with_reclaiming = &runs[1];
+    let steps_ok = with_reclaiming[0].grid_side == 4
+        && with_reclaiming[0].overflowed_pixels > 0
+        && with_reclaiming[1..]
+            .iter()
+            .all(|f| f.grid_side == 2 && f.overflowed_pixels == 0);
+    let details: Vec<String> = runs
+        .iter()
+        .zip([false, true])
+        .map(|(s, reclaim)| {
+            let sides: Vec<u32> = s.iter().map(|f| f.grid_side).collect();
+            let demand = s
+                .iter()
+                .map(|f| pct(f.demand_pixels(), f))
+                .fold(0.0, f64::max);
+            format!("reclaiming {reclaim}: grids {sides:?}, largest demand {demand:.1}% of pixels")
+        })
+        .collect();
     m.put(
         "adaptation-steps-down",
         Measured::shape(steps_ok, details.join("; ")),

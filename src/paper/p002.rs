@@ -532,6 +532,20 @@ fn figure_9_rows(
         ),
     );
     let plb_best = plb.best_rates();
+    m.put(
+        "peak-plb-procs",
+        Measured::value(
+            peak_at(&plb_best) as f64,
+            format!(
+                "best-of-modes frames/s: {}",
+                plb.runs
+                    .iter()
+                    .map(|(n, _)| format!("{n}: {:.1}", 1.0 / frame_s(plb.best(*n).0)))
+                    .collect::<Vec<_>>()
+                    .join(", ")
+            ),
+        ),
+    );
     let falls_after_peak = |rates: &[(u32, f64)]| {
         let top = peak_at(rates);
         top < 512 && rates.iter().any(|r| r.0 < top)
@@ -592,6 +606,18 @@ fn figure_9_rows(
         Measured::value(
             bisection_rate(machine, best_256)? / 1e6,
             format!("polio, 256 processors, two-step {mode_256}: bytes over the run's time, mean over links crossing the middle of the longest side"),
+        ),
+    );
+    let (centre, edge) = centre_and_edge_idle(machine, best_256)?;
+    m.put(
+        "centre-waits-longer",
+        Measured::shape(
+            centre > 1.1 * edge,
+            format!(
+                "polio, 256 processors, two-step {mode_256}: mean idle time (run time less busy time) {:.1} ms in the central quarter, {:.1} ms on the border",
+                centre * 1e3,
+                edge * 1e3
+            ),
         ),
     );
     let (best_128, mode_128) = polio.best(128);
@@ -711,6 +737,36 @@ fn rate_list(rates: &[(u32, f64)], scale: f64) -> String {
         .map(|(n, r)| format!("{n}: {:.2}", r / scale))
         .collect::<Vec<_>>()
         .join(", ")
+}
+
+/// Mean idle seconds (the run's end less the node's busy time) of the nodes in the central
+/// quarter of the mesh (within a quarter of each side from its middle) and of those on its
+/// border.
+fn centre_and_edge_idle(machine: &MachineConfig, r: &RunResult) -> Result<(f64, f64), String> {
+    let procs = r.stats.nodes.len() as u32;
+    let dims = machine.with_nodes(procs)?.network.dims;
+    let coords = |node: u32| {
+        let mut rest = node;
+        dims.iter().map(move |&k| {
+            let c = rest % k;
+            rest /= k;
+            (c, k)
+        })
+    };
+    let central = |node: u32| coords(node).all(|(c, k)| (2 * c + 1).abs_diff(k) <= k / 2);
+    let border = |node: u32| coords(node).any(|(c, k)| c == 0 || c + 1 == k);
+    let end = r.stats.end.as_secs_f64();
+    let idle = |keep: &dyn Fn(u32) -> bool| {
+        mean(
+            r.stats
+                .nodes
+                .iter()
+                .enumerate()
+                .filter(|(i, _)| keep(*i as u32))
+                .map(|(_, n)| end - n.busy().as_secs_f64()),
+        )
+    };
+    Ok((idle(&central), idle(&border)))
 }
 
 /// Mean bytes per second over the links that cross the middle of the partition's longest

@@ -125,6 +125,8 @@ mod tests {
             location: "Section 1".into(),
             quantity: "q".into(),
             unit: "MB".into(),
+            role: crate::paper::Role::Predicted,
+            fit: None,
             value: Some(value),
             relation,
             range: None,

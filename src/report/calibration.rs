@@ -10,7 +10,7 @@ use std::path::Path;
 use super::page::Page;
 use super::plot::PlotError;
 use super::{to_json, write_text};
-use crate::calibrate::Calibration;
+use crate::calibrate::{Calibration, Residual};
 
 pub fn markdown(c: &Calibration) -> String {
     let mut md = format!("# Calibration of {} to paper {}\n\n", c.machine, c.paper);
@@ -23,12 +23,22 @@ pub fn markdown(c: &Calibration) -> String {
     for (name, f) in &c.factors {
         let _ = writeln!(md, "| {name} | {f:.4} |");
     }
-    md.push_str(
-        "\n| target | quantity | paper | start | fitted | deviation | tolerance | verdict |\n",
+    residual_table(&mut md, "target", &c.rows);
+    if !c.held_out.is_empty() {
+        md.push_str("\nHeld out (not in the cost; how the fitted machine predicts them):\n");
+        residual_table(&mut md, "held out", &c.held_out);
+    }
+    md
+}
+
+fn residual_table(md: &mut String, first: &str, rows: &[Residual]) {
+    let _ = writeln!(
+        md,
+        "\n| {first} | quantity | paper | start | fitted | deviation | tolerance | verdict |"
     );
     md.push_str("| --- | --- | ---: | ---: | ---: | ---: | --- | --- |\n");
     let num = |v: Option<f64>| v.map_or("-".to_string(), |v| format!("{v:.4}"));
-    for r in &c.rows {
+    for r in rows {
         let _ = writeln!(
             md,
             "| {} | {} | {} {} | {} | {} | {} | {} | {} |",
@@ -44,7 +54,6 @@ pub fn markdown(c: &Calibration) -> String {
             r.fitted_verdict.label()
         );
     }
-    md
 }
 
 pub fn write(dir: &Path, c: &Calibration) -> Result<(), PlotError> {

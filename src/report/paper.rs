@@ -15,7 +15,7 @@ use maud::{html, Markup};
 use super::page::shell;
 use super::plot::{LineChart, PlotError};
 use super::{to_json, write_text};
-use crate::paper::{PaperReport, RowReport, Verdict};
+use crate::paper::{PaperReport, Role, RowReport, Verdict};
 
 /// Writes one paper's folder: plots, paper.md, paper.json, index.html.
 pub fn write_paper(report: &PaperReport, dir: &Path) -> Result<(), PlotError> {
@@ -44,16 +44,19 @@ pub fn write_overview(reports: &[PaperReport], dir: &Path) -> Result<(), PlotErr
             r.paper,
             r.paper,
             r.title,
-            r.tally.headline()
+            r.headline()
         );
     }
     write_text(dir, "papers.md", &md)?;
     let body = html! {
         h1 { "sortsim and the papers" }
         p { "Each paper's numbers and claims next to what sortsim measures for them. "
-            "Verdicts: exact (the paper's digits), within tolerance, shape holds (the number misses, the claim holds), differs." }
+            "Verdicts: exact (the paper's digits), within tolerance, shape holds (the number misses, the claim holds), differs. "
+            "The verdict columns count the predicted rows, the only ones nothing was tuned to; "
+            "fitted rows (calibration targets), inputs read back and definitions are counted beside them, not as agreement." }
         table {
-            thead { tr { th { "paper" } th { "title" } th { "exact" } th { "within tolerance" } th { "shape holds" } th { "differs" } } }
+            thead { tr { th { "paper" } th { "title" } th { "exact" } th { "within tolerance" } th { "shape holds" } th { "differs" }
+                th { "fitted" } th { "input" } th { "definition" } } }
             tbody {
                 @for r in reports {
                     tr {
@@ -63,6 +66,9 @@ pub fn write_overview(reports: &[PaperReport], dir: &Path) -> Result<(), PlotErr
                         td.num { (r.tally.within_tolerance) }
                         td.num { (r.tally.shape_holds) }
                         td.num { (r.tally.differs) }
+                        td.num { (role_total(r, Role::Fitted)) }
+                        td.num { (role_total(r, Role::Input)) }
+                        td.num { (role_total(r, Role::Definition)) }
                     }
                 }
             }
@@ -75,25 +81,69 @@ pub fn write_overview(reports: &[PaperReport], dir: &Path) -> Result<(), PlotErr
     )
 }
 
+fn role_total(r: &PaperReport, role: Role) -> usize {
+    r.by_role.get(&role).map_or(0, |t| t.total())
+}
+
+/// What each role's rows are, for the reader of a report.
+const ROLES_TEXT: &str =
+    "Roles: predicted (nothing was tuned to the row: the headline counts only these), \
+fitted (a target a machine's costs were fitted to; it names the machine), \
+input (a parameter of a machine or scene read back) and definition (true by construction).";
+
+/// Each role's verdicts, one line each, predicted first.
+fn role_lines(r: &PaperReport) -> Vec<String> {
+    r.by_role
+        .iter()
+        .map(|(role, t)| format!("{}: {}", role.label(), t.headline()))
+        .collect()
+}
+
+/// The fitted rows grouped by the machine fitted to them.
+fn fitted_rows(r: &PaperReport) -> Vec<(&str, Vec<&RowReport>)> {
+    let mut by_machine: Vec<(&str, Vec<&RowReport>)> = Vec::new();
+    for row in r.rows.iter().filter(|row| row.role == Role::Fitted) {
+        let machine = row.fit.as_deref().unwrap_or("");
+        match by_machine.iter_mut().find(|(m, _)| *m == machine) {
+            Some((_, rows)) => rows.push(row),
+            None => by_machine.push((machine, vec![row])),
+        }
+    }
+    by_machine
+}
+
 fn markdown(r: &PaperReport) -> String {
     let mut md = String::new();
     let _ = writeln!(md, "# Paper {}: {}\n", r.paper, r.title);
-    let _ = writeln!(md, "**{}**", r.tally.headline());
+    let _ = writeln!(md, "**{}**\n", r.headline());
+    for line in role_lines(r) {
+        let _ = writeln!(md, "- {line}");
+    }
+    let _ = writeln!(md, "\n{ROLES_TEXT}");
     if r.quick {
         md.push_str("\nQuick run (`--quick`): fewer frames per run than the full report.\n");
+    }
+    let fitted = fitted_rows(r);
+    if !fitted.is_empty() {
+        md.push_str("\nFitted rows (agreement here is the fit, not a prediction):\n\n");
+        for (machine, rows) in &fitted {
+            let ids: Vec<&str> = rows.iter().map(|row| row.id.as_str()).collect();
+            let _ = writeln!(md, "- machines/{machine}: {}", ids.join(", "));
+        }
     }
     for figure in r.figures() {
         let _ = writeln!(md, "\n## {figure}\n");
         md.push_str(
-            "| quantity | where | paper | sortsim | deviation | tolerance | verdict | why |\n",
+            "| quantity | where | role | paper | sortsim | deviation | tolerance | verdict | why |\n",
         );
-        md.push_str("| --- | --- | ---: | ---: | ---: | --- | --- | --- |\n");
+        md.push_str("| --- | --- | --- | ---: | ---: | ---: | --- | --- | --- |\n");
         for row in r.rows.iter().filter(|row| row.figure == figure) {
             let _ = writeln!(
                 md,
-                "| {} | {} | {} | {} | {} | {} | {} | {} |",
+                "| {} | {} | {} | {} | {} | {} | {} | {} | {} |",
                 cell(&row.quantity),
                 row.location,
+                row.role.label(),
                 with_unit(&row.paper, &row.unit),
                 measured(row),
                 deviation(row),
@@ -159,13 +209,23 @@ fn page(r: &PaperReport) -> Markup {
     let body = html! {
         p { a href="../index.html" { "all papers" } }
         h1 { (title) }
-        p.headline { (r.tally.headline()) }
+        p.headline { (r.headline()) }
+        ul { @for line in role_lines(r) { li { (line) } } }
+        p { (ROLES_TEXT) }
         @if r.quick { p { "Quick run (--quick): fewer frames per run than the full report." } }
+        @let fitted = fitted_rows(r);
+        @if !fitted.is_empty() {
+            p { "Fitted rows (agreement here is the fit, not a prediction):" }
+            ul { @for (machine, rows) in &fitted {
+                li { "machines/" (machine) ": "
+                    (rows.iter().map(|row| row.id.as_str()).collect::<Vec<_>>().join(", ")) }
+            } }
+        }
         @for figure in r.figures() {
             h2 { (figure) }
             table {
                 thead { tr {
-                    th { "quantity" } th { "where" } th { "paper" } th { "sortsim" }
+                    th { "quantity" } th { "where" } th { "role" } th { "paper" } th { "sortsim" }
                     th { "deviation" } th { "tolerance" } th { "verdict" } th { "why / how measured" }
                 } }
                 tbody {
@@ -173,6 +233,7 @@ fn page(r: &PaperReport) -> Markup {
                         tr class=(verdict_class(row.verdict)) {
                             td { (row.quantity) }
                             td { (row.location) }
+                            td { (row.role.label()) }
                             td.num { (with_unit(&row.paper, &row.unit)) }
                             td.num { (measured(row)) }
                             td.num { (deviation(row)) }

@@ -25,6 +25,25 @@ pub struct MachineSpec {
     pub cpu: CpuSpec,
     pub memory: MemorySpec,
     pub network: NetworkSpec,
+    /// The paper rows this machine's numbers were fitted to, one record per fit in its
+    /// history (`sortsim calibrate` appends one to the machine it writes). `papers/NNN.json`
+    /// marks exactly these rows `fitted`; `sortsim paper` refuses the two when they disagree.
+    #[serde(default)]
+    pub fitted_to: Vec<FitRecord>,
+}
+
+/// One fit a machine went through.
+#[derive(Deserialize, serde::Serialize, Debug, Clone, schemars::JsonSchema)]
+#[serde(deny_unknown_fields)]
+pub struct FitRecord {
+    /// "000" .. "003".
+    pub paper: String,
+    /// Row ids of `papers/NNN.json` the fit's cost included.
+    pub rows: Vec<String>,
+    /// The calibration spec that reproduces the fit, relative to `machines/`; absent for a
+    /// value chosen by hand, which `source` explains.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub spec: Option<String>,
 }
 
 #[derive(Deserialize, Debug, schemars::JsonSchema)]
