@@ -386,3 +386,92 @@ fn an_unwritable_folder_is_refused_before_anything_runs() {
     );
     assert!(out.stdout.is_empty(), "nothing ran");
 }
+
+/// Runs `sortsim paper all` (quick or full) into `dir`; each paper's rows by id.
+fn all_reports(dir: &Path, quick: bool) -> Vec<(String, Vec<Value>)> {
+    let mut args = vec!["paper", "all", "--jobs", "2", "-o", dir.to_str().unwrap()];
+    if quick {
+        args.push("--quick");
+    }
+    let out = sortsim(&args);
+    assert!(
+        out.status.success(),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    ["000", "001", "002", "003"]
+        .iter()
+        .map(|id| {
+            let json: Value = serde_json::from_str(
+                &std::fs::read_to_string(dir.join(id).join("paper.json")).unwrap(),
+            )
+            .unwrap();
+            (id.to_string(), json["rows"].as_array().unwrap().clone())
+        })
+        .collect()
+}
+
+/// `--quick` runs enough frames that each compared value lies within its row's tolerance of
+/// the full run's (the tolerance's width in the row's unit; a range, half its width; a bound
+/// or a claim, the same verdict), or the row says why it is approximate, and then it really
+/// is (a stale mark would hide the next change that makes quick and full agree or part).
+#[test]
+fn quick_values_are_within_tolerance_of_the_full_runs() {
+    let dir = tempfile::tempdir().unwrap();
+    let quick = all_reports(&dir.path().join("quick"), true);
+    let full = all_reports(&dir.path().join("full"), false);
+    let mut compared = 0;
+    for ((id, quick_rows), (_, full_rows)) in quick.iter().zip(&full) {
+        let data: Value = serde_json::from_str(
+            &std::fs::read_to_string(
+                Path::new(env!("CARGO_MANIFEST_DIR")).join(format!("papers/{id}.json")),
+            )
+            .unwrap(),
+        )
+        .unwrap();
+        for (q, f) in quick_rows.iter().zip(full_rows) {
+            assert_eq!(q["id"], f["id"]);
+            let reference = data["rows"]
+                .as_array()
+                .unwrap()
+                .iter()
+                .find(|r| r["id"] == q["id"])
+                .unwrap();
+            let allowed = match (
+                &reference["tolerance"],
+                reference["value"].as_f64(),
+                reference["range"].as_array(),
+            ) {
+                (t, Some(v), None) if t["relative-pct"].is_f64() || t["relative-pct"].is_u64() => {
+                    Some(t["relative-pct"].as_f64().unwrap() / 100.0 * v.abs())
+                }
+                (t, Some(_), None) if !t["absolute"].is_null() => t["absolute"].as_f64(),
+                (_, None, Some(r)) => Some((r[1].as_f64().unwrap() - r[0].as_f64().unwrap()) / 2.0),
+                _ => None,
+            }
+            .filter(|_| reference["relation"].is_null());
+            let agrees = match (allowed, q["sortsim"].as_f64(), f["sortsim"].as_f64()) {
+                (Some(a), Some(qv), Some(fv)) => (qv - fv).abs() <= a,
+                _ => q["verdict"] == f["verdict"],
+            };
+            let marked = reference["approximate_when_quick"].is_string();
+            assert!(
+                agrees != marked,
+                "paper {id} {}: quick {} ({}), full {} ({}), allowed {allowed:?}; {}",
+                q["id"],
+                q["sortsim"],
+                q["verdict"],
+                f["sortsim"],
+                f["verdict"],
+                if marked {
+                    "marked approximate_when_quick, but they agree: remove the mark"
+                } else {
+                    "give the quick run more frames or mark the row approximate_when_quick"
+                }
+            );
+            assert_eq!(q["approximate"].is_string(), marked, "{}", q["id"]);
+            compared += 1;
+        }
+    }
+    assert!(compared > 200, "{compared} rows compared");
+}

@@ -116,6 +116,7 @@ fn paper_002_standins_match_mean_triangle_area_within_5_percent() {
     for name in [
         "plb-head-standin",
         "polio-standin",
+        "polio-whole-standin",
         "terrain-standin",
         "ct-head-standin",
     ] {
@@ -231,6 +232,7 @@ fn paper_002_standins_overlap_factor_for_256_regions_in_published_range() {
     for name in [
         "plb-head-standin",
         "polio-standin",
+        "polio-whole-standin",
         "terrain-standin",
         "ct-head-standin",
     ] {
@@ -326,4 +328,30 @@ fn paper_001_standins_draw_every_triangle_like_pre_culled_files() {
         let lost = c.culled_backface + c.culled_zero_area;
         assert!(lost * 200 <= r.triangles, "{}: {c:?}", r.scene);
     }
+}
+
+/// The two polio stand-ins share the paper's count (806,640) and mean size (6.7 px) but not
+/// what a frame draws: the close-up's frustum holds the far side of the shell, so fewer than
+/// a fifth of its in-frustum triangles face the eye, while the whole virus in view draws a
+/// third of them (a closed shell seen from 3.2 radii), about six deep. The paper's
+/// triangles per second count the frustum's triangles, so this share sets how much
+/// rasterization and redistribution each counted triangle brings.
+#[test]
+fn the_two_polio_standins_draw_different_shares_of_their_frustum() {
+    use sortsim::scene::stats::rasterized;
+    let share = |name: &str| {
+        let frame = load(name).frame(0).unwrap();
+        let c = rasterized(&frame).counters;
+        let in_frustum = c.triangles_in - c.culled_outside - c.culled_invalid;
+        (
+            c.triangles_set_up as f64 / in_frustum as f64,
+            rasterized(&frame).depth_complexity,
+        )
+    };
+    let (close, close_depth) = share("polio-standin");
+    let (whole, whole_depth) = share("polio-whole-standin");
+    eprintln!("drawn share of the frustum: close-up {close:.3} (depth {close_depth:.2}), whole {whole:.3} (depth {whole_depth:.2})");
+    assert!(close < 0.2, "close-up: {close}");
+    assert!((0.3..0.4).contains(&whole), "whole virus: {whole}");
+    assert!(whole_depth > 5.0 && close_depth < 1.1);
 }

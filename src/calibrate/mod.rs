@@ -243,6 +243,8 @@ struct Objective<'a> {
     work: PathBuf,
     file_name: String,
     evaluations: Mutex<u32>,
+    /// The first experiment failure during the search.
+    failure: Mutex<Option<String>>,
 }
 
 impl Objective<'_> {
@@ -290,8 +292,16 @@ impl CostFunction for Problem<'_, '_> {
         if *o.evaluations.lock().unwrap_or_else(|e| e.into_inner()) >= o.spec.max_evaluations {
             return Ok(f64::INFINITY);
         }
-        let report = o.report(&o.factors(x)).map_err(argmin::core::Error::msg)?;
-        Ok(o.cost_of(&report, self.data))
+        // An experiment that fails ends the fit with its message; argmin's Nelder-Mead
+        // unwraps the cost of some steps, so the failure is kept here and reported after.
+        match o.report(&o.factors(x)) {
+            Ok(report) => Ok(o.cost_of(&report, self.data)),
+            Err(e) => {
+                let mut failure = o.failure.lock().unwrap_or_else(|e| e.into_inner());
+                failure.get_or_insert(e);
+                Ok(f64::INFINITY)
+            }
+        }
     }
 }
 
@@ -395,6 +405,7 @@ pub fn calibrate(
         work: work.clone(),
         file_name,
         evaluations: Mutex::new(0),
+        failure: Mutex::new(None),
     };
     fit(&objective, &data)
 }
@@ -431,6 +442,14 @@ fn fit(
         .configure(|state| state.max_iters(iterations))
         .run()
         .map_err(|e| failed(e.to_string()))?;
+    if let Some(e) = objective
+        .failure
+        .lock()
+        .unwrap_or_else(|e| e.into_inner())
+        .take()
+    {
+        return Err(failed(e));
+    }
     let best = run
         .state()
         .get_best_param()

@@ -66,6 +66,11 @@ pub struct Reference {
     /// The paper's words the value or claim is taken from.
     #[serde(default)]
     pub quote: Option<String>,
+    /// Why `--quick`'s value of this row is not within the row's tolerance of the full
+    /// run's (fewer frames or sampled frames); the quick report marks the row approximate.
+    /// `tests/paper.rs` runs both and holds every other row to its tolerance.
+    #[serde(default)]
+    pub approximate_when_quick: Option<String>,
     /// Why sortsim's number can differ (stand-in scene, a cost the paper does not give, a
     /// model difference); printed when the row holds only in shape or differs.
     #[serde(default)]

@@ -166,6 +166,9 @@ pub struct RowReport {
     /// Why a row holds only in shape or differs; empty when it matches.
     pub why: String,
     pub detail: String,
+    /// Under `--quick`, why this row's value is only approximately the full run's.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub approximate: Option<String>,
 }
 
 /// One paper's side-by-side report.
@@ -246,6 +249,11 @@ pub fn run_paper(id: PaperId, options: &PaperOptions) -> Result<PaperReport, Pap
     })?;
     let mut report = assemble(id, &data, measured)?;
     report.quick = options.quick;
+    if options.quick {
+        for (row, reference) in report.rows.iter_mut().zip(&data.rows) {
+            row.approximate = reference.approximate_when_quick.clone();
+        }
+    }
     Ok(report)
 }
 
@@ -316,6 +324,7 @@ fn row_report(reference: &Reference, m: Measured) -> RowReport {
         verdict,
         why,
         detail: m.detail,
+        approximate: None,
     }
 }
 

@@ -133,6 +133,7 @@ mod tests {
             tolerance,
             decimals: None,
             quote: None,
+            approximate_when_quick: None,
             why: None,
         }
     }

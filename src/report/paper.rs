@@ -149,7 +149,12 @@ fn markdown(r: &PaperReport) -> String {
                 deviation(row),
                 row.tolerance,
                 row.verdict.label(),
-                cell(&row.why)
+                cell(&match &row.approximate {
+                    Some(why) => format!("{} (approximate under --quick: {why})", row.why)
+                        .trim_start()
+                        .to_string(),
+                    None => row.why.clone(),
+                })
             );
         }
     }
@@ -174,14 +179,29 @@ fn with_unit(value: &str, unit: &str) -> String {
     }
 }
 
-/// sortsim's side of a row: its number, or whether the claim holds.
+/// sortsim's side of a row: its number, or whether the claim holds; "≈" when the quick run
+/// only approximates the full one.
 fn measured(row: &RowReport) -> String {
-    match row.sortsim {
+    let mark = if row.approximate.is_some() {
+        "≈ "
+    } else {
+        ""
+    };
+    let value = match row.sortsim {
         Some(v) => with_unit(&significant(v), &row.unit),
         None => match row.verdict {
             Verdict::Differs => "does not hold".to_string(),
             _ => "holds".to_string(),
         },
+    };
+    format!("{mark}{value}")
+}
+
+/// The row's detail, led by the reason when the quick run only approximates the full one.
+fn detail(row: &RowReport) -> String {
+    match &row.approximate {
+        Some(why) => format!("approximate under --quick ({why}); {}", row.detail),
+        None => row.detail.clone(),
     }
 }
 
@@ -241,7 +261,7 @@ fn page(r: &PaperReport) -> Markup {
                             td.verdict { (row.verdict.label()) }
                             td {
                                 @if !row.why.is_empty() { (row.why) br; }
-                                span.detail { (row.detail) }
+                                span.detail { (detail(row)) }
                             }
                         }
                     }

@@ -133,6 +133,16 @@ pub const REFERENCES: &[PaperReference] = &[
         0.05,
     ),
     r(
+        "polio-whole-standin",
+        "002",
+        "Fig. 3: polio, 806,640 triangles, 6.7 px (the whole virus in view)",
+        806_640,
+        true,
+        Some(6.7),
+        None,
+        0.05,
+    ),
+    r(
         "terrain-standin",
         "002",
         "Fig. 8: terrain, 162,690 triangles, 2.8 px, culling off",

@@ -259,8 +259,17 @@ pub enum GeneratorSpec {
         seed: u64,
     },
     /// An icosahedral virus-like shell: geodesic sphere of frequency f (20 f^2 triangles)
-    /// with icosahedrally symmetric bumps.
-    IcosaShell { frequency: u32, bump: f32 },
+    /// with icosahedrally symmetric bumps; with `layers` > 1, that many nested copies, each
+    /// `layer_gap` smaller in radius than the one around it (a capsid's depth complexity
+    /// without its atoms: 20 f^2 * layers triangles).
+    IcosaShell {
+        frequency: u32,
+        bump: f32,
+        #[serde(default = "one_layer")]
+        layers: u32,
+        #[serde(default)]
+        layer_gap: f32,
+    },
     /// A fractal height field on cols x rows quads of the square [-1, 1]^2: 2 * cols * rows
     /// triangles.
     Terrain {
@@ -558,9 +567,22 @@ impl GeneratorSpec {
                 count("rings", *rings, 8, 4096)?;
                 count("segments", *segments, 8, 4096)
             }
-            GeneratorSpec::IcosaShell { frequency, bump } => {
+            GeneratorSpec::IcosaShell {
+                frequency,
+                bump,
+                layers,
+                layer_gap,
+            } => {
                 count("frequency", *frequency, 1, 2048)?;
-                real("bump", *bump as f64, 0.0, 0.5)
+                count("layers", *layers, 1, 64)?;
+                real("bump", *bump as f64, 0.0, 0.5)?;
+                // The innermost layer keeps a positive radius.
+                real(
+                    "layer_gap",
+                    *layer_gap as f64,
+                    0.0,
+                    0.9 / (*layers as f64 - 1.0).max(1.0),
+                )
             }
             GeneratorSpec::Terrain {
                 cols, rows, relief, ..
@@ -655,4 +677,8 @@ fn check_range(
             format!("must be in [{lo}, {hi}], got {v}"),
         ))
     }
+}
+
+fn one_layer() -> u32 {
+    1
 }

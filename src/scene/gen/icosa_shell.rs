@@ -2,7 +2,9 @@
 //! geodesic sphere on the icosahedron of frequency f (each of the 20 faces split into f^2
 //! triangles: 20 f^2 in all) whose radius carries icosahedrally symmetric relief: knobs at
 //! the 12 five-fold axes, ridges around the 20 three-fold axes, and a fine capsomere
-//! ripple, all of height `bump`.
+//! ripple, all of height `bump`. With several layers, nested copies of the shell at radii
+//! 1, 1 - gap, 1 - 2 gap, ...: the overdraw a capsid's folded surface gives (paper 002's
+//! polio draws 806,640 triangles of 6.7 pixels on average, several times the screen).
 //!
 //! Owns this shape only. Must never place or light it.
 
@@ -10,7 +12,23 @@ use glam::Vec3;
 
 use crate::scene::mesh::{FastMap, Mesh};
 
-pub fn build(frequency: u32, bump: f32) -> Mesh {
+pub fn build(frequency: u32, bump: f32, layers: u32, gap: f32) -> Mesh {
+    let shell = one_shell(frequency, bump);
+    if layers <= 1 {
+        return shell;
+    }
+    let mut m = Mesh::new();
+    for layer in 0..layers {
+        let mut copy = shell.clone();
+        copy.transform(glam::Mat4::from_scale(Vec3::splat(
+            1.0 - gap * layer as f32,
+        )));
+        m.append(copy);
+    }
+    m
+}
+
+fn one_shell(frequency: u32, bump: f32) -> Mesh {
     let (corners, faces) = icosahedron();
     let centres: Vec<Vec3> = faces
         .iter()
@@ -89,4 +107,31 @@ fn icosahedron() -> (Vec<Vec3>, Vec<[usize; 3]>) {
         }
     }
     (v, faces)
+}
+
+#[cfg(test)]
+mod layer_tests {
+    use super::*;
+
+    #[test]
+    fn layers_are_nested_copies_each_a_gap_smaller() {
+        let one = build(4, 0.0, 1, 0.0);
+        let three = build(4, 0.0, 3, 0.1);
+        assert_eq!(one.triangles.len(), 20 * 16);
+        assert_eq!(three.triangles.len(), 3 * one.triangles.len());
+        let n = one.positions.len();
+        for (layer, scale) in [(0, 1.0f32), (1, 0.9), (2, 0.8)] {
+            for (p, q) in three.positions[layer * n..(layer + 1) * n]
+                .iter()
+                .zip(&one.positions)
+            {
+                assert!((p.length() - scale * q.length()).abs() < 1e-5);
+            }
+        }
+        // One layer is the plain shell, whatever the gap.
+        assert_eq!(
+            build(4, 0.06, 1, 0.3).positions,
+            build(4, 0.06, 1, 0.0).positions
+        );
+    }
 }

@@ -63,7 +63,12 @@ pub fn build(spec: &GeneratorSpec, ctx: GenContext) -> Mesh {
             segments,
             seed,
         } => head::build(*rings, *segments, *seed),
-        GeneratorSpec::IcosaShell { frequency, bump } => icosa_shell::build(*frequency, *bump),
+        GeneratorSpec::IcosaShell {
+            frequency,
+            bump,
+            layers,
+            layer_gap,
+        } => icosa_shell::build(*frequency, *bump, *layers, *layer_gap),
         GeneratorSpec::Terrain {
             cols,
             rows,
