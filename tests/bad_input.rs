@@ -883,3 +883,48 @@ fn an_unwritable_report_folder_is_refused_before_the_benchmark_runs() {
         assert!(result.stdout.is_empty(), "{args:?} printed a report");
     }
 }
+
+/// Every algorithm names the routes its messages need and is refused before the run on a
+/// machine that cannot carry them (a one-way pipeline has no route back), with the first
+/// pair it lacks; only PixelFlow, which streams one way, runs there.
+#[test]
+fn every_algorithm_is_refused_on_a_network_that_cannot_route_its_messages() {
+    let out_dir = common::scratch("bad-routes");
+    let help = sortsim(&["run", "--help"]);
+    let text = String::from_utf8_lossy(&help.stdout);
+    let mut algos: Vec<&str> = text
+        .split(|c: char| c.is_whitespace() || c == ',' || c == '`')
+        .filter(|w| w.starts_with("sort-") && w.contains('/'))
+        .collect();
+    algos.sort_unstable();
+    algos.dedup();
+    assert!(algos.len() >= 13, "{algos:?}");
+    for algo in algos {
+        let out = sortsim(&[
+            "run",
+            "--machine",
+            "machines/pixelflow-pipeline.json",
+            "--scene",
+            "scenes/spd-teapot.json",
+            "--algo",
+            algo,
+            "--procs",
+            "8",
+            "--no-timeline",
+            "-o",
+            out_dir.to_str().unwrap(),
+        ]);
+        if algo == "sort-last/pixelflow" {
+            assert!(out.status.success(), "{algo}");
+            std::fs::remove_dir_all(&*out_dir).unwrap();
+            continue;
+        }
+        let fragment = if algo == "sort-last/snooping" {
+            "needs a broadcast medium"
+        } else {
+            "sends from node 1 to node 0, but machine 'pixelflow-pipeline' (pipeline) has no route"
+        };
+        common::assert_refused(&out, algo, fragment);
+        assert!(!out_dir.exists(), "{algo}: nothing written");
+    }
+}

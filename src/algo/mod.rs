@@ -12,6 +12,7 @@ mod frames;
 pub mod options;
 pub mod primitives;
 pub mod reference;
+mod routes;
 pub mod sort_first;
 pub mod sort_last;
 pub mod sort_middle;

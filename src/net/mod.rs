@@ -289,6 +289,11 @@ impl Network {
         self.topology.nodes()
     }
 
+    /// Whether every ordered pair of nodes has a route (see [`Network::can_route`]).
+    pub fn routes_every_pair(&self) -> bool {
+        self.topology.routes_every_pair()
+    }
+
     /// Only a bus reaches every node with one transmission.
     pub fn supports_broadcast(&self) -> bool {
         self.topology.broadcast_link().is_some()

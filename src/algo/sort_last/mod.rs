@@ -57,7 +57,6 @@ use super::primitives::{deal, shares, Deal};
 use super::{bad_option as bad, simulate, RunConfig, RunError, RunResult};
 use crate::engine::{Node, Payload, SimError};
 use crate::machine::{Counts, Op};
-use crate::net::Network;
 use crate::raster::aa::{downsample, AaMethod, PIXEL_BYTES};
 use crate::raster::{Framebuffer, RasterOptions, VertexCache, Viewport};
 use crate::scene::FrameGeometry;
@@ -426,7 +425,7 @@ fn partners(variant: Variant, n: u32, radices: &[u32]) -> Vec<(u32, u32)> {
 fn requirements(cfg: &RunConfig, settings: &Settings) -> Result<(), RunError> {
     let variant = settings.variant;
     let m = &cfg.machine;
-    let net = Network::new(&m.network).map_err(|e| RunError::Unsupported(e.to_string()))?;
+    let net = super::routes::network(cfg)?;
     if variant.needs_pipeline() {
         if let Some(i) = (0..m.nodes.saturating_sub(1)).find(|&i| net.hops(i, i + 1) != 1) {
             return Err(RunError::Unsupported(format!(
@@ -440,17 +439,16 @@ fn requirements(cfg: &RunConfig, settings: &Settings) -> Result<(), RunError> {
             )));
         }
     }
-    if let Some((from, to)) = partners(variant, m.nodes, &settings.radices)
-        .into_iter()
-        .find(|&(a, b)| !net.can_route(a, b))
-    {
-        return Err(RunError::Unsupported(format!(
-            "{} sends from node {from} to node {to}, but machine '{}' ({}) has no route \
-             between them; use a torus, mesh, hypercube, crossbar, bus or ring",
-            cfg.algo.id(),
-            m.name,
-            m.network.topology.name()
-        )));
+    let request = matches!(settings.assignment, Assignment::Request { .. });
+    match variant {
+        // Pixels go to the owners of their scanlines, band requests to every node, credits
+        // back up the pipelines and each frame's start from the image holder to every node;
+        // a work packet goes back to whichever node asked around the ring.
+        Variant::DirectSend | Variant::Df | Variant::Pc | Variant::ScanlineFlow => {
+            super::routes::require_all_pairs(cfg, &net)?
+        }
+        _ if request => super::routes::require_all_pairs(cfg, &net)?,
+        _ => super::routes::require(cfg, &net, partners(variant, m.nodes, &settings.radices))?,
     }
     if variant == Variant::Snooping && !net.supports_broadcast() {
         return Err(RunError::Unsupported(format!(

@@ -726,6 +726,8 @@ pub fn check(cfg: &RunConfig, variant: Variant) -> Result<(), RunError> {
 
 /// Runs a sort-middle variant.
 pub fn run(cfg: &RunConfig, variant: Variant) -> Result<RunResult, RunError> {
+    // Any processor may own a region any other one's triangles touch.
+    super::routes::require_all_pairs(cfg, &super::routes::network(cfg)?)?;
     let first = cfg.scene.frame(cfg.frames.start)?;
     let viewport = super::reference::viewport(&first);
     let settings = settings(cfg, variant, viewport)?;

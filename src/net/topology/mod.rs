@@ -78,6 +78,11 @@ pub trait Topology: Send + Sync {
         1
     }
     fn bisection_width(&self) -> u32;
+    /// Whether every ordered pair of nodes has a route (only a pipeline of two or more
+    /// nodes lacks some: it runs one way).
+    fn routes_every_pair(&self) -> bool {
+        true
+    }
     /// The link a broadcast uses, if the topology has one.
     fn broadcast_link(&self) -> Option<LinkId> {
         None

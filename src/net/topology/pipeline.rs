@@ -22,6 +22,9 @@ impl Topology for Pipeline {
     fn kind(&self) -> TopologyKind {
         TopologyKind::Pipeline
     }
+    fn routes_every_pair(&self) -> bool {
+        self.nodes <= 1
+    }
     fn nodes(&self) -> u32 {
         self.nodes
     }
