@@ -57,7 +57,9 @@ fn triangle_counts_follow_the_stated_formulas() {
     assert_eq!(
         count(G::IcosaShell {
             frequency: 7,
-            bump: 0.05
+            bump: 0.05,
+            layers: 1,
+            layer_gap: 0.0,
         }),
         20 * 49
     );
@@ -206,6 +208,8 @@ fn closed_solids_face_outward_and_height_fields_face_up() {
         G::IcosaShell {
             frequency: 4,
             bump: 0.05,
+            layers: 3,
+            layer_gap: 0.1,
         },
         G::LetterB {
             segments: 8,
