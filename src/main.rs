@@ -76,9 +76,10 @@ impl From<RunError> for Failure {
     }
 }
 
-/// A machine too small for the run (memory) is the user's to fix; a deadlock is ours.
+/// A machine too small for the run (memory) or too slow for simulated time to hold it is the
+/// user's to fix; a deadlock is ours.
 fn is_internal(e: &RunError) -> bool {
-    matches!(e, RunError::Sim(s) if !matches!(s, SimError::Memory { .. }))
+    matches!(e, RunError::Sim(s) if !matches!(s, SimError::Memory { .. } | SimError::TimeOverflow { .. }))
 }
 
 impl From<sortsim::engine::SimError> for Failure {

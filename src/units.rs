@@ -47,6 +47,9 @@ impl SimTime {
     pub fn saturating_sub(self, other: SimTime) -> SimTime {
         SimTime(self.0.saturating_sub(other.0))
     }
+    pub fn saturating_add(self, other: SimTime) -> SimTime {
+        SimTime(self.0.saturating_add(other.0))
+    }
     pub fn checked_add(self, other: SimTime) -> Option<SimTime> {
         self.0.checked_add(other.0).map(SimTime)
     }

@@ -928,3 +928,46 @@ fn every_algorithm_is_refused_on_a_network_that_cannot_route_its_messages() {
         assert!(!out_dir.exists(), "{algo}: nothing written");
     }
 }
+
+/// Costs so large that simulated time would pass u64 picoseconds (213 days) are refused
+/// where the charge is made, naming the phase and the cost behind it: exit 2, nothing
+/// written, no panic.
+#[test]
+fn a_charge_past_the_largest_simulated_time_is_refused_naming_its_cost() {
+    let out_dir = common::scratch("bad-overflow");
+    let cases = [
+        (
+            "machine.cpu.send_overhead=18000000s",
+            "(a message's cpu.send_overhead or cpu.recv_overhead and its per-byte cost) would end past the largest simulated time",
+        ),
+        (
+            "machine.cpu.costs.pixel_test=100000s",
+            "x pixel_test at 100000s each) would end past the largest simulated time",
+        ),
+        (
+            "machine.cpu.costs.transform_vertex=18000000s",
+            "x transform_vertex at 18000000s each) would end past the largest simulated time",
+        ),
+    ];
+    for (set, fragment) in cases {
+        let out = sortsim(&[
+            "run",
+            "--machine",
+            "machines/delta.json",
+            "--scene",
+            "scenes/plb-head-standin.json",
+            "--algo",
+            "sort-middle/ellsworth",
+            "--procs",
+            "8",
+            "--frames",
+            "0..1",
+            "--set",
+            set,
+            "-o",
+            out_dir.to_str().unwrap(),
+        ]);
+        common::assert_refused(&out, set, fragment);
+        assert!(!out_dir.exists(), "{set}: nothing written");
+    }
+}

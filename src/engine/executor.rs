@@ -42,6 +42,16 @@ pub enum SimError {
         seed: u64,
         source: MemError,
     },
+    /// A charge past the largest simulated time: the machine's costs are too large for the
+    /// run (the user's to fix, like a memory pool too small).
+    #[error("program '{program}' on node {node} at {at} (seed {seed}): {message}")]
+    TimeOverflow {
+        program: String,
+        node: NodeId,
+        at: SimTime,
+        seed: u64,
+        message: String,
+    },
     #[error("program '{program}' on node {node} failed at {at} (seed {seed}): {message}")]
     Program {
         program: String,
@@ -155,6 +165,11 @@ pub(super) struct State<M> {
     pub events: u64,
     /// Cpu spans, when the run records a timeline (off by default: it costs memory).
     timeline: Option<Vec<CpuSpan>>,
+    /// A charge that would end past the largest simulated time: the run stops with it at the
+    /// next step, as the charging program cannot return an error from inside `compute`.
+    overflow: Option<SimError>,
+    /// What made the charge `compute` is about to reserve too long, when it was.
+    pub overflow_cause: Option<String>,
 }
 
 impl<M: Payload> State<M> {
@@ -171,9 +186,33 @@ impl<M: Payload> State<M> {
     pub fn reserve_cpu(&mut self, node: NodeId, t: SimTime, comm: bool) -> SimTime {
         let phase = self.programs[self.current as usize].phase;
         let now = self.now;
+        let start = self.nodes[node as usize].cpu_free_at.max(now);
+        // SimTime::MAX is also what an overflowing cost-table charge saturates to.
+        let Some(end) = start.checked_add(t).filter(|_| t < SimTime::MAX) else {
+            if self.overflow.is_none() {
+                let meta = &self.programs[self.current as usize];
+                self.overflow = Some(SimError::TimeOverflow {
+                    program: meta.name.clone(),
+                    node: meta.node,
+                    at: now,
+                    seed: self.seed,
+                    message: format!(
+                    "a charge to the cpu in phase '{phase}' of {} ({}) would end past the \
+                     largest simulated time, {} (u64 picoseconds); the machine's costs are too \
+                     large for this run",
+                    if t == SimTime::MAX { "more than that".to_string() } else { t.to_string() },
+                    match (comm, self.overflow_cause.take()) {
+                        (true, _) => "a message's cpu.send_overhead or cpu.recv_overhead and its per-byte cost".to_string(),
+                        (false, Some(cause)) => cause,
+                        (false, None) => "work on the cpu".to_string(),
+                    },
+                    SimTime::MAX
+                ),
+                });
+            }
+            return SimTime::MAX;
+        };
         let n = &mut self.nodes[node as usize];
-        let start = n.cpu_free_at.max(now);
-        let end = start + t;
         n.cpu_free_at = end;
         n.stats.charge(phase, t);
         if comm {
@@ -371,6 +410,8 @@ impl<M: Payload> Sim<M> {
             delivered: Vec::new(),
             events: 0,
             timeline: None,
+            overflow: None,
+            overflow_cause: None,
         };
         Sim {
             state: Rc::new(RefCell::new(state)),
@@ -480,7 +521,11 @@ impl<M: Payload> Sim<M> {
             let Some(program) = self.programs[p as usize].as_mut() else {
                 continue;
             };
-            if let Poll::Ready(result) = program.as_mut().poll(&mut cx) {
+            let done = program.as_mut().poll(&mut cx);
+            if let Some(overflow) = self.state.borrow_mut().overflow.take() {
+                return Err(overflow);
+            }
+            if let Poll::Ready(result) = done {
                 self.programs[p as usize] = None;
                 self.finished(p);
                 result?;

@@ -127,7 +127,15 @@ impl<M: Payload> Node<M> {
 
     /// Occupies this node's cpu for the cost of `counts` under the machine's cost table.
     pub fn compute(&self, counts: &Counts) -> Until<'_, M> {
-        let t = self.st.borrow().cpu.costs.time(counts);
+        let t = {
+            let mut st = self.st.borrow_mut();
+            let t = st.cpu.costs.time(counts);
+            if t == SimTime::MAX {
+                let cause = st.cpu.costs.largest_term(counts);
+                st.overflow_cause = Some(cause);
+            }
+            t
+        };
         self.compute_for(t)
     }
 

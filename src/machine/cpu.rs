@@ -121,7 +121,8 @@ impl CostTable {
     pub fn get(&self, op: Op) -> SimTime {
         self.per_op[op as usize]
     }
-    /// The time to perform `counts`.
+    /// The time to perform `counts`; `SimTime::MAX` when that passes the largest simulated
+    /// time (the engine refuses such a charge).
     pub fn time(&self, counts: &Counts) -> SimTime {
         let ps: u128 = self
             .per_op
@@ -129,7 +130,20 @@ impl CostTable {
             .zip(counts.n.iter())
             .map(|(c, &n)| c.ps() as u128 * n as u128)
             .sum();
-        SimTime::from_ps(u64::try_from(ps).expect("a charged duration overflowed u64 picoseconds"))
+        SimTime::from_ps(u64::try_from(ps).unwrap_or(u64::MAX))
+    }
+}
+
+impl CostTable {
+    /// The operation that contributes most to `counts`' time, as "N x op at COST each" (what
+    /// an over-long charge names).
+    pub fn largest_term(&self, counts: &Counts) -> String {
+        let (op, n, cost) = Op::ALL
+            .iter()
+            .map(|&op| (op, counts.n[op as usize], self.get(op)))
+            .max_by_key(|&(_, n, cost)| cost.ps() as u128 * n as u128)
+            .expect("Op::ALL is not empty");
+        format!("{n} x {} at {cost} each", op.name())
     }
 }
 
@@ -183,10 +197,13 @@ pub struct CpuConfig {
 
 impl CpuConfig {
     pub fn send_cost(&self, bytes: Bytes) -> SimTime {
-        self.send_overhead + self.send_per_byte.times(bytes.get())
+        // Saturates: the engine refuses a charge of SimTime::MAX by name.
+        self.send_overhead
+            .saturating_add(self.send_per_byte.times(bytes.get()))
     }
     pub fn recv_cost(&self, bytes: Bytes) -> SimTime {
-        self.recv_overhead + self.recv_per_byte.times(bytes.get())
+        self.recv_overhead
+            .saturating_add(self.recv_per_byte.times(bytes.get()))
     }
 }
 

@@ -524,7 +524,9 @@ fn run_point(
         Ok(r) => r,
         Err(e) => {
             let kind = match &e {
-                RunError::Sim(SimError::Memory { .. }) => FailureKind::Machine,
+                RunError::Sim(SimError::Memory { .. } | SimError::TimeOverflow { .. }) => {
+                    FailureKind::Machine
+                }
                 RunError::Sim(_) => FailureKind::Internal,
                 RunError::Option(_) | RunError::Scene(_) | RunError::Unsupported(_) => {
                     FailureKind::BadInput
