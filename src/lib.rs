@@ -22,6 +22,7 @@ pub mod algo;
 pub mod bench;
 pub mod calibrate;
 pub mod engine;
+pub mod limits;
 pub mod machine;
 pub mod net;
 pub mod paper;

@@ -118,6 +118,27 @@ fn every_bad_pattern_is_refused_and_writes_nothing() {
 fn bad_flags_are_refused_with_exit_code_2() {
     let cases: &[(&[&str], &str)] = &[
         (&["bench", "phold", "--remote", "1.5"], "not a probability"),
+        // Sizes refused before anything is allocated (sortsim::limits).
+        (
+            &["utilization", "scenes/plb-head-standin.json", "--procs", "1..4294967295", "--frames", "0..2"],
+            "--procs: '1..4294967295' has 4294967295 values; the limit is 4096",
+        ),
+        (
+            &["utilization", "scenes/plb-head-standin.json", "--procs", "1..100000000:7", "--frames", "0..1"],
+            "has 14285715 values; the limit is 4096",
+        ),
+        (
+            &["utilization", "scenes/plb-head-standin.json", "--procs", "1,2,...,1000000", "--frames", "0..1"],
+            "has 1000000 values; the limit is 4096",
+        ),
+        (
+            &["utilization", "scenes/plb-head-standin.json", "--procs", "4000000", "--frames", "0..1"],
+            "4000000 processors; at most 1048576",
+        ),
+        (
+            &["utilization", "scenes/plb-head-standin.json", "--procs", "8", "--granularity", "1..99999"],
+            "--granularity: '1..99999' has 99999 values; the limit is 4096",
+        ),
         (
             &[
                 "run", "--machine", "machines/delta.json", "--scene", "scenes/spd-teapot.json",

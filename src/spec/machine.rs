@@ -151,9 +151,7 @@ pub fn load_machine(path: &Path) -> Result<MachineConfig, SpecError> {
     validate(path, spec)
 }
 
-/// The most nodes a machine may have: every node and link is host memory, allocated when the
-/// network is built.
-pub const MAX_NODES: u32 = 1 << 20;
+pub use crate::limits::MAX_NODES;
 
 /// Host memory of a node's network state, as measured (`sortsim check` on a 2^20-node ring:
 /// 310 MB); for the refusal's estimate only.

@@ -184,6 +184,26 @@ impl Sweep {
     pub fn new(file: &Path, spec: SweepSpec) -> Result<Sweep, SpecError> {
         let dims = dims(file, &spec)?;
         validate_values(file, &spec)?;
+        let count = dims
+            .iter()
+            .fold(1u128, |n, d| n.saturating_mul(d.values.len() as u128));
+        if count > u128::from(crate::limits::MAX_SWEEP_POINTS) {
+            return Err(SpecError::invalid(
+                file,
+                dims.iter()
+                    .max_by_key(|d| d.values.len())
+                    .map_or("".to_string(), |d| d.key.clone()),
+                format!(
+                    "this sweep has {count} points ({}); the limit is {} \
+                     (sortsim::limits::MAX_SWEEP_POINTS)",
+                    dims.iter()
+                        .map(|d| format!("{} {}", d.values.len(), d.key))
+                        .collect::<Vec<_>>()
+                        .join(" x "),
+                    crate::limits::MAX_SWEEP_POINTS
+                ),
+            ));
+        }
         let mut points: Vec<Point> = product(&dims)
             .into_iter()
             .map(|values| point(file, &spec, &dims, values, true))

@@ -112,8 +112,15 @@ impl Config {
             }
             Ok(v)
         };
+        let procs = clean("--procs", procs, false)?;
+        if let Some(&n) = procs.last().filter(|&&n| n > crate::limits::MAX_NODES) {
+            return Err(UtilizationError::Invalid(format!(
+                "--procs: {n} processors; at most {} (sortsim::limits::MAX_NODES)",
+                crate::limits::MAX_NODES
+            )));
+        }
         Ok(Config {
-            procs: clean("--procs", procs, false)?,
+            procs,
             granularities: clean("--granularity", granularities, false)?,
             frames: clean("--frames", frames, true)?,
             buffer: Bytes::new(4096),
@@ -823,12 +830,17 @@ pub fn parse_list(text: &str) -> Result<Vec<u32>, String> {
             number(items[i - 1])?,
             number(items[i + 1])?,
         );
+        if b > a && z >= b {
+            // At most this many (an arithmetic series); a geometric one has fewer.
+            crate::limits::check_list(text, u64::from(z - a) / u64::from(b - a) + 1)?;
+        }
         out.extend(
             series(a, b, z).ok_or_else(|| format!("'{text}': {a},{b},... never reaches {z}"))?,
         );
     } else {
         for item in items {
             out.extend(parse_item(item)?);
+            crate::limits::check_list(text, out.len() as u64)?;
         }
     }
     if out.is_empty() {
@@ -873,6 +885,7 @@ fn parse_item(item: &str) -> Result<Vec<u32>, String> {
         if s == 0 {
             return Err(format!("'{item}': a step of 0"));
         }
+        crate::limits::check_list(item, u64::from(b - a) / u64::from(s) + 1)?;
         v.extend((a..=b).step_by(s as usize));
     }
     Ok(v)
@@ -1025,6 +1038,17 @@ mod tests {
         assert!(parse_list("3..1").is_err());
         assert!(parse_list("a").is_err());
         assert!(parse_list("2,4,...,9").is_err());
+        // Refused before expanding: a range, a stepped range, a series, a long list.
+        for big in [
+            "1..4294967295",
+            "0..4294967295:2",
+            "1,2,...,100000",
+            "1..4096, 5000..9000",
+        ] {
+            let e = parse_list(big).unwrap_err();
+            assert!(e.contains("the limit is 4096"), "{big}: {e}");
+        }
+        assert_eq!(parse_list("1..4096").unwrap().len(), 4096);
         assert!(parse_list("1..4:0").is_err());
     }
 

@@ -1,0 +1,28 @@
+//! The resource budgets every command checks before it allocates or loops, in one place, so
+//! that a mistyped size gets a refusal naming the limit within a second instead of an abort
+//! or an hour of work. Each limit is far above what the papers' experiments use.
+//!
+//! Owns the numbers and the wording of a refusal. Must never be bypassed by a command that
+//! sizes something from input.
+
+/// The most nodes a machine may have, or a utilization run may simulate: every node and link
+/// is host memory, allocated when the network is built (about 300 B a node).
+pub const MAX_NODES: u32 = 1 << 20;
+
+/// The most values a command-line list (`--procs 1..64`, `--granularity 2,4,...,12`,
+/// `--frames`) may expand to.
+pub const MAX_LIST_ITEMS: u64 = 4096;
+
+/// Refuses a list of `count` values: "'1..4294967295' has 4294967295 values; the limit is
+/// 4096".
+pub fn check_list(text: &str, count: u64) -> Result<(), String> {
+    if count > MAX_LIST_ITEMS {
+        return Err(format!(
+            "'{text}' has {count} values; the limit is {MAX_LIST_ITEMS} (sortsim::limits::MAX_LIST_ITEMS)"
+        ));
+    }
+    Ok(())
+}
+
+/// The most points (simulations) a sweep may list.
+pub const MAX_SWEEP_POINTS: u64 = 1_000_000;
