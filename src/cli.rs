@@ -47,10 +47,10 @@ pub enum Command {
     )]
     Render {
         scene: PathBuf,
-        #[arg(long, default_value_t = 0)]
+        #[arg(long, default_value_t = 0, allow_negative_numbers = true)]
         frame: u32,
         /// PNG file to write.
-        #[arg(short, long, value_name = "PNG")]
+        #[arg(short, long, value_name = "PNG", allow_negative_numbers = true)]
         out: PathBuf,
     },
     /// Statistics of a scene's frames next to the paper's numbers (JSON with --json).
@@ -60,13 +60,13 @@ pub enum Command {
     SceneStats {
         scene: PathBuf,
         /// "A..B" or "A"; frame 0 when absent.
-        #[arg(long)]
+        #[arg(long, allow_negative_numbers = true)]
         frames: Option<String>,
         /// Region size for the overlap factor, WxH pixels.
-        #[arg(long, value_parser = region_size)]
+        #[arg(long, value_parser = region_size, allow_negative_numbers = true)]
         regions: Option<(u32, u32)>,
         /// Print JSON, one object per frame.
-        #[arg(long)]
+        #[arg(long, allow_negative_numbers = true)]
         json: bool,
     },
     /// Run every point of a sweep spec in parallel; write sweep.csv, sweep.json and plots.
@@ -135,10 +135,10 @@ pub enum TraceCommand {
     )]
     Record {
         scene: PathBuf,
-        #[arg(long, default_value_t = 0)]
+        #[arg(long, default_value_t = 0, allow_negative_numbers = true)]
         frame: u32,
         /// Trace file to write.
-        #[arg(short, long, value_name = "TRACE")]
+        #[arg(short, long, value_name = "TRACE", allow_negative_numbers = true)]
         out: PathBuf,
     },
     /// Count the merge traffic of direct send, PixelFlow and distributed snooping on n
@@ -157,23 +157,29 @@ pub struct TraceReplayArgs {
         long,
         value_enum,
         value_delimiter = ',',
-        default_value = "direct-send,pixelflow,snooping"
+        default_value = "direct-send,pixelflow,snooping",
+        allow_negative_numbers = true
     )]
     pub algo: Vec<MergeAlgoArg>,
     /// Processor counts: 1,2,4,...,64 (geometric), 1..16 (both ends), 8,64.
-    #[arg(long, default_value = "1,2,4,...,64")]
+    #[arg(long, default_value = "1,2,4,...,64", allow_negative_numbers = true)]
     pub procs: String,
     /// Primitive assignment: round-robin in database order, seeded random, or round-robin
     /// with the largest primitive given last to the last processor.
-    #[arg(long, value_enum, default_value = "scatter")]
+    #[arg(
+        long,
+        value_enum,
+        default_value = "scatter",
+        allow_negative_numbers = true
+    )]
     pub assign: AssignArg,
-    #[arg(long, default_value_t = 1)]
+    #[arg(long, default_value_t = 1, allow_negative_numbers = true)]
     pub seed: u64,
     /// Direct send z-buffers each processor's fragments first and sends only active pixels.
     #[arg(long)]
     pub local_zbuffer: bool,
     /// Also write DIR/replay.csv, replay.json and the paper 003 Figure 5/6 style plots.
-    #[arg(short, long, value_name = "DIR")]
+    #[arg(short, long, value_name = "DIR", allow_negative_numbers = true)]
     pub out: Option<PathBuf>,
 }
 
@@ -199,28 +205,33 @@ pub struct UtilizationArgs {
     /// Scene with a viewing sequence.
     pub scene: PathBuf,
     /// Machine whose cpu costs price the region times (machines/delta.json when absent).
-    #[arg(long)]
+    #[arg(long, allow_negative_numbers = true)]
     pub machine: Option<PathBuf>,
     /// Processor counts: a list such as 2,4,...,512 (geometric), 2..512:x2, 8,64,512 or 1..16
     /// (ranges here include both ends).
-    #[arg(long, default_value = "2,4,...,512")]
+    #[arg(long, default_value = "2,4,...,512", allow_negative_numbers = true)]
     pub procs: String,
     /// Granularity ratios (regions per processor): 1..12 (both ends included), 1,2,4,8,12,
     /// 2..12:2.
-    #[arg(long, default_value = "1..12")]
+    #[arg(long, default_value = "1..12", allow_negative_numbers = true)]
     pub granularity: String,
     /// Whose polygon counts drive the assignment: this frame's, the previous frame's, or both.
-    #[arg(long, value_enum, default_value = "both")]
+    #[arg(
+        long,
+        value_enum,
+        default_value = "both",
+        allow_negative_numbers = true
+    )]
     pub counts: CountsArg,
     /// "A..B" (B excluded) or "A"; all frames when absent.
-    #[arg(long)]
+    #[arg(long, allow_negative_numbers = true)]
     pub frames: Option<String>,
     /// Sample every K-th frame of the range (the previous frame's counts are still those of
     /// the frame just before each sampled one).
-    #[arg(long, default_value_t = 1, value_parser = clap::value_parser!(u32).range(1..))]
+    #[arg(long, default_value_t = 1, value_parser = clap::value_parser!(u32).range(1..), allow_negative_numbers = true)]
     pub frame_step: u32,
     /// Also write DIR/utilization.csv, utilization.json and the Figure 4 and 5 plots.
-    #[arg(short, long, value_name = "DIR")]
+    #[arg(short, long, value_name = "DIR", allow_negative_numbers = true)]
     pub out: Option<PathBuf>,
 }
 
@@ -233,29 +244,35 @@ pub enum CountsArg {
 
 #[derive(Args, Debug)]
 pub struct RunArgs {
-    #[arg(long)]
+    #[arg(long, allow_negative_numbers = true)]
     pub machine: PathBuf,
-    #[arg(long)]
+    #[arg(long, allow_negative_numbers = true)]
     pub scene: PathBuf,
     /// Algorithm id: sort-middle/static, sort-middle/ellsworth, sort-last/df, sort-last/pc,
     /// sort-last/scanline-flow, sort-last/pixelflow, sort-last/direct-send, sort-last/snooping.
-    #[arg(long)]
+    #[arg(long, allow_negative_numbers = true)]
     pub algo: String,
-    #[arg(long)]
+    #[arg(long, allow_negative_numbers = true)]
     pub procs: u32,
     /// "A..B" (B excluded) or "A"; all frames when absent.
-    #[arg(long)]
+    #[arg(long, allow_negative_numbers = true)]
     pub frames: Option<String>,
     /// key=value: an algorithm option (granularity=8) or a machine field (machine.network.fidelity=packet).
-    #[arg(long = "set", value_name = "KEY=VALUE")]
+    #[arg(long = "set", value_name = "KEY=VALUE", allow_negative_numbers = true)]
     pub set: Vec<String>,
-    #[arg(long, default_value_t = 1)]
+    #[arg(long, default_value_t = 1, allow_negative_numbers = true)]
     pub seed: u64,
     /// Skip timeline.json (recording it costs host memory on large runs).
     #[arg(long)]
     pub no_timeline: bool,
     /// Report folder (summary.json, summary.md, cost.json, timeline.json, frame PNG).
-    #[arg(short, long, value_name = "DIR", default_value = "reports/run")]
+    #[arg(
+        short,
+        long,
+        value_name = "DIR",
+        default_value = "reports/run",
+        allow_negative_numbers = true
+    )]
     pub out: PathBuf,
 }
 
@@ -264,24 +281,25 @@ pub struct AccuracyArgs {
     /// Scene spec; its last frame in --frames is the one compared with the reference.
     pub scene: PathBuf,
     /// Machine spec (its network fidelity is the one the modes run at).
-    #[arg(long)]
+    #[arg(long, allow_negative_numbers = true)]
     pub machine: PathBuf,
     /// Algorithm id: sort-middle/static, sort-middle/ellsworth, sort-last/df, sort-last/pc,
     /// sort-last/scanline-flow, sort-last/pixelflow, sort-last/direct-send, sort-last/snooping.
-    #[arg(long)]
+    #[arg(long, allow_negative_numbers = true)]
     pub algo: String,
     /// Processors the run uses.
-    #[arg(long)]
+    #[arg(long, allow_negative_numbers = true)]
     pub procs: u32,
     /// "A..B" (B excluded) or "A"; all frames when absent. Images are compared on the last.
-    #[arg(long)]
+    #[arg(long, allow_negative_numbers = true)]
     pub frames: Option<String>,
     /// Anti-aliasing modes, comma-separated: none, adaptive, supersample:N.
     #[arg(
         long,
         value_delimiter = ',',
         default_value = "none,adaptive,supersample:16",
-        value_parser = aa_mode
+        value_parser = aa_mode,
+        allow_negative_numbers = true,
     )]
     pub modes: Vec<sortsim::accuracy::AaMode>,
     /// Network fidelities to run the `none` mode at, comma-separated.
@@ -289,20 +307,22 @@ pub struct AccuracyArgs {
         long,
         value_enum,
         value_delimiter = ',',
-        default_value = "ideal,hops,flow,packet"
+        default_value = "ideal,hops,flow,packet",
+        allow_negative_numbers = true
     )]
     pub fidelities: Vec<FidelityArg>,
     /// key=value: an algorithm option (granularity=8) or a machine field (machine.cpu.send_overhead=100us).
-    #[arg(long = "set", value_name = "KEY=VALUE")]
+    #[arg(long = "set", value_name = "KEY=VALUE", allow_negative_numbers = true)]
     pub set: Vec<String>,
-    #[arg(long, default_value_t = 1)]
+    #[arg(long, default_value_t = 1, allow_negative_numbers = true)]
     pub seed: u64,
     /// Samples per pixel side of the reference image (16: 16x16 samples per pixel).
     #[arg(long, default_value_t = sortsim::accuracy::DEFAULT_REFERENCE_SCALE,
+          allow_negative_numbers = true,
           value_parser = clap::value_parser!(u32).range(1..=sortsim::accuracy::reference::MAX_SCALE as i64))]
     pub reference_scale: u32,
     /// Report folder; reports/accuracy/<scene name> when absent.
-    #[arg(short, long, value_name = "DIR")]
+    #[arg(short, long, value_name = "DIR", allow_negative_numbers = true)]
     pub out: Option<PathBuf>,
 }
 
@@ -315,15 +335,15 @@ pub struct SweepArgs {
     /// Sweep spec (JSON); its paths are relative to its own folder.
     pub spec: PathBuf,
     /// Report folder; reports/sweep-<spec name> when absent.
-    #[arg(short, long, value_name = "DIR")]
+    #[arg(short, long, value_name = "DIR", allow_negative_numbers = true)]
     pub out: Option<PathBuf>,
     /// Simulations at a time; the number of cores when absent (with --slurm: in each array
     /// task, its --cpus-per-task, 1 when absent).
-    #[arg(long, value_name = "J", value_parser = clap::value_parser!(u32).range(1..))]
+    #[arg(long, value_name = "J", value_parser = clap::value_parser!(u32).range(1..), allow_negative_numbers = true)]
     pub jobs: Option<u32>,
     /// Run only shard I of T (0 <= I < T): the points dealt to it, balanced by estimated
     /// cost; no table (that is --collect's). What each Slurm array task runs.
-    #[arg(long, value_name = "I/T", conflicts_with_all = ["collect", "slurm"])]
+    #[arg(long, value_name = "I/T", conflicts_with_all = ["collect", "slurm"], allow_negative_numbers = true)]
     pub shard: Option<sortsim::sweep::Shard>,
     /// Build the table, plots and page from the points' files in DIR, written by the shards;
     /// fails with the list of missing points.
@@ -334,16 +354,16 @@ pub struct SweepArgs {
     #[arg(long)]
     pub slurm: bool,
     /// Array tasks for --slurm; one per point, at most 32, when absent.
-    #[arg(long, value_name = "T", requires = "slurm", value_parser = clap::value_parser!(u32).range(1..=100_000))]
+    #[arg(long, value_name = "T", requires = "slurm", value_parser = clap::value_parser!(u32).range(1..=100_000), allow_negative_numbers = true)]
     pub tasks: Option<u32>,
     /// Slurm partition of both jobs.
-    #[arg(long, value_name = "P", requires = "slurm", value_parser = |v: &str| sortsim::sweep::slurm::check_value("--partition", v, "debug"))]
+    #[arg(long, value_name = "P", requires = "slurm", value_parser = |v: &str| sortsim::sweep::slurm::check_value("--partition", v, "debug"), allow_negative_numbers = true)]
     pub partition: Option<String>,
     /// Wall-clock limit of each array task (Slurm's format: 30, 1:30:00, 2-00:00:00).
-    #[arg(long, value_name = "HH:MM:SS", requires = "slurm", value_parser = |v: &str| sortsim::sweep::slurm::check_value("--time", v, "1:30:00"))]
+    #[arg(long, value_name = "HH:MM:SS", requires = "slurm", value_parser = |v: &str| sortsim::sweep::slurm::check_value("--time", v, "1:30:00"), allow_negative_numbers = true)]
     pub time: Option<String>,
     /// Memory of each array task (Slurm's format: 4G, 500M).
-    #[arg(long, value_name = "M", requires = "slurm", value_parser = |v: &str| sortsim::sweep::slurm::check_value("--mem", v, "4G"))]
+    #[arg(long, value_name = "M", requires = "slurm", value_parser = |v: &str| sortsim::sweep::slurm::check_value("--mem", v, "4G"), allow_negative_numbers = true)]
     pub mem: Option<String>,
     /// Submit both jobs with sbatch (the collect job after the whole array succeeds) and
     /// print their ids.
@@ -364,14 +384,19 @@ pub struct CalibrateArgs {
     /// Calibration spec (JSON).
     pub spec: PathBuf,
     /// Report folder; reports/calibrate-<spec name> when absent.
-    #[arg(short, long, value_name = "DIR")]
+    #[arg(short, long, value_name = "DIR", allow_negative_numbers = true)]
     pub out: Option<PathBuf>,
     /// Simulations at a time; the number of cores when absent.
-    #[arg(long, value_name = "J", value_parser = clap::value_parser!(u32).range(1..))]
+    #[arg(long, value_name = "J", value_parser = clap::value_parser!(u32).range(1..), allow_negative_numbers = true)]
     pub jobs: Option<u32>,
     /// Targets of the spec to leave out of the fit (comma-separated row ids); the report
     /// gives their residuals on the fitted machine, a test of what the fit predicts.
-    #[arg(long, value_name = "ID,ID", value_delimiter = ',')]
+    #[arg(
+        long,
+        value_name = "ID,ID",
+        value_delimiter = ',',
+        allow_negative_numbers = true
+    )]
     pub hold_out: Vec<String>,
     /// Allow targets that papers/NNN.json marks predicted (mark them fitted afterwards).
     #[arg(long)]
@@ -387,7 +412,13 @@ pub struct ValidateArgs {
     #[arg(long)]
     pub quick: bool,
     /// Report folder.
-    #[arg(short, long, value_name = "DIR", default_value = "reports/validate")]
+    #[arg(
+        short,
+        long,
+        value_name = "DIR",
+        default_value = "reports/validate",
+        allow_negative_numbers = true
+    )]
     pub out: PathBuf,
 }
 
@@ -400,10 +431,16 @@ pub struct PaperArgs {
     #[arg(long)]
     pub quick: bool,
     /// Report folder; each paper gets a folder NNN/ inside it.
-    #[arg(short, long, value_name = "DIR", default_value = "reports/paper")]
+    #[arg(
+        short,
+        long,
+        value_name = "DIR",
+        default_value = "reports/paper",
+        allow_negative_numbers = true
+    )]
     pub out: PathBuf,
     /// Simulations at a time; the number of cores when absent.
-    #[arg(long, value_name = "J", value_parser = clap::value_parser!(u32).range(1..))]
+    #[arg(long, value_name = "J", value_parser = clap::value_parser!(u32).range(1..), allow_negative_numbers = true)]
     pub jobs: Option<u32>,
 }
 
@@ -414,13 +451,13 @@ pub struct NetsimArgs {
     /// Pattern file: {"messages": [{"src": 0, "dst": 5, "bytes": "64KiB", "start": "0us"}, ...]}.
     pub pattern: PathBuf,
     /// Override the machine's network.fidelity.
-    #[arg(long, value_enum)]
+    #[arg(long, value_enum, allow_negative_numbers = true)]
     pub fidelity: Option<FidelityArg>,
     /// Run the pattern at every fidelity and print predicted time against simulator wall time.
     #[arg(long, conflicts_with = "fidelity")]
     pub compare: bool,
     /// Also write DIR/summary.json (the printed report) and DIR/cost.json (wall time).
-    #[arg(short, long, value_name = "DIR")]
+    #[arg(short, long, value_name = "DIR", allow_negative_numbers = true)]
     pub out: Option<PathBuf>,
 }
 
@@ -444,16 +481,24 @@ pub enum BenchCommand {
         after_help = "Example:\n  sortsim bench overhead --scene scenes/polio-standin.json --procs 512 --fidelity hops"
     )]
     Overhead {
-        #[arg(long, default_value = "machines/delta.json")]
+        #[arg(
+            long,
+            default_value = "machines/delta.json",
+            allow_negative_numbers = true
+        )]
         machine: PathBuf,
-        #[arg(long, default_value = "scenes/polio-standin.json")]
+        #[arg(
+            long,
+            default_value = "scenes/polio-standin.json",
+            allow_negative_numbers = true
+        )]
         scene: PathBuf,
-        #[arg(long, default_value_t = 512)]
+        #[arg(long, default_value_t = 512, allow_negative_numbers = true)]
         procs: u32,
-        #[arg(long, default_value_t = 1)]
+        #[arg(long, default_value_t = 1, allow_negative_numbers = true)]
         frame: u32,
         /// Network fidelities to measure (the machine's own when absent).
-        #[arg(long, value_enum)]
+        #[arg(long, value_enum, allow_negative_numbers = true)]
         fidelity: Vec<FidelityArg>,
     },
     /// How the simulator's cost grows: the whole Delta over a viewing sequence, one frame
@@ -465,13 +510,19 @@ pub enum BenchCommand {
     Scale {
         /// 3 frames, up to 16,384 messages and PHOLD up to 16,384 in flight (a few minutes)
         /// instead of 110 frames, 65,536 messages and a million in flight.
-        #[arg(long)]
+        #[arg(long, allow_negative_numbers = true)]
         quick: bool,
         /// Frames of the headline polio run (overrides the 110 or the 3 of --quick).
-        #[arg(long, value_parser = clap::value_parser!(u32).range(1..=110))]
+        #[arg(long, value_parser = clap::value_parser!(u32).range(1..=110), allow_negative_numbers = true)]
         frames: Option<u32>,
         /// Where scale.json, scale.txt and the plots go.
-        #[arg(short, long, value_name = "DIR", default_value = "reports/bench-scale")]
+        #[arg(
+            short,
+            long,
+            value_name = "DIR",
+            default_value = "reports/bench-scale",
+            allow_negative_numbers = true
+        )]
         out: PathBuf,
     },
     /// Trace replay (paper 003) of one recorded frame for many n, against one pass over the
@@ -481,17 +532,21 @@ pub enum BenchCommand {
     )]
     Replay {
         /// The scene whose frame is recorded (the Cube stand-in: 6.46 M fragments).
-        #[arg(long, default_value = "scenes/p003-cube.json")]
+        #[arg(
+            long,
+            default_value = "scenes/p003-cube.json",
+            allow_negative_numbers = true
+        )]
         scene: PathBuf,
-        #[arg(long, default_value_t = 0)]
+        #[arg(long, default_value_t = 0, allow_negative_numbers = true)]
         frame: u32,
         /// `all` (n = 1..=64) or `pow2` (1, 2, 4, ..., 64).
-        #[arg(long, default_value = "all", value_parser = ["all", "pow2"])]
+        #[arg(long, default_value = "all", value_parser = ["all", "pow2"], allow_negative_numbers = true)]
         procs: String,
         /// Primitive assignment: scatter, random or background-last.
-        #[arg(long, default_value = "scatter", value_parser = ["scatter", "random", "background-last"])]
+        #[arg(long, default_value = "scatter", value_parser = ["scatter", "random", "background-last"], allow_negative_numbers = true)]
         assign: String,
-        #[arg(long, default_value_t = 1)]
+        #[arg(long, default_value_t = 1, allow_negative_numbers = true)]
         seed: u64,
     },
 }
@@ -499,27 +554,27 @@ pub enum BenchCommand {
 #[derive(Args, Debug)]
 pub struct PholdArgs {
     /// Logical processes.
-    #[arg(long, default_value_t = 1024, value_parser = clap::value_parser!(u32).range(1..))]
+    #[arg(long, default_value_t = 1024, value_parser = clap::value_parser!(u32).range(1..), allow_negative_numbers = true)]
     pub lps: u32,
     /// Initial events per LP (events in flight = lps x this).
-    #[arg(long, default_value_t = 16, value_parser = clap::value_parser!(u32).range(1..))]
+    #[arg(long, default_value_t = 16, value_parser = clap::value_parser!(u32).range(1..), allow_negative_numbers = true)]
     pub events_per_lp: u32,
     /// Probability that an event is scheduled at another LP.
-    #[arg(long, default_value_t = 0.9, value_parser = probability)]
+    #[arg(long, default_value_t = 0.9, value_parser = probability, allow_negative_numbers = true)]
     pub remote: f64,
     /// Mean of the exponential part of the delay.
-    #[arg(long, default_value = "1us")]
+    #[arg(long, default_value = "1us", allow_negative_numbers = true)]
     pub mean: sortsim::units::SimTime,
     /// Fixed part of the delay (the lookahead).
-    #[arg(long, default_value = "100ns")]
+    #[arg(long, default_value = "100ns", allow_negative_numbers = true)]
     pub lookahead: sortsim::units::SimTime,
     /// Simulated end time.
-    #[arg(long, default_value = "1ms")]
+    #[arg(long, default_value = "1ms", allow_negative_numbers = true)]
     pub end: sortsim::units::SimTime,
-    #[arg(long, default_value_t = 1)]
+    #[arg(long, default_value_t = 1, allow_negative_numbers = true)]
     pub seed: u64,
     /// Also write DIR/summary.json (deterministic) and DIR/cost.json (wall times).
-    #[arg(short, long, value_name = "DIR")]
+    #[arg(short, long, value_name = "DIR", allow_negative_numbers = true)]
     pub out: Option<PathBuf>,
 }
 

@@ -118,6 +118,37 @@ fn every_bad_pattern_is_refused_and_writes_nothing() {
 fn bad_flags_are_refused_with_exit_code_2() {
     let cases: &[(&[&str], &str)] = &[
         (&["bench", "phold", "--remote", "1.5"], "not a probability"),
+        // A negative number names its option; a malformed range is blamed on its syntax.
+        (
+            &["run", "--machine", "machines/delta.json", "--scene", "scenes/spd-teapot.json",
+              "--algo", "sort-middle/static", "--procs", "4", "--seed", "-1"],
+            "invalid value '-1' for '--seed <SEED>'",
+        ),
+        (
+            &["run", "--machine", "machines/delta.json", "--scene", "scenes/spd-teapot.json",
+              "--algo", "sort-middle/static", "--procs", "-4"],
+            "invalid value '-4' for '--procs <PROCS>'",
+        ),
+        (
+            &["run", "--machine", "machines/delta.json", "--scene", "scenes/spd-teapot.json",
+              "--algo", "sort-middle/static", "--procs", "4", "--frames", "-1"],
+            "--frames -1: '-1' is not a frame range: write A..B",
+        ),
+        (
+            &["run", "--machine", "machines/delta.json", "--scene", "scenes/spd-teapot.json",
+              "--algo", "sort-middle/static", "--procs", "4", "--frames", "0..=3"],
+            "--frames 0..=3: '0..=3' is not a frame range",
+        ),
+        (
+            &["run", "--machine", "machines/delta.json", "--scene", "scenes/spd-teapot.json",
+              "--algo", "sort-middle/static", "--procs", "4", "--frames", "0-3"],
+            "--frames 0-3: '0-3' is not a frame range",
+        ),
+        (
+            &["run", "--machine", "machines/delta.json", "--scene", "scenes/spd-teapot.json",
+              "--algo", "sort-middle/static", "--procs", "4", "--frames", "5..2"],
+            "5..2 is an empty range",
+        ),
         // Sizes refused before anything is allocated (sortsim::limits).
         (
             &["utilization", "scenes/plb-head-standin.json", "--procs", "1..4294967295", "--frames", "0..2"],

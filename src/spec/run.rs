@@ -148,25 +148,34 @@ fn set_path(value: &mut serde_json::Value, path: &[&str], raw: &str) -> Result<(
     Ok(())
 }
 
-/// "A..B", "A" or all frames.
+/// "A..B", "A" or all frames. A malformed range is blamed on its syntax, a well-formed one
+/// outside the scene on the scene's frames.
 pub fn parse_frames(text: Option<&str>, count: u32) -> Result<std::ops::Range<u32>, String> {
-    let valid = format!("the scene has frames 0..{count}; write A..B (B excluded) or A");
+    let syntax = |t: &str| {
+        format!("'{t}' is not a frame range: write A..B (frames A to B-1) or A, with A and B whole numbers")
+    };
+    let frame = |s: &str, t: &str| s.trim().parse::<u32>().map_err(|_| syntax(t));
     let range = match text {
         None => 0..count,
         Some(t) => match t.split_once("..") {
-            Some((a, b)) => {
-                let a: u32 = a.trim().parse().map_err(|_| valid.clone())?;
-                let b: u32 = b.trim().parse().map_err(|_| valid.clone())?;
-                a..b
-            }
+            Some((a, b)) => frame(a, t)?..frame(b, t)?,
             None => {
-                let a: u32 = t.trim().parse().map_err(|_| valid.clone())?;
-                a..a + 1
+                let a = frame(t, t)?;
+                a..a.saturating_add(1)
             }
         },
     };
-    if range.is_empty() || range.end > count {
-        return Err(valid);
+    if range.is_empty() {
+        return Err(format!(
+            "{}..{} is an empty range; write A..B with A < B (B excluded)",
+            range.start, range.end
+        ));
+    }
+    if range.end > count {
+        return Err(format!(
+            "the scene has frames 0..{count} (B excluded), not {}..{}",
+            range.start, range.end
+        ));
     }
     Ok(range)
 }
