@@ -198,13 +198,20 @@ mod tests {
         assert_eq!(parse_frames(None, 80), Ok(0..80));
         assert_eq!(parse_frames(Some("3..7"), 80), Ok(3..7));
         assert_eq!(parse_frames(Some("5"), 80), Ok(5..6));
-        for bad in ["7..3", "0..81", "x", "80", "3..3"] {
-            assert!(
-                parse_frames(Some(bad), 80)
-                    .unwrap_err()
-                    .contains("frames 0..80"),
-                "{bad}"
-            );
+        // Past the scene: blamed on the scene's frames.
+        for bad in ["0..81", "80"] {
+            let e = parse_frames(Some(bad), 80).unwrap_err();
+            assert!(e.contains("the scene has frames 0..80"), "{bad}: {e}");
+        }
+        // Empty: blamed on the order.
+        for bad in ["7..3", "3..3"] {
+            let e = parse_frames(Some(bad), 80).unwrap_err();
+            assert!(e.contains("is an empty range"), "{bad}: {e}");
+        }
+        // Malformed: blamed on the syntax, whatever the scene.
+        for bad in ["x", "0..=3", "0-3", "-1", "1..2..3", ""] {
+            let e = parse_frames(Some(bad), 80).unwrap_err();
+            assert!(e.contains("is not a frame range"), "{bad}: {e}");
         }
     }
 
