@@ -360,10 +360,10 @@ pub struct SweepArgs {
     #[arg(long, value_name = "P", requires = "slurm", value_parser = |v: &str| sortsim::sweep::slurm::check_value("--partition", v, "debug"), allow_negative_numbers = true)]
     pub partition: Option<String>,
     /// Wall-clock limit of each array task (Slurm's format: 30, 1:30:00, 2-00:00:00).
-    #[arg(long, value_name = "HH:MM:SS", requires = "slurm", value_parser = |v: &str| sortsim::sweep::slurm::check_value("--time", v, "1:30:00"), allow_negative_numbers = true)]
+    #[arg(long, value_name = "HH:MM:SS", requires = "slurm", value_parser = sortsim::sweep::slurm::check_time, allow_negative_numbers = true)]
     pub time: Option<String>,
     /// Memory of each array task (Slurm's format: 4G, 500M).
-    #[arg(long, value_name = "M", requires = "slurm", value_parser = |v: &str| sortsim::sweep::slurm::check_value("--mem", v, "4G"), allow_negative_numbers = true)]
+    #[arg(long, value_name = "M", requires = "slurm", value_parser = sortsim::sweep::slurm::check_mem, allow_negative_numbers = true)]
     pub mem: Option<String>,
     /// Submit both jobs with sbatch (the collect job after the whole array succeeds) and
     /// print their ids.

@@ -149,6 +149,19 @@ fn bad_flags_are_refused_with_exit_code_2() {
               "--algo", "sort-middle/static", "--procs", "4", "--frames", "5..2"],
             "5..2 is an empty range",
         ),
+        // Slurm values are checked before they reach a batch script.
+        (
+            &["sweep", "sweeps/default.json", "--slurm", "--mem", "lots"],
+            "--mem \"lots\": expected a Slurm memory size",
+        ),
+        (
+            &["sweep", "sweeps/default.json", "--slurm", "--time", "abc"],
+            "--time \"abc\": expected a Slurm time limit",
+        ),
+        (
+            &["sweep", "sweeps/default.json", "--slurm", "--time", "1:30:00:00"],
+            "expected a Slurm time limit",
+        ),
         // Sizes refused before anything is allocated (sortsim::limits).
         (
             &["utilization", "scenes/plb-head-standin.json", "--procs", "1..4294967295", "--frames", "0..2"],

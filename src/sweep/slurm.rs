@@ -213,6 +213,55 @@ pub fn check_value(flag: &str, value: &str, example: &str) -> Result<String, Str
     }
 }
 
+/// A Slurm time limit: minutes, minutes:seconds, hours:minutes:seconds, days-hours,
+/// days-hours:minutes or days-hours:minutes:seconds (whole numbers), or UNLIMITED.
+pub fn check_time(value: &str) -> Result<String, String> {
+    let fail = || {
+        format!(
+            "--time {value:?}: expected a Slurm time limit: minutes (30), minutes:seconds, \
+             hours:minutes:seconds (1:30:00), days-hours (2-12), days-hours:minutes or \
+             days-hours:minutes:seconds, or UNLIMITED"
+        )
+    };
+    if value.eq_ignore_ascii_case("unlimited") || value.eq_ignore_ascii_case("infinite") {
+        return Ok(value.to_string());
+    }
+    let number = |s: &str| !s.is_empty() && s.bytes().all(|b| b.is_ascii_digit());
+    let (days, clock) = match value.split_once('-') {
+        Some((d, rest)) => (Some(d), rest),
+        None => (None, value),
+    };
+    let parts: Vec<&str> = clock.split(':').collect();
+    let fits = match days {
+        Some(d) => number(d) && (1..=3).contains(&parts.len()),
+        None => (1..=3).contains(&parts.len()),
+    };
+    if fits && parts.iter().all(|p| number(p)) && days.is_none_or(number) {
+        Ok(value.to_string())
+    } else {
+        Err(fail())
+    }
+}
+
+/// A Slurm memory size: a whole number with an optional unit K, M, G or T (megabytes when
+/// absent), above zero.
+pub fn check_mem(value: &str) -> Result<String, String> {
+    let digits = value.trim_end_matches(['K', 'M', 'G', 'T', 'k', 'm', 'g', 't']);
+    let unit_len = value.len() - digits.len();
+    let ok = unit_len <= 1
+        && !digits.is_empty()
+        && digits.bytes().all(|b| b.is_ascii_digit())
+        && digits.bytes().any(|b| b != b'0');
+    if ok {
+        Ok(value.to_string())
+    } else {
+        Err(format!(
+            "--mem {value:?}: expected a Slurm memory size: a whole number above 0 with an \
+             optional unit K, M, G or T (4G, 500M; megabytes when absent)"
+        ))
+    }
+}
+
 /// Checks that `dir` (absolute) can be named in an `#SBATCH` line (Slurm does not unquote).
 fn check_dir(dir: &Path) -> Result<(), String> {
     let text = dir.display().to_string();
@@ -222,4 +271,43 @@ fn check_dir(dir: &Path) -> Result<(), String> {
         ));
     }
     Ok(())
+}
+
+#[cfg(test)]
+mod value_tests {
+    use super::*;
+
+    #[test]
+    fn slurm_times_and_sizes() {
+        for ok in [
+            "30",
+            "30:00",
+            "1:30:00",
+            "2-12",
+            "2-12:30",
+            "2-00:00:00",
+            "UNLIMITED",
+        ] {
+            assert!(check_time(ok).is_ok(), "{ok}");
+        }
+        for bad in [
+            "abc",
+            "",
+            "1:2:3:4",
+            "-5",
+            "1-",
+            "1h",
+            "2-1:2:3:4",
+            "1:30:",
+            "lots",
+        ] {
+            assert!(check_time(bad).is_err(), "{bad}");
+        }
+        for ok in ["4G", "500M", "4000", "1T", "64k"] {
+            assert!(check_mem(ok).is_ok(), "{ok}");
+        }
+        for bad in ["lots", "", "G", "0", "0G", "4GB", "1.5G", "-4G"] {
+            assert!(check_mem(bad).is_err(), "{bad}");
+        }
+    }
 }
