@@ -103,22 +103,37 @@ impl RunSpec {
         })
     }
 
-    /// The machine spec with every `machine.` key of `set` applied, validated.
+    /// The machine spec with every `machine.` key of `set` applied, validated. The file is
+    /// first read as `check` reads it (field paths, duplicate keys), so a mistake in the file
+    /// is named in the file; what only the overrides break is named with their keys.
     fn machine_with_overrides(&self) -> Result<crate::machine::MachineConfig, RunSpecError> {
         let text = super::read_input(&self.machine).map_err(|source| SpecError::Io {
             file: self.machine.clone(),
             source,
         })?;
+        let as_written: MachineSpec = super::parse_json(&self.machine, &text)?;
+        let overrides: Vec<(&String, &String)> = self
+            .set
+            .iter()
+            .filter(|(k, _)| k.starts_with("machine."))
+            .collect();
+        if overrides.is_empty() {
+            return Ok(validate(&self.machine, as_written)?);
+        }
         let mut value: serde_json::Value = super::parse_json(&self.machine, &text)?;
-        for (key, raw) in self.set.iter().filter(|(k, _)| k.starts_with("machine.")) {
+        for (key, raw) in &overrides {
             let path: Vec<&str> = key["machine.".len()..].split('.').collect();
             set_path(&mut value, &path, raw)
                 .map_err(|e| RunSpecError::Invalid(format!("--set {key}={raw}: {e}")))?;
         }
-        let spec: MachineSpec = serde_json::from_value(value.clone()).map_err(|e| {
+        let spec: MachineSpec = serde_path_to_error::deserialize(value).map_err(|e| {
+            let keys: Vec<String> = overrides.iter().map(|(k, v)| format!("{k}={v}")).collect();
             RunSpecError::Invalid(format!(
-                "{}: with the --set overrides: {e}",
-                self.machine.display()
+                "{}: at `{}` with --set {}: {}",
+                self.machine.display(),
+                e.path(),
+                keys.join(", --set "),
+                e.inner()
             ))
         })?;
         Ok(validate(&self.machine, spec)?)
