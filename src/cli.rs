@@ -456,7 +456,8 @@ pub struct NetsimArgs {
     /// Run the pattern at every fidelity and print predicted time against simulator wall time.
     #[arg(long, conflicts_with = "fidelity")]
     pub compare: bool,
-    /// Also write DIR/summary.json (the printed report) and DIR/cost.json (wall time).
+    /// Also write DIR/summary.json (the printed report) and DIR/cost.json (wall time); with
+    /// --compare, DIR/fidelities.md (the printed table).
     #[arg(short, long, value_name = "DIR", allow_negative_numbers = true)]
     pub out: Option<PathBuf>,
 }

@@ -129,6 +129,21 @@ fn compare_prints_one_row_per_fidelity() {
         .map(|l| l.split_whitespace().next().unwrap())
         .collect();
     assert_eq!(rows, ["ideal", "hops", "flow", "packet"], "{stdout}");
+    // With -o the same table is written too.
+    let dir = tempfile::tempdir().unwrap();
+    let out = sortsim(&[
+        "netsim",
+        "machines/snooping-bus.json",
+        "tests/patterns/bus-broadcasts-8.json",
+        "--compare",
+        "-o",
+        dir.path().to_str().unwrap(),
+    ]);
+    assert!(out.status.success());
+    let md = std::fs::read_to_string(dir.path().join("fidelities.md")).unwrap();
+    for fidelity in ["ideal", "hops", "flow", "packet"] {
+        assert!(md.lines().any(|l| l.starts_with(fidelity)), "{md}");
+    }
 }
 
 #[test]
