@@ -184,6 +184,21 @@ fn a_predicted_input_or_definition_row_is_not_a_target_unless_told() {
     common::assert_refused(&out, "an input target", "an input row");
 }
 
+/// Runs `sortsim calibrate FILE EXTRA.. --jobs 2 -o OUT`, which must succeed; returns the
+/// JSON file `name` it wrote.
+fn calibrate_ok(file: &str, extra: &[&str], out: &Path, name: &str) -> Value {
+    let mut args = vec!["calibrate", file];
+    args.extend_from_slice(extra);
+    args.extend_from_slice(&["--jobs", "2", "-o", out.to_str().unwrap()]);
+    let run = sortsim(&args);
+    assert!(
+        run.status.success(),
+        "{}",
+        String::from_utf8_lossy(&run.stderr)
+    );
+    serde_json::from_str(&std::fs::read_to_string(out.join(name)).unwrap()).unwrap()
+}
+
 #[test]
 fn a_predicted_row_fitted_when_told_is_recorded_in_the_machine() {
     let dir = tempfile::tempdir().unwrap();
@@ -192,25 +207,12 @@ fn a_predicted_row_fitted_when_told_is_recorded_in_the_machine() {
         &["uni-zbuffer-teapot", "t1-mountain-on-16-imbalance"],
         2,
     );
-    let out_dir = dir.path().join("o");
-    let run = sortsim(&[
-        "calibrate",
+    let machine = calibrate_ok(
         &file,
-        "--allow-predicted",
-        "--jobs",
-        "2",
-        "-o",
-        out_dir.to_str().unwrap(),
-    ]);
-    assert!(
-        run.status.success(),
-        "{}",
-        String::from_utf8_lossy(&run.stderr)
+        &["--allow-predicted"],
+        &dir.path().join("o"),
+        "multicluster-pipeline.json",
     );
-    let machine: Value = serde_json::from_str(
-        &std::fs::read_to_string(out_dir.join("multicluster-pipeline.json")).unwrap(),
-    )
-    .unwrap();
     let records = machine["fitted_to"].as_array().unwrap();
     let last = records.last().unwrap();
     assert_eq!(last["paper"], "001");
@@ -236,24 +238,12 @@ fn held_out_targets_leave_the_cost_and_are_reported_on_the_fitted_machine() {
     ];
     let file = spec(dir.path(), &targets, 4);
     let out_dir = dir.path().join("o");
-    let run = sortsim(&[
-        "calibrate",
+    let c = calibrate_ok(
         &file,
-        "--hold-out",
-        "uni-scanline-tetra",
-        "--jobs",
-        "2",
-        "-o",
-        out_dir.to_str().unwrap(),
-    ]);
-    assert!(
-        run.status.success(),
-        "{}",
-        String::from_utf8_lossy(&run.stderr)
+        &["--hold-out", "uni-scanline-tetra"],
+        &out_dir,
+        "calibration.json",
     );
-    let c: Value =
-        serde_json::from_str(&std::fs::read_to_string(out_dir.join("calibration.json")).unwrap())
-            .unwrap();
     let ids = |key: &str| -> Vec<String> {
         c[key]
             .as_array()
@@ -270,19 +260,7 @@ fn held_out_targets_leave_the_cost_and_are_reported_on_the_fitted_machine() {
     // The cost is over the fitted rows alone: a fit of the same two rows, nothing held out,
     // reaches the same cost.
     let two = spec(dir.path(), &targets[..2], 4);
-    let plain_dir = dir.path().join("p");
-    let run = sortsim(&[
-        "calibrate",
-        &two,
-        "--jobs",
-        "2",
-        "-o",
-        plain_dir.to_str().unwrap(),
-    ]);
-    assert!(run.status.success());
-    let plain: Value =
-        serde_json::from_str(&std::fs::read_to_string(plain_dir.join("calibration.json")).unwrap())
-            .unwrap();
+    let plain = calibrate_ok(&two, &[], &dir.path().join("p"), "calibration.json");
     assert_eq!(plain["fitted_cost"], c["fitted_cost"]);
     assert_eq!(plain["factors"], c["factors"]);
     let machine = std::fs::read_to_string(out_dir.join("multicluster-pipeline.json")).unwrap();
