@@ -13,7 +13,7 @@ use rand_chacha::ChaCha8Rng;
 use serde::{Deserialize, Serialize};
 
 use super::{Delivered, Dest, MsgId, NetError, Network, NetworkConfig, NodeId};
-use crate::units::{Bytes, SimTime};
+use crate::units::{Bandwidth, Bytes, SimTime};
 
 /// One message of a pattern file.
 #[derive(Clone, Debug, PartialEq, Eq, Deserialize, Serialize, schemars::JsonSchema)]
@@ -126,12 +126,61 @@ pub struct ParsedMessage {
 
 /// Checks every message against `net`; the first error names its field and what is valid.
 pub fn parse_pattern(net: &Network, pattern: &Pattern) -> Result<Vec<ParsedMessage>, NetError> {
-    pattern
+    let parsed: Vec<ParsedMessage> = pattern
         .messages
         .iter()
         .enumerate()
         .map(|(i, m)| parse_message(net, i, m))
-        .collect()
+        .collect::<Result<_, _>>()?;
+    check_horizon(net, &parsed)?;
+    Ok(parsed)
+}
+
+/// Refuses a pattern that could end past the largest simulated time: its last start plus
+/// every message sent one after another over one link, each paying a hop latency per node
+/// and a serialization per packet on the way (more than any transport can take), must fit in
+/// u64 picoseconds. The message that contributes most is named.
+fn check_horizon(net: &Network, messages: &[ParsedMessage]) -> Result<(), NetError> {
+    let timing = net.timing();
+    let per_hop = u128::from(timing.hop_latency.ps()) * u128::from(net.nodes());
+    let cost = |m: &ParsedMessage| {
+        let transfer = Bandwidth::work_of(m.bytes) / u128::from(timing.bandwidth.bits_per_s());
+        let packets = u128::from(
+            m.bytes
+                .get()
+                .div_ceil(timing.packet_size.get().max(1))
+                .max(1),
+        );
+        2 * transfer + per_hop * packets.min(u128::from(u32::MAX)) + 1
+    };
+    let last_start = messages
+        .iter()
+        .map(|m| m.start)
+        .max()
+        .unwrap_or(SimTime::ZERO);
+    let total = messages.iter().fold(u128::from(last_start.ps()), |t, m| {
+        t.saturating_add(cost(m))
+    });
+    if total <= u128::from(SimTime::MAX.ps()) {
+        return Ok(());
+    }
+    let (i, field) = match messages.iter().enumerate().max_by_key(|(_, m)| cost(m)) {
+        Some((i, m)) if cost(m) > u128::from(last_start.ps()) => (i, "bytes"),
+        _ => (
+            messages
+                .iter()
+                .position(|m| m.start == last_start)
+                .unwrap_or(0),
+            "start",
+        ),
+    };
+    Err(NetError::Pattern(format!(
+        "messages[{i}].{field}: the pattern could run past the largest simulated time, {} \
+         (u64 picoseconds): its last start is {last_start} and its messages take up to {:.3e} s \
+         on one link; send fewer or smaller messages, or start them earlier",
+        SimTime::MAX,
+        (total - u128::from(last_start.ps())) as f64 / 1e12
+    )))
 }
 
 /// Runs `pattern` on a fresh network built from `cfg`.
