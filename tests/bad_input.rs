@@ -1062,3 +1062,31 @@ fn a_charge_past_the_largest_simulated_time_is_refused_naming_its_cost() {
         assert!(!out_dir.exists(), "{set}: nothing written");
     }
 }
+
+/// A file output given as an existing folder is refused with exit 2, and nothing (no
+/// half-written temporary) is left beside it.
+#[test]
+fn an_output_file_that_is_a_folder_is_refused_and_leaves_nothing() {
+    let parent = tempfile::tempdir().unwrap();
+    let folder = parent.path().join("existing");
+    std::fs::create_dir(&folder).unwrap();
+    for args in [
+        &["render", "scenes/spd-teapot.json", "-o"][..],
+        &["trace", "record", "scenes/spd-teapot.json", "-o"][..],
+    ] {
+        let mut args = args.to_vec();
+        args.push(folder.to_str().unwrap());
+        let out = sortsim(&args);
+        common::assert_refused(
+            &out,
+            &format!("{args:?}"),
+            "is a folder; give the name of a file",
+        );
+        let left: Vec<_> = std::fs::read_dir(parent.path())
+            .unwrap()
+            .map(|e| e.unwrap().file_name())
+            .collect();
+        assert_eq!(left, ["existing"], "{args:?}: {left:?}");
+        assert_eq!(std::fs::read_dir(&folder).unwrap().count(), 0);
+    }
+}
