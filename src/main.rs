@@ -367,6 +367,13 @@ fn sweep(args: &SweepArgs) -> Result<String, Failure> {
     if args.slurm {
         return slurm(args, &spec, &out).map(|()| String::new());
     }
+    // A folder that cannot be written is found before the first point is simulated.
+    if out.exists() && !out.is_dir() {
+        return Err(Failure::BadInput(format!(
+            "{}: cannot write the sweep there: it is a file, not a folder",
+            out.display()
+        )));
+    }
     let jobs = jobs(args.jobs);
     let options = SweepOptions {
         jobs,

@@ -1090,3 +1090,17 @@ fn an_output_file_that_is_a_folder_is_refused_and_leaves_nothing() {
         assert_eq!(std::fs::read_dir(&folder).unwrap().count(), 0);
     }
 }
+
+/// A sweep whose report folder is an existing file is refused before any point runs.
+#[test]
+fn a_sweep_into_a_file_is_refused_before_it_simulates() {
+    let parent = tempfile::tempdir().unwrap();
+    let file = parent.path().join("a-file");
+    std::fs::write(&file, "").unwrap();
+    let out = sortsim(&["sweep", "sweeps/default.json", "-o", file.to_str().unwrap()]);
+    common::assert_refused(&out, "sweep into a file", "it is a file, not a folder");
+    assert!(
+        !String::from_utf8_lossy(&out.stderr).contains("points/"),
+        "refused before any point was written"
+    );
+}
