@@ -89,11 +89,14 @@ fn scan(path: &Path, text: &str) -> Result<(), SceneError> {
             message,
         })
     };
-    let vertex_total = text
-        .lines()
-        .filter(|l| l.trim_start().starts_with("v "))
-        .count() as i64;
+    let total = |kind: &str| {
+        text.lines()
+            .filter(|l| l.split_whitespace().next() == Some(kind))
+            .count() as i64
+    };
+    let (vertex_total, texcoord_total, normal_total) = (total("v"), total("vt"), total("vn"));
     let mut vertices_so_far = 0i64;
+    let (mut texcoords_so_far, mut normals_so_far) = (0i64, 0i64);
     for (k, raw) in text.lines().enumerate() {
         let line = k + 1;
         let mut words = raw.split('#').next().unwrap_or("").split_whitespace();
@@ -123,6 +126,37 @@ fn scan(path: &Path, text: &str) -> Result<(), SceneError> {
                     }
                 }
             }
+            Some(kind @ ("vt" | "vn")) => {
+                let (name, counts) = if kind == "vt" {
+                    texcoords_so_far += 1;
+                    ("texture coordinate", 1..=3)
+                } else {
+                    normals_so_far += 1;
+                    ("normal", 3..=3)
+                };
+                let values: Vec<&str> = words.collect();
+                if !counts.contains(&values.len()) {
+                    return err(
+                        line,
+                        format!(
+                            "a {name} (`{kind}`) needs {counts:?} values, found {}",
+                            values.len()
+                        ),
+                    );
+                }
+                for v in values {
+                    match v.parse::<f32>() {
+                        Ok(x) if x.is_finite() => {}
+                        Ok(_) => {
+                            return err(
+                                line,
+                                format!("{name} value `{v}` is not finite (NaN or infinity)"),
+                            )
+                        }
+                        Err(_) => return err(line, format!("{name} value `{v}` is not a number")),
+                    }
+                }
+            }
             Some("f") => {
                 let corners: Vec<&str> = words.collect();
                 if corners.len() < 3 {
@@ -143,6 +177,23 @@ fn scan(path: &Path, text: &str) -> Result<(), SceneError> {
                     let resolved = if i < 0 { vertices_so_far + 1 + i } else { i };
                     if resolved < 1 || resolved > vertex_total {
                         return err(line, format!("face index {i} is out of range: the file has {vertex_total} vertices (valid 1..={vertex_total}, or -1..=-{vertices_so_far} relative)"));
+                    }
+                    // v/vt/vn: the texture and normal indices, when given, must exist too.
+                    let mut rest = c.split('/').skip(1);
+                    for (what, total, so_far) in [
+                        ("texture coordinate", texcoord_total, texcoords_so_far),
+                        ("normal", normal_total, normals_so_far),
+                    ] {
+                        let Some(text) = rest.next().filter(|t| !t.is_empty()) else {
+                            continue;
+                        };
+                        let Ok(j) = text.parse::<i64>() else {
+                            return err(line, format!("face corner `{c}`: {what} index `{text}` is not a whole number"));
+                        };
+                        let resolved = if j < 0 { so_far + 1 + j } else { j };
+                        if resolved < 1 || resolved > total {
+                            return err(line, format!("face corner `{c}`: {what} index {j} is out of range: the file has {total} (valid 1..={total}, or -1..=-{so_far} relative)"));
+                        }
                     }
                 }
             }
