@@ -220,3 +220,33 @@ fn a_run_spec_may_name_its_schema() {
     let out = sortsim(&["check", file.to_str().unwrap()]);
     assert!(String::from_utf8_lossy(&out.stdout).starts_with("OK"));
 }
+
+/// `check` names the operations a machine file leaves unpriced (charged at zero wherever an
+/// algorithm uses them): a Delta file written before `count_sum` existed says so.
+#[test]
+fn check_names_the_operations_a_machine_leaves_unpriced() {
+    let dir = tempfile::tempdir().unwrap();
+    let mut delta: serde_json::Value = serde_json::from_str(
+        &std::fs::read_to_string(
+            std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("machines/delta.json"),
+        )
+        .unwrap(),
+    )
+    .unwrap();
+    let file = dir.path().join("old-delta.json");
+    let check = |v: &serde_json::Value| {
+        std::fs::write(&file, v.to_string()).unwrap();
+        let out = sortsim(&["check", file.to_str().unwrap()]);
+        assert!(out.status.success());
+        String::from_utf8(out.stdout).unwrap()
+    };
+    let before = check(&delta);
+    assert!(!before.contains("count_sum"), "{before}");
+    delta["cpu"]["costs"]
+        .as_object_mut()
+        .unwrap()
+        .remove("count_sum");
+    let after = check(&delta);
+    assert!(after.contains("charged at zero (not priced):"), "{after}");
+    assert!(after.contains("count_sum"), "{after}");
+}

@@ -27,8 +27,15 @@ pub fn check(path: &Path) -> Result<String, CheckError> {
     match SpecKind::detect(path)? {
         SpecKind::Machine => {
             let m = load_machine(path)?;
+            // An operation the file does not price is charged at zero wherever an algorithm
+            // uses it: say which, so a file older than an operation is not silently faster.
+            let unpriced: Vec<&str> = crate::machine::Op::ALL
+                .iter()
+                .filter(|&&op| m.cpu.costs.get(op) == crate::units::SimTime::ZERO)
+                .map(|op| op.name())
+                .collect();
             Ok(format!(
-                "machine '{}': {} nodes, {:?} {:?}, links {} with {} per hop, {:?} switching, fidelity {}",
+                "machine '{}': {} nodes, {:?} {:?}, links {} with {} per hop, {:?} switching, fidelity {}{}",
                 m.name,
                 m.nodes,
                 m.network.topology,
@@ -36,7 +43,12 @@ pub fn check(path: &Path) -> Result<String, CheckError> {
                 m.network.link_bandwidth,
                 m.network.hop_latency,
                 m.network.switching,
-                m.network.fidelity.name()
+                m.network.fidelity.name(),
+                if unpriced.is_empty() {
+                    String::new()
+                } else {
+                    format!("; charged at zero (not priced): {}", unpriced.join(", "))
+                }
             ))
         }
         SpecKind::Scene => Ok(Scene::load(path)?.describe()),
