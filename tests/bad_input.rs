@@ -760,6 +760,19 @@ fn every_bad_sweep_is_refused_and_writes_nothing() {
             "{}: a refused sweep wrote output",
             file.display()
         );
+        // `check` sets every point up as `sweep` would: refused too, nothing simulated. (It
+        // guesses a file's kind, so a sweep whose lists are all single values may be read as
+        // the run spec it also is, and be refused with that kind's words for the same field.)
+        let out = sortsim(&["check", rel.to_str().unwrap()]);
+        let stderr = String::from_utf8_lossy(&out.stderr);
+        assert_eq!(out.status.code(), Some(2), "{}: {stderr}", file.display());
+        assert!(!stderr.contains("panicked"), "{stderr}");
+        let field = fragment.split('`').nth(1).unwrap_or(&fragment);
+        assert!(
+            stderr.contains(&fragment) || stderr.contains(&format!("`{field}`")),
+            "{}: check: expected {fragment:?} in: {stderr}",
+            file.display()
+        );
     }
 }
 

@@ -73,6 +73,8 @@ pub fn check(path: &Path) -> Result<String, CheckError> {
         }
         SpecKind::Sweep => {
             let sweep = crate::sweep::spec::load_sweep(path)?;
+            // Every point set up as `sweep` would, short of simulating.
+            crate::sweep::check(&sweep)?;
             let listed = sweep.listed().count();
             Ok(format!(
                 "sweep: {listed} points, {} runs with the implicit 1-processor baselines",

@@ -149,6 +149,14 @@ pub fn run_sweep(
     finish(sweep, out, &names, metrics, ran, clock, options.jobs)
 }
 
+/// Sets up every point of `sweep` (machine, scene, processors, frames, options) as `run_sweep`
+/// would before it runs any, and runs none: what `sortsim check` does for a sweep.
+pub fn check(sweep: &Sweep) -> Result<(), SpecError> {
+    let names = point_names(sweep);
+    let all: Vec<usize> = (0..sweep.points.len()).collect();
+    resolve_pending(sweep, &names, &all, &mut Scenes::default()).map(|_| ())
+}
+
 /// Runs the points of one shard of `sweep` that have no summary.json yet (a Slurm array
 /// task); writes only those points' folders. The table is `collect`'s to write.
 pub fn run_shard(
