@@ -113,17 +113,8 @@ fn scan(path: &Path, text: &str) -> Result<(), SceneError> {
                         ),
                     );
                 }
-                for v in values {
-                    match v.parse::<f32>() {
-                        Ok(x) if x.is_finite() => {}
-                        Ok(_) => {
-                            return err(
-                                line,
-                                format!("vertex value `{v}` is not finite (NaN or infinity)"),
-                            )
-                        }
-                        Err(_) => return err(line, format!("vertex value `{v}` is not a number")),
-                    }
+                if let Err(m) = finite_values("vertex", &values) {
+                    return err(line, m);
                 }
             }
             Some(kind @ ("vt" | "vn")) => {
@@ -144,17 +135,8 @@ fn scan(path: &Path, text: &str) -> Result<(), SceneError> {
                         ),
                     );
                 }
-                for v in values {
-                    match v.parse::<f32>() {
-                        Ok(x) if x.is_finite() => {}
-                        Ok(_) => {
-                            return err(
-                                line,
-                                format!("{name} value `{v}` is not finite (NaN or infinity)"),
-                            )
-                        }
-                        Err(_) => return err(line, format!("{name} value `{v}` is not a number")),
-                    }
+                if let Err(m) = finite_values(name, &values) {
+                    return err(line, m);
                 }
             }
             Some("f") => {
@@ -173,9 +155,7 @@ fn scan(path: &Path, text: &str) -> Result<(), SceneError> {
                             format!("face corner `{c}` does not start with a vertex index"),
                         );
                     };
-                    // Negative indices count back from the vertices read so far.
-                    let resolved = if i < 0 { vertices_so_far + 1 + i } else { i };
-                    if resolved < 1 || resolved > vertex_total {
+                    if !index_exists(i, vertices_so_far, vertex_total) {
                         return err(line, format!("face index {i} is out of range: the file has {vertex_total} vertices (valid 1..={vertex_total}, or -1..=-{vertices_so_far} relative)"));
                     }
                     // v/vt/vn: the texture and normal indices, when given, must exist too.
@@ -190,8 +170,7 @@ fn scan(path: &Path, text: &str) -> Result<(), SceneError> {
                         let Ok(j) = text.parse::<i64>() else {
                             return err(line, format!("face corner `{c}`: {what} index `{text}` is not a whole number"));
                         };
-                        let resolved = if j < 0 { so_far + 1 + j } else { j };
-                        if resolved < 1 || resolved > total {
+                        if !index_exists(j, so_far, total) {
                             return err(line, format!("face corner `{c}`: {what} index {j} is out of range: the file has {total} (valid 1..={total}, or -1..=-{so_far} relative)"));
                         }
                     }
@@ -201,4 +180,28 @@ fn scan(path: &Path, text: &str) -> Result<(), SceneError> {
         }
     }
     Ok(())
+}
+
+/// Every value a number and finite; the message names the kind of value ("vertex",
+/// "normal", "texture coordinate").
+fn finite_values(name: &str, values: &[&str]) -> Result<(), String> {
+    for v in values {
+        match v.parse::<f32>() {
+            Ok(x) if x.is_finite() => {}
+            Ok(_) => {
+                return Err(format!(
+                    "{name} value `{v}` is not finite (NaN or infinity)"
+                ))
+            }
+            Err(_) => return Err(format!("{name} value `{v}` is not a number")),
+        }
+    }
+    Ok(())
+}
+
+/// Whether OBJ index `i` names one of `total` elements: 1-based, or negative to count back
+/// from the `so_far` read before the face.
+fn index_exists(i: i64, so_far: i64, total: i64) -> bool {
+    let resolved = if i < 0 { so_far + 1 + i } else { i };
+    (1..=total).contains(&resolved)
 }
