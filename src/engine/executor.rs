@@ -166,7 +166,8 @@ pub(super) struct State<M> {
     /// Cpu spans, when the run records a timeline (off by default: it costs memory).
     timeline: Option<Vec<CpuSpan>>,
     /// A charge that would end past the largest simulated time: the run stops with it at the
-    /// next step, as the charging program cannot return an error from inside `compute`.
+    /// next step (checked in the step's one borrow of the state), as the charging program
+    /// cannot return an error from inside `compute`.
     overflow: Option<SimError>,
     /// What made the charge `compute` is about to reserve too long, when it was.
     pub overflow_cause: Option<String>,
@@ -482,6 +483,10 @@ impl<M: Payload> Sim<M> {
             // One borrow per step: either the next ready program, or the next event.
             let p = {
                 let mut st = self.state.borrow_mut();
+                // A charge past the largest simulated time, made by the program polled last.
+                if let Some(overflow) = st.overflow.take() {
+                    return Err(overflow);
+                }
                 if !st.spawned.is_empty() {
                     drop(st);
                     self.adopt_spawned();
@@ -521,11 +526,7 @@ impl<M: Payload> Sim<M> {
             let Some(program) = self.programs[p as usize].as_mut() else {
                 continue;
             };
-            let done = program.as_mut().poll(&mut cx);
-            if let Some(overflow) = self.state.borrow_mut().overflow.take() {
-                return Err(overflow);
-            }
-            if let Poll::Ready(result) = done {
+            if let Poll::Ready(result) = program.as_mut().poll(&mut cx) {
                 self.programs[p as usize] = None;
                 self.finished(p);
                 result?;
