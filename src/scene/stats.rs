@@ -214,6 +214,10 @@ pub struct GeometricStats {
     pub sum_area_px: f64,
     /// `sum_area_px / (width * height)`: the geometric depth complexity (paper 003's d).
     pub depth_complexity: f64,
+    /// Median over drawn triangles of the shorter side of the on-screen bounding box, in
+    /// pixels: a triangle "of over 50x50 pixels" (paper 000, section 7.2) has this at 50 or
+    /// more.
+    pub median_bbox_side_px: f64,
 }
 
 /// Measures `frame` geometrically (see the module doc).
@@ -223,6 +227,7 @@ pub fn geometric(frame: &FrameGeometry) -> GeometricStats {
         triangles_in: frame.triangles.len(),
         ..Default::default()
     };
+    let mut sides = Vec::new();
     for t in &frame.triangles {
         let Some(m) = measure(frame, t) else { continue };
         if m.front {
@@ -231,8 +236,11 @@ pub fn geometric(frame: &FrameGeometry) -> GeometricStats {
         if m.screen_area > 0.0 && (m.front || !frame.cull_backfaces) {
             s.on_screen += 1;
             s.sum_area_px += m.screen_area;
+            let size = m.bbox.1 - m.bbox.0;
+            sides.push(size.x.min(size.y));
         }
     }
+    s.median_bbox_side_px = median(&mut sides);
     s.mean_area_px = if s.on_screen > 0 {
         s.sum_area_px / s.on_screen as f64
     } else {
@@ -275,6 +283,16 @@ pub fn overlap_factor(frame: &FrameGeometry, region_w: u32, region_h: u32) -> f6
         0.0
     } else {
         touched as f64 / drawn as f64
+    }
+}
+
+/// The middle value (the mean of the two middle values for an even count); 0 when empty.
+fn median(values: &mut [f64]) -> f64 {
+    values.sort_by(f64::total_cmp);
+    match values.len() {
+        0 => 0.0,
+        n if n % 2 == 1 => values[n / 2],
+        n => 0.5 * (values[n / 2 - 1] + values[n / 2]),
     }
 }
 
@@ -449,6 +467,10 @@ mod tests {
         assert!((s.sum_area_px - 800.0).abs() < 1e-3, "{s:?}");
         let s = geometric(&frame([[80.0, 0.0], [80.0, 40.0], [120.0, 0.0]], true));
         assert!((s.sum_area_px - 600.0).abs() < 1e-3, "{s:?}");
+        assert!(
+            (s.median_bbox_side_px - 20.0).abs() < 1e-3,
+            "the on-screen part is 20 px wide and 40 tall: {s:?}"
+        );
         let off = geometric(&frame([[200.0, 0.0], [200.0, 40.0], [240.0, 0.0]], true));
         assert_eq!(off.on_screen, 0);
         assert_eq!(

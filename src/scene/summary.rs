@@ -95,6 +95,11 @@ impl fmt::Display for Summary {
             format!("{:.3}", r.mean_area_px),
             mean,
         )?;
+        row(
+            "median bounding-box side px (geometric)",
+            format!("{:.1}", g.median_bbox_side_px),
+            None,
+        )?;
         let d = paper
             .and_then(|p| p.depth_complexity)
             .map(|d| format!("{d}"));
@@ -161,6 +166,7 @@ impl Summary {
             "triangles_after_culling_and_clipping": r.counters.triangles_set_up,
             "mean_area_px": r.mean_area_px,
             "geometric_mean_area_px": self.geometric.mean_area_px,
+            "median_bbox_side_px": self.geometric.median_bbox_side_px,
             "depth_complexity": r.depth_complexity,
             "p_d": r.p_d(self.width, self.height),
             "active_pixels": r.active_pixels,
