@@ -121,6 +121,20 @@ fn every_bad_scene_is_refused_with_its_message() {
 }
 
 #[test]
+fn every_bad_run_spec_is_refused_naming_its_field() {
+    for (file, fragment) in corpus("run") {
+        let out = sortsim(&["check", file.to_str().unwrap()]);
+        check_refusal(&out, &file, &fragment);
+        let stderr = String::from_utf8_lossy(&out.stderr);
+        assert!(
+            !stderr.contains("--procs") && !stderr.contains("--frames") && !stderr.contains("--set"),
+            "{}: a file's mistake is not worded as a flag: {stderr}",
+            file.display()
+        );
+    }
+}
+
+#[test]
 fn every_bad_pattern_is_refused_and_writes_nothing() {
     let out_dir = common::scratch("bad-pattern");
     for (file, fragment) in corpus("pattern") {

@@ -379,7 +379,18 @@ fn build_object(
 ) -> Result<Object, SceneError> {
     let mut mesh = match (&spec.generator, &spec.obj) {
         (Some(g), _) => gen::build(g, ctx),
-        (None, Some(obj)) => obj::load(&file.parent().unwrap_or(Path::new(".")).join(obj))?,
+        (None, Some(obj)) => {
+            let path = file.parent().unwrap_or(Path::new(".")).join(obj);
+            obj::load(&path).map_err(|e| match e {
+                // The file could not be read at all: the scene's field is where to fix it.
+                SceneError::ObjRead { message, .. } => SceneError::Spec(SpecError::invalid(
+                    file,
+                    format!("geometry[{index}].obj"),
+                    format!("cannot read OBJ file {}: {message}", path.display()),
+                )),
+                other => other,
+            })?
+        }
         (None, None) => unreachable!("validated: exactly one of generator and obj"),
     };
     let t = &spec.transform;

@@ -60,7 +60,7 @@ pub fn check(path: &Path) -> Result<String, CheckError> {
                 source,
                 file: path.to_path_buf(),
             };
-            let cfg = spec.resolve(None).map_err(run_error)?;
+            let cfg = spec.resolve_file(None).map_err(run_error)?;
             crate::algo::check_options(&cfg)
                 .map_err(|e| run_error(RunSpecError::Invalid(e.to_string())))?;
             Ok(format!(

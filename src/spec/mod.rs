@@ -11,6 +11,7 @@ mod quantity;
 pub mod run;
 pub mod scene;
 pub mod schema;
+mod tagged;
 
 use std::path::{Path, PathBuf};
 
@@ -107,22 +108,29 @@ pub fn read_input(path: &Path) -> std::io::Result<String> {
 /// As `load_json`, for text already in memory; `path` is only used in messages.
 pub fn parse_json<T: DeserializeOwned>(path: &Path, text: &str) -> Result<T, SpecError> {
     let mut de = serde_json::Deserializer::from_str(text);
-    let value = serde_path_to_error::deserialize(&mut de).map_err(|e| from_path_error(path, e))?;
+    let value = serde_path_to_error::deserialize(&mut de).map_err(|e| from_path_error(path, text, e))?;
     de.end().map_err(|e| syntax_error(path, &e))?;
     Ok(value)
 }
 
-fn from_path_error(path: &Path, err: serde_path_to_error::Error<serde_json::Error>) -> SpecError {
+fn from_path_error(
+    path: &Path,
+    text: &str,
+    err: serde_path_to_error::Error<serde_json::Error>,
+) -> SpecError {
     let field = err.path().to_string();
     let inner = err.into_inner();
     match inner.classify() {
-        serde_json::error::Category::Data => SpecError::Field {
-            file: path.to_path_buf(),
-            field,
-            line: inner.line(),
-            column: inner.column(),
-            message: strip_position(&inner.to_string()),
-        },
+        serde_json::error::Category::Data => {
+            let message = strip_position(&inner.to_string());
+            SpecError::Field {
+                file: path.to_path_buf(),
+                field: tagged::narrow(text, &field, &message).unwrap_or(field),
+                line: inner.line(),
+                column: inner.column(),
+                message,
+            }
+        }
         _ => syntax_error(path, &inner),
     }
 }

@@ -14,7 +14,7 @@ use serde::{Deserialize, Serialize};
 
 use super::machine::{validate, MachineSpec};
 use super::SpecError;
-use crate::algo::{AlgorithmId, Options, RunConfig};
+use crate::algo::{AlgorithmId, OptionError, Options, RunConfig};
 use crate::scene::{Scene, SceneError};
 
 /// One run, as a person writes it.
@@ -57,22 +57,47 @@ impl RunSpec {
     /// Loads the machine and scene and checks everything a run needs before it starts.
     /// `scene_cache` lets sweeps share one loaded scene between runs.
     pub fn resolve(&self, scene: Option<Arc<Scene>>) -> Result<RunConfig, RunSpecError> {
+        self.resolve_as(scene, Written::Flags)
+    }
+
+    /// As `resolve`, for a run spec file: mistakes are named by field (`frames`,
+    /// `set.granularity`), not by flag.
+    pub fn resolve_file(&self, scene: Option<Arc<Scene>>) -> Result<RunConfig, RunSpecError> {
+        self.resolve_as(scene, Written::File)
+    }
+
+    /// As `resolve_file`, for one point of a sweep, whose options come from `set` or `vary`.
+    pub fn resolve_sweep_point(
+        &self,
+        scene: Option<Arc<Scene>>,
+    ) -> Result<RunConfig, RunSpecError> {
+        self.resolve_as(scene, Written::SweepPoint)
+    }
+
+    fn resolve_as(
+        &self,
+        scene: Option<Arc<Scene>>,
+        written: Written,
+    ) -> Result<RunConfig, RunSpecError> {
         let algo = AlgorithmId::from_id(&self.algo).ok_or_else(|| {
             RunSpecError::Invalid(format!(
-                "--algo {}: unknown algorithm; valid ids: {}",
-                self.algo,
+                "{}: unknown algorithm; valid ids: {}",
+                written.name("algo", &self.algo),
                 AlgorithmId::valid_ids()
             ))
         })?;
-        let machine = self.machine_with_overrides()?;
+        let machine = self.machine_with_overrides(written)?;
         if self.procs == 0 {
             return Err(RunSpecError::Invalid(
-                "--procs 0: a run needs at least 1 processor".into(),
+                format!("{}: a run needs at least 1 processor", written.name("procs", "0")),
             ));
         }
         let machine = machine
             .with_nodes(self.procs)
-            .map_err(|e| RunSpecError::Invalid(format!("--procs {}: {e}", self.procs)))?;
+            .map_err(|e| {
+                let procs = written.name("procs", &self.procs.to_string());
+                RunSpecError::Invalid(format!("{procs}: {e}"))
+            })?;
         let options = Options::new(
             self.set
                 .iter()
@@ -81,15 +106,15 @@ impl RunSpec {
                 .collect(),
         );
         algo.check_option_values(&options)
-            .map_err(|e| RunSpecError::Invalid(e.to_string()))?;
+            .map_err(|e| RunSpecError::Invalid(written.option_error(&e)))?;
         let scene = match scene {
             Some(s) => s,
             None => Arc::new(Scene::load(&self.scene)?),
         };
         let frames = parse_frames(self.frames.as_deref(), scene.frame_count()).map_err(|e| {
             RunSpecError::Invalid(format!(
-                "--frames {}: {e}",
-                self.frames.as_deref().unwrap_or("")
+                "{}: {e}",
+                written.name("frames", self.frames.as_deref().unwrap_or(""))
             ))
         })?;
         Ok(RunConfig {
@@ -106,7 +131,10 @@ impl RunSpec {
     /// The machine spec with every `machine.` key of `set` applied, validated. The file is
     /// first read as `check` reads it (field paths, duplicate keys), so a mistake in the file
     /// is named in the file; what only the overrides break is named with their keys.
-    fn machine_with_overrides(&self) -> Result<crate::machine::MachineConfig, RunSpecError> {
+    fn machine_with_overrides(
+        &self,
+        written: Written,
+    ) -> Result<crate::machine::MachineConfig, RunSpecError> {
         let text = super::read_input(&self.machine).map_err(|source| SpecError::Io {
             file: self.machine.clone(),
             source,
@@ -124,19 +152,82 @@ impl RunSpec {
         for (key, raw) in &overrides {
             let path: Vec<&str> = key["machine.".len()..].split('.').collect();
             set_path(&mut value, &path, raw)
-                .map_err(|e| RunSpecError::Invalid(format!("--set {key}={raw}: {e}")))?;
+                .map_err(|e| RunSpecError::Invalid(format!("{}: {e}", written.set(key, raw))))?;
         }
         let spec: MachineSpec = serde_path_to_error::deserialize(value).map_err(|e| {
-            let keys: Vec<String> = overrides.iter().map(|(k, v)| format!("{k}={v}")).collect();
+            let keys: Vec<String> = overrides
+                .iter()
+                .map(|(k, v)| written.set_with(k, v))
+                .collect();
             RunSpecError::Invalid(format!(
-                "{}: at `{}` with --set {}: {}",
+                "{}: at `{}` with {}: {}",
                 self.machine.display(),
                 e.path(),
-                keys.join(", --set "),
+                keys.join(", "),
                 e.inner()
             ))
         })?;
         Ok(validate(&self.machine, spec)?)
+    }
+}
+
+/// Where a run spec came from, which decides how its messages name a value: by the flag a
+/// person typed or by the field they wrote.
+#[derive(Clone, Copy)]
+enum Written {
+    Flags,
+    File,
+    SweepPoint,
+}
+
+impl Written {
+    /// `--frames 0..=2` or `at `frames` (0..=2)`.
+    fn name(self, field: &str, value: &str) -> String {
+        match self {
+            Written::Flags => format!("--{field} {value}"),
+            Written::File | Written::SweepPoint => format!("at `{field}` ({value})"),
+        }
+    }
+
+    /// `--set key`, `at `set.key`` or `option `key``, leading a message.
+    fn option(self, key: &str) -> String {
+        match self {
+            Written::Flags => format!("--set {key}"),
+            Written::File => format!("at `set.{key}`"),
+            Written::SweepPoint => format!("option `{key}`"),
+        }
+    }
+
+    /// `--set key=value`, `at `set.key` (value)` or `option `key` = value`, leading a message.
+    fn set(self, key: &str, value: &str) -> String {
+        match self {
+            Written::Flags => format!("--set {key}={value}"),
+            Written::File => format!("at `set.{key}` ({value})"),
+            Written::SweepPoint => format!("option `{key}` = {value}"),
+        }
+    }
+
+    /// As `set`, after "with".
+    fn set_with(self, key: &str, value: &str) -> String {
+        match self {
+            Written::Flags => format!("--set {key}={value}"),
+            Written::File => format!("`set.{key}` = {value}"),
+            Written::SweepPoint => format!("option `{key}` = {value}"),
+        }
+    }
+
+    /// An algorithm option's error, worded for where the option was written.
+    fn option_error(self, e: &OptionError) -> String {
+        match (self, e) {
+            (Written::Flags, e) => e.to_string(),
+            (_, OptionError::Invalid { key, value, message }) => {
+                format!("{}: {message}", self.set(key, value))
+            }
+            (_, OptionError::Unknown { key, algo, valid }) => format!(
+                "{}: {algo} has no option '{key}'; valid options: {valid}",
+                self.option(key)
+            ),
+        }
     }
 }
 

@@ -451,7 +451,7 @@ fn resolve_pending(
         let run = &sweep.points[i].run;
         let scene = scenes.get(sweep, &run.scene)?;
         let cfg = run
-            .resolve(Some(scene))
+            .resolve_sweep_point(Some(scene))
             .map_err(|e| SpecError::invalid(&sweep.file, "", format!("point {}: {e}", names[i])))?;
         configs.push(cfg);
     }
