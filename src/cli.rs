@@ -43,12 +43,16 @@ pub enum Command {
     Accuracy(AccuracyArgs),
     /// Draw one frame of a scene with the sequential reference renderer; print its statistics.
     #[command(
-        after_help = "Example:\n  sortsim render scenes/spd-teapot.json --frame 0 -o teapot.png"
+        after_help = "Example:\n  sortsim render scenes/spd-teapot.json --frame 0 -o teapot.png\n  sortsim render scenes/spd-teapot.json --aa supersample:16 -o teapot-aa.png"
     )]
     Render {
         scene: PathBuf,
         #[arg(long, default_value_t = 0, allow_negative_numbers = true)]
         frame: u32,
+        /// Anti-aliasing: none, adaptive or supersample:N (N = 4, 9, 16, ... 256), the image
+        /// every algorithm reproduces with --set aa=<the same>.
+        #[arg(long, default_value = "none", value_parser = parse_aa, allow_negative_numbers = true)]
+        aa: sortsim::raster::aa::AaMethod,
         /// PNG file to write.
         #[arg(short, long, value_name = "PNG", allow_negative_numbers = true)]
         out: PathBuf,
@@ -600,4 +604,10 @@ fn region_size(s: &str) -> Result<(u32, u32), String> {
         return Err(bad());
     }
     Ok((w, h))
+}
+
+/// `--aa`: an anti-aliasing method as `--set aa=` spells it.
+fn parse_aa(s: &str) -> Result<sortsim::raster::aa::AaMethod, String> {
+    sortsim::raster::aa::AaMethod::parse(s)
+        .ok_or_else(|| format!("expected {}", sortsim::raster::aa::AaMethod::VALID))
 }

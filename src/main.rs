@@ -97,7 +97,12 @@ fn main() -> ExitCode {
         Some(Command::Netsim(args)) => netsim(&args),
         Some(Command::Run(args)) => run(&args),
         Some(Command::Accuracy(args)) => accuracy(&args),
-        Some(Command::Render { scene, frame, out }) => render(&scene, frame, &out),
+        Some(Command::Render {
+            scene,
+            frame,
+            aa,
+            out,
+        }) => render(&scene, frame, aa, &out),
         Some(Command::SceneStats {
             scene,
             frames,
@@ -296,10 +301,15 @@ fn accuracy(args: &AccuracyArgs) -> Result<(), Failure> {
     Ok(())
 }
 
-fn render(scene: &Path, frame: u32, out: &Path) -> Result<(), Failure> {
+fn render(
+    scene: &Path,
+    frame: u32,
+    aa: sortsim::raster::aa::AaMethod,
+    out: &Path,
+) -> Result<(), Failure> {
     let scene = Scene::load(scene)?;
     let geometry = scene.frame(frame)?;
-    let (image, counters) = reference::render(&geometry);
+    let (image, counters) = reference::render_aa(&geometry, aa);
     let png = png_bytes(&image)?;
     write_bytes(out, &png)?;
     println!(

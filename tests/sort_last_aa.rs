@@ -1,6 +1,7 @@
-//! Anti-aliasing in the sort-last family (`aa=supersample:N`): nodes render and merge
-//! samples, so every image equals the sequential render on the same sample grid resolved by
-//! the box filter, and the traffic of the merges grows with the samples they move.
+//! Anti-aliasing across the families (`aa=supersample:N`): sort-last nodes render each
+//! pixel's samples as the sequential supersampling buffer does and merge them sample by
+//! sample, so every algorithm's image equals `sortsim render --aa supersample:N`, and the
+//! traffic of the merges grows with the samples they move.
 
 mod common;
 
@@ -10,8 +11,8 @@ use std::sync::Arc;
 use common::root;
 
 use sortsim::algo::{reference, run, RunError, RunResult};
-use sortsim::raster::aa::downsample;
-use sortsim::raster::{draw_mesh, Framebuffer, Viewport};
+use sortsim::raster::aa::AaMethod;
+use sortsim::raster::Framebuffer;
 use sortsim::scene::Scene;
 use sortsim::spec::run::RunSpec;
 
@@ -29,20 +30,10 @@ fn simulate(
     common::run_sort_last(scene, algo, procs, None, &set)
 }
 
-/// The sequential render of frame 0 on a grid `side` times finer, resolved.
+/// The sequential supersampled render of frame 0 (`sortsim render --aa supersample:N`).
 fn supersampled_reference(scene: &Scene, side: u32) -> Framebuffer {
     let frame = scene.frame(0).unwrap();
-    let screen = reference::viewport(&frame);
-    let grid = Viewport::new(screen.width() * side, screen.height() * side).unwrap();
-    let mut fb = Framebuffer::with_clear(grid, frame.background);
-    draw_mesh(
-        &frame.vertices,
-        &frame.triangles,
-        grid,
-        &reference::raster_options(&frame),
-        &mut fb,
-    );
-    downsample(&fb, side)
+    reference::render_aa(&frame, AaMethod::Supersample { side }).0
 }
 
 const ALGOS: [&str; 9] = [
@@ -132,50 +123,34 @@ fn t800_memory_cannot_hold_a_frame_of_samples() {
 }
 
 #[test]
-fn the_sample_grid_resolves_like_the_supersample_target() {
-    // Both routes sample at the same positions ((i + 1/2) / k of a pixel): sort-last renders
-    // a grid k times finer, sort-middle's SupersampleTarget keeps k x k cells per pixel. They
-    // are not bit-identical: the fine grid snaps vertices to 1/256 of a sample instead of a
-    // pixel (a few edge samples flip) and interpolates colour at every sample. Measured on
-    // the teapot at 2x2: 0.68% of pixels more than one level apart, 0.016% more than eight.
-    let name = "spd-teapot.json";
-    let scene = Arc::new(Scene::load(&root().join("scenes").join(name)).unwrap());
+fn every_algorithm_reproduces_the_sequential_supersampled_render() {
+    // One meaning of supersample:N for every family: the N samples of each pixel at the same
+    // positions, with the same depths and colour, box filtered (`sortsim render --aa`).
+    // Sort-last nodes draw them with the sequential buffer's rule and merge them as samples.
+    let scene = common::scene("spd-teapot.json");
     let frame = scene.frame(0).unwrap();
-    let screen = reference::viewport(&frame);
-    let mut target =
-        sortsim::raster::aa::SupersampleTarget::full_screen(screen, 2, frame.background);
-    draw_mesh(
-        &frame.vertices,
-        &frame.triangles,
-        screen,
-        &reference::raster_options(&frame),
-        &mut target,
-    );
-    let mut fb = Framebuffer::new(screen);
-    target.resolve_into(&mut fb, &mut Default::default());
-    let grid = supersampled_reference(&scene, 2);
-    let diff = |a: &[u8; 3], b: &[u8; 3]| (0..3).map(|c| a[c].abs_diff(b[c])).max().unwrap();
-    let diffs: Vec<u8> = fb
-        .colors()
+    let expected = reference::render_aa(&frame, AaMethod::Supersample { side: 2 }).0;
+    let mut algos: Vec<(&str, &str, Vec<u32>)> = ALGOS
         .iter()
-        .zip(grid.colors())
-        .map(|(a, b)| diff(a, b))
+        .map(|&a| (a, common::sort_last_machine(a).0, vec![1, 3]))
         .collect();
-    let max = diffs.iter().copied().max().unwrap();
-    let over1 = diffs.iter().filter(|&&d| d > 1).count();
-    let over8 = diffs.iter().filter(|&&d| d > 8).count();
-    let n = diffs.len() as f64;
-    assert!(
-        max > 0,
-        "the routes differ somewhere (else this test should demand equality)"
-    );
-    // Tolerances: 1% of pixels beyond one level, 0.05% beyond eight (about 3x the measured).
-    assert!(
-        (over1 as f64) < 0.01 * n,
-        "{over1} pixels more than one level apart"
-    );
-    assert!(
-        (over8 as f64) < 0.0005 * n,
-        "{over8} pixels more than eight levels apart"
-    );
+    algos.push(("sort-last/2-3-swap", "snooping-bus.json", vec![1, 3]));
+    for a in ["sort-middle/static", "sort-middle/ellsworth", "sort-first/mueller"] {
+        algos.push((a, "delta.json", vec![1, 3, 13]));
+    }
+    for (algo, machine, counts) in algos {
+        for procs in counts {
+            let r = if algo.starts_with("sort-last") {
+                simulate(&scene, algo, procs, Some("supersample:4"), &[])
+            } else {
+                common::run_frame0(machine, &scene, algo, procs, &[("aa", "supersample:4")])
+            }
+            .unwrap_or_else(|e| panic!("{algo} n={procs}: {e}"));
+            assert_eq!(
+                r.image.hash(),
+                expected.hash(),
+                "{algo} n={procs}: image differs from sortsim render --aa supersample:4"
+            );
+        }
+    }
 }

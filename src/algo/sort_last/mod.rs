@@ -153,7 +153,13 @@ pub(crate) struct Ctx {
     pub settings: Settings,
     pub n: u32,
     pub cfg: RunConfig,
+    /// The grid merges address: the screen, or with `aa=supersample:N` the grid sqrt N times
+    /// finer in each direction, one location per sample.
     pub viewport: Viewport,
+    /// The screen in pixels, where nodes rasterize (a supersampled node draws each pixel's
+    /// samples with the sequential supersampling buffer's rule, then ships them as
+    /// locations of `viewport`).
+    pub screen: Viewport,
     pub background: [u8; 3],
     pub raster: RasterOptions,
     /// Adaptive anti-aliasing: pools, the frame's grid, statistics.
@@ -654,12 +660,13 @@ pub fn run(cfg: &RunConfig, variant: Variant) -> Result<RunResult, RunError> {
         n,
         cfg: cfg.clone(),
         viewport,
+        screen,
         background: first.background,
         raster: super::reference::raster_options(&first),
         book: FrameBook::new(
             cfg.scene.clone(),
             n,
-            viewport,
+            screen,
             cfg.frames.start,
             Rc::new(first),
         ),

@@ -14,10 +14,13 @@
 use std::fmt::Debug;
 
 use super::Ctx;
-use crate::raster::aa::{AaPixel, AdaptiveConfig, AdaptiveTarget, Blocks, Grid, PIXEL_BYTES};
+use crate::raster::aa::{
+    for_each_sample, sample_positions, AaPixel, AdaptiveConfig, AdaptiveTarget, Blocks, Grid,
+    SupersampleTarget, PIXEL_BYTES,
+};
 use crate::raster::scan::{Fragment, Sampling, Span};
 use crate::raster::target::nearer;
-use crate::raster::{Counters, SparseBuffer, Target, ACTIVE_PIXEL_BYTES};
+use crate::raster::{Counters, ScreenRect, SparseBuffer, Target, ACTIVE_PIXEL_BYTES};
 
 /// One pixel as a merge ships it.
 pub(crate) trait ShippedPixel: Clone + Debug + 'static {
@@ -30,18 +33,20 @@ pub(crate) trait ShippedPixel: Clone + Debug + 'static {
     /// A rendered buffer's pixels in raster order; the node's pool state is noted in `ctx`.
     fn collect(buffer: Self::Buffer, ctx: &Ctx, node: u32) -> Vec<Self>;
 
-    /// A fragment as a node ships it without a depth test (direct send), if it ships one
-    /// (`grid`: the frame's subpixel resolution).
-    fn fragment(
+    /// What a node ships of a fragment without a depth test (direct send): nothing, the
+    /// pixel, or with supersampling the samples it covers (`grid`: the frame's subpixel
+    /// resolution).
+    fn fragments(
         ctx: &Ctx,
         grid: Grid,
         span: &Span<'_>,
         f: &Fragment,
         counters: &mut Counters,
-    ) -> Option<Self>;
+        out: &mut Vec<Self>,
+    );
 
     /// Which pixels the buffers of this pixel type want spans to hold.
-    fn sampling() -> Sampling;
+    fn sampling(ctx: &Ctx) -> Sampling;
 
     /// Row-major screen location.
     fn loc(&self) -> u32;
@@ -82,44 +87,108 @@ pub struct Px {
     pub rgb: [u8; 3],
 }
 
+/// What a node renders [`Px`]s into: an active-pixel buffer, or with `aa=supersample:N` the
+/// sequential supersampling buffer (the same samples, depths and colours as sort-middle's
+/// and the reference's), whose samples then travel as locations of the finer grid.
+pub(crate) enum PxBuffer {
+    Pixels(SparseBuffer),
+    Samples(SupersampleTarget),
+}
+
+impl Target for PxBuffer {
+    fn rects(&self) -> &[ScreenRect] {
+        match self {
+            PxBuffer::Pixels(b) => b.rects(),
+            PxBuffer::Samples(b) => b.rects(),
+        }
+    }
+
+    fn sampling(&self) -> Sampling {
+        match self {
+            PxBuffer::Pixels(b) => b.sampling(),
+            PxBuffer::Samples(b) => b.sampling(),
+        }
+    }
+
+    fn span(&mut self, rect: usize, span: &Span<'_>, counters: &mut Counters) {
+        match self {
+            PxBuffer::Pixels(b) => b.span(rect, span, counters),
+            PxBuffer::Samples(b) => b.span(rect, span, counters),
+        }
+    }
+}
+
 impl ShippedPixel for Px {
-    type Buffer = SparseBuffer;
+    type Buffer = PxBuffer;
 
-    fn buffer(ctx: &Ctx, _frame: u32) -> SparseBuffer {
-        SparseBuffer::new(ctx.viewport)
+    fn buffer(ctx: &Ctx, _frame: u32) -> PxBuffer {
+        match ctx.settings.side {
+            1 => PxBuffer::Pixels(SparseBuffer::new(ctx.viewport)),
+            side => PxBuffer::Samples(SupersampleTarget::full_screen(
+                ctx.screen,
+                side,
+                ctx.background,
+            )),
+        }
     }
 
-    fn collect(buffer: SparseBuffer, ctx: &Ctx, _node: u32) -> Vec<Px> {
+    fn collect(buffer: PxBuffer, ctx: &Ctx, _node: u32) -> Vec<Px> {
         let width = ctx.viewport.width();
-        buffer
-            .active_sorted()
-            .iter()
-            .map(|p| Px {
-                loc: p.y * width + p.x,
-                z: p.z,
-                prim: p.prim,
-                rgb: p.rgb,
-            })
-            .collect()
+        match buffer {
+            PxBuffer::Pixels(b) => b
+                .active_sorted()
+                .iter()
+                .map(|p| Px {
+                    loc: p.y * width + p.x,
+                    z: p.z,
+                    prim: p.prim,
+                    rgb: p.rgb,
+                })
+                .collect(),
+            PxBuffer::Samples(b) => b
+                .written_samples()
+                .into_iter()
+                .map(|(loc, z, prim, rgb)| Px { loc, z, prim, rgb })
+                .collect(),
+        }
     }
 
-    fn fragment(
+    fn fragments(
         ctx: &Ctx,
         _grid: Grid,
         span: &Span<'_>,
         f: &Fragment,
-        _counters: &mut Counters,
-    ) -> Option<Px> {
-        Some(Px {
-            loc: span.y() * ctx.viewport.width() + f.x,
-            z: f.z,
-            prim: span.prim(),
-            rgb: f.rgb,
-        })
+        counters: &mut Counters,
+        out: &mut Vec<Px>,
+    ) {
+        let (side, prim) = (ctx.settings.side, span.prim());
+        if side == 1 {
+            out.push(Px {
+                loc: span.y() * ctx.viewport.width() + f.x,
+                z: f.z,
+                prim,
+                rgb: f.rgb,
+            });
+            return;
+        }
+        let positions = sample_positions(side);
+        let (x0, y0) = (f.x * side, span.y() * side);
+        for_each_sample(&positions, span, f.x, counters, |k, z, _| {
+            let (i, j) = (k as u32 % side, k as u32 / side);
+            out.push(Px {
+                loc: (y0 + j) * ctx.viewport.width() + x0 + i,
+                z,
+                prim,
+                rgb: f.rgb,
+            });
+        });
     }
 
-    fn sampling() -> Sampling {
-        Sampling::Centre
+    fn sampling(ctx: &Ctx) -> Sampling {
+        match ctx.settings.side {
+            1 => Sampling::Centre,
+            _ => Sampling::Conservative,
+        }
     }
 
     fn loc(&self) -> u32 {
@@ -195,18 +264,21 @@ impl ShippedPixel for AaPx {
             .collect()
     }
 
-    fn fragment(
+    fn fragments(
         ctx: &Ctx,
         grid: Grid,
         span: &Span<'_>,
         f: &Fragment,
         counters: &mut Counters,
-    ) -> Option<AaPx> {
+        out: &mut Vec<AaPx>,
+    ) {
         let loc = span.y() * ctx.viewport.width() + f.x;
-        AaPixel::fragment(span, f.x, f.z, f.rgb, grid, counters).map(|pixel| AaPx { loc, pixel })
+        if let Some(pixel) = AaPixel::fragment(span, f.x, f.z, f.rgb, grid, counters) {
+            out.push(AaPx { loc, pixel });
+        }
     }
 
-    fn sampling() -> Sampling {
+    fn sampling(_ctx: &Ctx) -> Sampling {
         Sampling::Conservative
     }
 

@@ -60,17 +60,20 @@ fn render_lines<P: ShippedPixel>(
     node: u32,
     tris: &[ScreenTriangle],
 ) -> (Vec<Line<P>>, Counters) {
+    // Scanlines are the screen's; with supersampling each carries `side` rows of samples,
+    // which travel as rows of the merge grid (the first of them charged the scanline's work).
+    let side = ctx.settings.side;
     let width = ctx.viewport.width();
-    let height = ctx.viewport.height() as usize;
+    let height = ctx.screen.height() as usize;
     let mut structure = Vec::with_capacity(height);
     let mut prev = Counters::default();
-    let total = render_scanlines_counted(tris, ctx.viewport, ctx.background, |_, c| {
+    let total = render_scanlines_counted(tris, ctx.screen, ctx.background, |_, c| {
         let inserts = c.active_inserts - prev.active_inserts;
         // The list while this scanline is drawn: everything inserted, minus what earlier
         // scanlines removed.
         let length = c.active_inserts - prev.active_removals;
         let mut work = Counts::new();
-        work.add(Op::ClearPixel, width as u64)
+        work.add(Op::ClearPixel, u64::from(width * side))
             .add(
                 Op::SetupTriangle,
                 c.triangles_scanned - prev.triangles_scanned,
@@ -86,20 +89,21 @@ fn render_lines<P: ShippedPixel>(
     };
     draw_screen_triangles(tris, &mut target);
     let mut pixels = P::collect(target.inner, ctx, node).into_iter().peekable();
-    let lines = structure
-        .into_iter()
-        .zip(&target.rows)
-        .enumerate()
-        .map(|(y, (mut work, row))| {
-            work += &charge::back_end(row);
-            let end = (y as u32 + 1) * width;
+    let mut lines = Vec::with_capacity(height * side as usize);
+    for (mut work, row) in structure.into_iter().zip(&target.rows) {
+        work += &charge::back_end(row);
+        for _ in 0..side {
+            let end = (lines.len() as u32 + 1) * width;
             let mut line = Vec::new();
             while let Some(p) = pixels.next_if(|p| p.loc() < end) {
                 line.push(p);
             }
-            Line { work, pixels: line }
-        })
-        .collect();
+            lines.push(Line {
+                work: std::mem::take(&mut work),
+                pixels: line,
+            });
+        }
+    }
     (lines, total)
 }
 

@@ -119,7 +119,7 @@ impl<'c, P: ShippedPixel> BucketTarget<'c, P> {
         BucketTarget {
             ctx,
             grid: ctx.aa.grid(frame),
-            rects: [ctx.viewport.rect()],
+            rects: [ctx.screen.rect()],
             buckets: vec![Vec::new(); ctx.n as usize],
             fragments: 0,
         }
@@ -131,13 +131,17 @@ impl<P: ShippedPixel> Target for BucketTarget<'_, P> {
         &self.rects
     }
     fn sampling(&self) -> crate::raster::scan::Sampling {
-        P::sampling()
+        P::sampling(self.ctx)
     }
     fn span(&mut self, _rect: usize, span: &Span<'_>, counters: &mut Counters) {
-        let bucket = &mut self.buckets[(span.y() % self.ctx.n) as usize];
+        // A row of the merge grid belongs to node row mod n; a supersampled pixel's samples
+        // lie on several.
+        let width = self.ctx.viewport.width();
+        let mut shipped = Vec::new();
         for f in span.fragments() {
-            if let Some(p) = P::fragment(self.ctx, self.grid, span, &f, counters) {
-                bucket.push(p);
+            P::fragments(self.ctx, self.grid, span, &f, counters, &mut shipped);
+            for p in shipped.drain(..) {
+                self.buckets[(p.loc() / width % self.ctx.n) as usize].push(p);
                 self.fragments += 1;
             }
         }

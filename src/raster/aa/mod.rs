@@ -26,7 +26,9 @@ pub mod supersample;
 pub use adaptive::{adapt, AdaptiveConfig, AdaptiveTarget, RECLAIM_SPREAD};
 pub use masks::Grid;
 pub use merge::{AaPixel, Blocks, Sample};
-pub use supersample::{downsample, SupersampleTarget, MAX_SUPERSAMPLE_SIDE};
+pub use supersample::{
+    downsample, for_each_sample, sample_positions, SupersampleTarget, MAX_SUPERSAMPLE_SIDE,
+};
 
 use crate::raster::fixed::{Depth, DEPTH_FRAC};
 use crate::raster::setup::RasterTriangle;

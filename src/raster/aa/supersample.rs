@@ -58,16 +58,11 @@ impl SupersampleTarget {
                 prim: vec![u32::MAX; rect.pixels() * n],
             })
             .collect();
-        // Cell centres (2i + 1) / 2k of a pixel, rounded to the subpixel lattice.
-        let at = |i: u32| ((2 * i + 1) * SUBPIXEL_ONE as u32 / (2 * side)) as u8;
-        let positions = (0..side * side)
-            .map(|s| (at(s % side), at(s / side)))
-            .collect();
         Ok(SupersampleTarget {
             rects,
             regions,
             side,
-            positions,
+            positions: sample_positions(side),
             clear,
         })
     }
@@ -109,6 +104,34 @@ impl SupersampleTarget {
     /// Modelled memory: samples times [`SUBPIXEL_BYTES`] (no Pixel array).
     pub fn bytes(&self) -> crate::units::Bytes {
         crate::units::Bytes::new(self.samples() * SUBPIXEL_BYTES)
+    }
+
+    /// Every written sample of a full-screen target as `(location, z, prim, rgb)`, the
+    /// location row-major on the grid `side` times finer in each direction (sample (i, j) of
+    /// pixel (x, y) at column `x * side + i`, row `y * side + j`), in that grid's raster
+    /// order: how a sort-last node hands its samples to a merge that moves them one by one.
+    pub fn written_samples(&self) -> Vec<(u32, u32, u32, [u8; 3])> {
+        let side = self.side as usize;
+        let n = side * side;
+        let mut out = Vec::new();
+        for s in &self.regions {
+            let (w, h) = (s.rect.width() as usize, s.rect.height() as usize);
+            let fine_w = (s.rect.x0() as usize + w) * side;
+            for y in 0..h * side {
+                let (py, j) = (y / side, y % side);
+                let fine_y = (s.rect.y0() as usize * side + y) as u32;
+                for x in 0..w * side {
+                    let (px, i) = (x / side, x % side);
+                    let cell = (py * w + px) * n + j * side + i;
+                    if s.prim[cell] != u32::MAX {
+                        let fine_x = (s.rect.x0() as usize * side + x) as u32;
+                        let loc = fine_y * fine_w as u32 + fine_x;
+                        out.push((loc, s.z[cell], s.prim[cell], s.rgb[cell]));
+                    }
+                }
+            }
+        }
+        out
     }
 
     /// Box-filtered image with each pixel's nearest sample depth; one
@@ -188,34 +211,14 @@ impl Target for SupersampleTarget {
     }
 
     fn span(&mut self, rect: usize, span: &Span<'_>, c: &mut Counters) {
-        let tri = span.triangle();
-        let slope = slopes(tri);
         let prim = span.prim();
-        let y = span.y();
         let n = (self.side * self.side) as usize;
-        let half = SUBPIXEL_ONE / 2;
         let s = &mut self.regions[rect];
         let w = s.rect.width() as usize;
-        let row = (y - s.rect.y0()) as usize * w;
+        let row = (span.y() - s.rect.y0()) as usize * w;
         for f in span.fragments() {
-            let (px, py) = (i64::from(f.x), i64::from(y));
-            let full = tri.fully_covers_pixel(px, py);
-            let centre = tri.depth_fine_at(px, py);
-            if !full {
-                c.aa_coverage_masks += 1;
-            }
             let base = (row + (f.x - s.rect.x0()) as usize) * n;
-            for (k, &(sx, sy)) in self.positions.iter().enumerate() {
-                if !full && !tri.covers_sample(px, py, sx, sy) {
-                    continue;
-                }
-                let z = sample_depth(
-                    centre,
-                    slope,
-                    i64::from(sx) - half,
-                    i64::from(sy) - half,
-                    SUBPIXEL_ONE,
-                );
+            for_each_sample(&self.positions, span, f.x, c, |k, z, c| {
                 let cell = base + k;
                 c.aa_subpixel_tests += 1;
                 c.bytes_touched += 4;
@@ -226,7 +229,50 @@ impl Target for SupersampleTarget {
                     c.aa_subpixel_writes += 1;
                     c.bytes_touched += SUBPIXEL_BYTES;
                 }
-            }
+            });
         }
+    }
+}
+
+/// The k x k sample positions of a pixel, row-major, in 1/256 pixel from its top-left
+/// corner: cell centres (2i + 1) / 2k, exact on the subpixel lattice for k = 2, 4, 8, 16.
+pub fn sample_positions(side: u32) -> Vec<(u8, u8)> {
+    let at = |i: u32| ((2 * i + 1) * SUBPIXEL_ONE as u32 / (2 * side)) as u8;
+    (0..side * side).map(|s| (at(s % side), at(s / side))).collect()
+}
+
+/// Calls `visit(k, z, c)` for each sample `k` of `positions` that pixel `x` of `span`'s row
+/// covers, with the triangle's depth there (its plane from the pixel centre): the one
+/// definition of a supersampled fragment, for a buffer that depth-tests the samples and for
+/// a sort-last node that ships them untested. Counts a coverage mask for a pixel the
+/// triangle covers partly.
+pub fn for_each_sample(
+    positions: &[(u8, u8)],
+    span: &Span<'_>,
+    x: u32,
+    c: &mut Counters,
+    mut visit: impl FnMut(usize, u32, &mut Counters),
+) {
+    let tri = span.triangle();
+    let slope = slopes(tri);
+    let half = SUBPIXEL_ONE / 2;
+    let (px, py) = (i64::from(x), i64::from(span.y()));
+    let full = tri.fully_covers_pixel(px, py);
+    let centre = tri.depth_fine_at(px, py);
+    if !full {
+        c.aa_coverage_masks += 1;
+    }
+    for (k, &(sx, sy)) in positions.iter().enumerate() {
+        if !full && !tri.covers_sample(px, py, sx, sy) {
+            continue;
+        }
+        let z = sample_depth(
+            centre,
+            slope,
+            i64::from(sx) - half,
+            i64::from(sy) - half,
+            SUBPIXEL_ONE,
+        );
+        visit(k, z, c);
     }
 }
