@@ -352,22 +352,23 @@ fn random_closed_meshes_cover_each_pixel_equally_from_front_and_back() {
     }
 }
 
-/// Huge meshes (vertices up to 1e6 px away, clip w varying) go through guard-band
-/// clipping; the visible part must still cover every viewport pixel exactly once.
+/// Huge meshes (vertices up to 1e7 px away, clip w varying) go through guard-band
+/// clipping (the band lies a million pixels out); the visible part must still cover every
+/// viewport pixel exactly once.
 #[test]
-fn meshes_at_coordinates_up_to_1e6_px_are_watertight() {
+fn meshes_at_coordinates_up_to_1e7_px_are_watertight() {
     let v = vp(128, 96);
     for seed in 0..8u64 {
         let mut r = rng(300 + seed);
         let n = 12usize;
-        let span = 2.0e6;
+        let span = 2.0e7;
         let mut verts = Vec::new();
         for j in 0..=n {
             for i in 0..=n {
                 let interior = i > 0 && j > 0 && i < n && j < n;
                 let jit = if interior { 0.3 * span / n as f64 } else { 0.0 };
-                let x = -1.0e6 + i as f64 * span / n as f64 + r.gen_range(-jit..=jit);
-                let y = -1.0e6 + j as f64 * span / n as f64 + r.gen_range(-jit..=jit);
+                let x = -1.0e7 + i as f64 * span / n as f64 + r.gen_range(-jit..=jit);
+                let y = -1.0e7 + j as f64 * span / n as f64 + r.gen_range(-jit..=jit);
                 let w = if seed % 2 == 0 {
                     1.0
                 } else {

@@ -19,8 +19,8 @@
 //! `u x v = u.x * v.y - u.y * v.x` (in y-down coordinates that is clockwise as seen on
 //! screen). For the directed edge `a -> b` the edge function is
 //! `E(p) = (b.x - a.x) * (p.y - a.y) - (b.y - a.y) * (p.x - a.x)`: positive inside, zero on
-//! the edge line, and it is an exact 64-bit integer (coordinates are below 2^26 in magnitude,
-//! so every product is below 2^53).
+//! the edge line, and it is an exact 64-bit integer (coordinates are at most 2^29 in
+//! magnitude, 2^21 px, so every product is below 2^60 and the function below 2^61).
 //!
 //! A pixel centre exactly on an edge line belongs to at most one of the two triangles that
 //! share the edge: the top-left rule. In this orientation an edge is
@@ -42,11 +42,16 @@ pub const SUBPIXEL_ONE: i64 = 1 << SUBPIXEL_BITS;
 /// Offset of a pixel centre from the pixel's top-left corner, in subpixel steps.
 pub const PIXEL_CENTRE: i64 = SUBPIXEL_ONE / 2;
 /// Largest magnitude of a snapped coordinate, in pixels. The guard band in `clip` keeps every
-/// projected vertex well inside this; snapping clamps to it as a last line of defence so the
-/// edge-function products above can never overflow.
-pub const MAX_COORD_PX: i64 = 1 << 17;
+/// projected vertex inside this (at 2^20 px from the viewport's centre, so a triangle reaching
+/// a million pixels off screen is drawn with its own edges, not clipped ones); snapping clamps
+/// to it as a last line of defence so the edge-function products above can never overflow.
+pub const MAX_COORD_PX: i64 = 1 << 21;
 
-/// A snapped screen coordinate in 1/256 pixel (the `s.8` format): |value| <= 2^25.
+/// The coordinate range before the guard band moved out to a million pixels: a triangle
+/// within it takes exactly the plane arithmetic it always took (see [`PlaneBasis::far`]).
+const NEAR_LIMIT: i64 = (1 << 17) * SUBPIXEL_ONE;
+
+/// A snapped screen coordinate in 1/256 pixel (the `s.8` format): |value| <= 2^29.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq, PartialOrd, Ord, Hash)]
 pub struct Sub(i32);
 
@@ -274,6 +279,9 @@ pub const COLOR_FRAC: u32 = 20;
 /// gradient) so the `i64` plane can never overflow on degenerate slivers; the result is then
 /// clamped to the triangle's colour range anyway.
 const COLOR_GRADIENT_LIMIT: i64 = 1 << 42;
+/// The same for a far triangle, whose pixels lie up to 2^22 px from its anchor: 2^39 x 2^22
+/// x 2 stays inside `i64`.
+const COLOR_GRADIENT_LIMIT_FAR: i64 = 1 << 39;
 
 /// Rounds to the nearest integer, halves away from zero, saturating (NaN gives 0). Inline
 /// arithmetic instead of `f64::round`, which is a library call on baseline x86-64.
@@ -316,6 +324,18 @@ pub struct PlaneBasis {
 }
 
 impl PlaneBasis {
+    /// True when a vertex lies beyond 2^17 px (the range every triangle had while the guard
+    /// band sat at 8 half-viewports): its planes are evaluated up to 2^22 px from the anchor,
+    /// so they take tighter limits. A triangle within the range keeps the arithmetic it
+    /// always had, bit for bit.
+    pub fn far(&self) -> bool {
+        let (x1, y1) = (self.x0 + self.d1.0, self.y0 + self.d1.1);
+        let (x2, y2) = (self.x0 + self.d2.0, self.y0 + self.d2.1);
+        [self.x0, self.y0, x1, y1, x2, y2]
+            .iter()
+            .any(|c| c.abs() > NEAR_LIMIT)
+    }
+
     /// Offset of the anchor pixel's centre from vertex 0, in subpixel steps (|.| <= 128).
     fn anchor_offset(&self) -> (i128, i128) {
         (
@@ -334,8 +354,9 @@ impl DepthPlane {
     /// units per pixel; pixels lie within 2^18 px of the anchor, so that is < 2^29 units =
     /// 1/8 depth unit, plus 2^17 units from rounding G to an integer: the plane still
     /// rounds to the exact depth at a vertex. Steeper planes (slivers whose depth changes by more
-    /// than 2^30 per pixel) take the exact path. Either way the plane is an exactly linear
-    /// integer function, so depth stays monotone along any line.
+    /// than 2^30 per pixel) take the exact path. A far triangle (pixels up to 2^22 px from the
+    /// anchor) takes the f64 path only below |G| < 2^58, for the same bound. Either way the
+    /// plane is an exactly linear integer function, so depth stays monotone along any line.
     #[inline]
     pub fn new(basis: &PlaneBasis, z: [u32; 3]) -> DepthPlane {
         let min = z[0].min(z[1]).min(z[2]);
@@ -352,16 +373,21 @@ impl DepthPlane {
                 max,
             };
         }
-        // |f| < 2^32 and |d| <= 2^26: the numerators stay below 2^59.
-        let (f1, f2) = (i64::from(z[1]) - z0, i64::from(z[2]) - z0);
-        let (dx1, dy1) = basis.d1;
-        let (dx2, dy2) = basis.d2;
+        // |f| < 2^32 and |d| <= 2^30: the numerators stay below 2^63, exact in i128 (and
+        // below 2^59 for a triangle that is not far).
+        let (f1, f2) = (i128::from(z[1]) - i128::from(z0), i128::from(z[2]) - i128::from(z0));
+        let (dx1, dy1) = (i128::from(basis.d1.0), i128::from(basis.d1.1));
+        let (dx2, dy2) = (i128::from(basis.d2.0), i128::from(basis.d2.1));
         let (nx, ny) = (f1 * dy2 - f2 * dy1, dx1 * f2 - dx2 * f1);
         let per_step = (one as f64) * basis.inv_area2;
         let per_pixel = per_step * SUBPIXEL_ONE as f64;
         let (gxf, gyf) = (nx as f64 * per_pixel, ny as f64 * per_pixel);
-        const FAST_LIMIT: f64 = (1u64 << 62) as f64;
-        if gxf.abs() < FAST_LIMIT && gyf.abs() < FAST_LIMIT {
+        let fast_limit = if basis.far() {
+            (1u64 << 58) as f64
+        } else {
+            (1u64 << 62) as f64
+        };
+        if gxf.abs() < fast_limit && gyf.abs() < fast_limit {
             let (cx, cy) = (centre(basis.ox) - basis.x0, centre(basis.oy) - basis.y0);
             let offset = (nx as f64 * cx as f64 + ny as f64 * cy as f64) * per_step;
             return DepthPlane {
@@ -373,9 +399,8 @@ impl DepthPlane {
             };
         }
         let area = i128::from(basis.area2);
-        let (nx, ny) = (i128::from(nx), i128::from(ny));
         let (cx, cy) = basis.anchor_offset();
-        // Per-pixel gradients: one pixel is 256 subpixel steps. |n| < 2^60, so n << 40 fits.
+        // Per-pixel gradients: one pixel is 256 subpixel steps. |n| < 2^63, so n << 40 fits.
         let gx = round_div_i128(nx * SUBPIXEL_ONE as i128 * one, area);
         let gy = round_div_i128(ny * SUBPIXEL_ONE as i128 * one, area);
         let origin = base + round_div_i128((nx * cx + ny * cy) * one, area);
@@ -446,7 +471,7 @@ impl ColorPlane {
                 max,
             };
         }
-        // |f| <= 255 and |d| <= 2^26, so the numerators stay below 2^35.
+        // |f| <= 255 and |d| <= 2^30, so the numerators stay below 2^39.
         let (f1, f2) = (
             i64::from(c[1]) - i64::from(c[0]),
             i64::from(c[2]) - i64::from(c[0]),
@@ -457,7 +482,11 @@ impl ColorPlane {
         let (cx, cy) = (centre(basis.ox) - basis.x0, centre(basis.oy) - basis.y0);
         let per_step = (1i64 << COLOR_FRAC) as f64 * basis.inv_area2;
         let per_pixel = per_step * SUBPIXEL_ONE as f64;
-        let lim = COLOR_GRADIENT_LIMIT as f64;
+        let lim = if basis.far() {
+            COLOR_GRADIENT_LIMIT_FAR
+        } else {
+            COLOR_GRADIENT_LIMIT
+        } as f64;
         let fix = |v: f64| round_f64(v.clamp(-lim, lim));
         ColorPlane {
             origin: base + fix((nx * cx + ny * cy) as f64 * per_step),

@@ -6,8 +6,8 @@
 //!
 //! Must never hold pixels or know about triangles.
 
-/// Largest viewport side in pixels. With the guard band this bounds every snapped
-/// coordinate (see `fixed::MAX_COORD_PX`).
+/// Largest viewport side in pixels. With the guard band (2^20 px from the centre) this
+/// bounds every snapped coordinate below `fixed::MAX_COORD_PX`.
 pub const MAX_VIEWPORT: u32 = 16384;
 
 /// A viewport of `width x height` pixels, each side in `1..=MAX_VIEWPORT`.

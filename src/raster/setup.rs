@@ -10,7 +10,9 @@
 //! the screen (x right, y down), which is counter-clockwise in normalized device coordinates
 //! (y up), the OpenGL convention that glam's `perspective_rh` preserves.
 
-use super::clip::{clip_classified, outcode, plane_mask, ClipResult, ClipVertex, MAX_POLYGON};
+use super::clip::{
+    clip_classified, guard, outcode, plane_mask, ClipResult, ClipVertex, MAX_POLYGON,
+};
 use super::counters::Counters;
 use super::fixed::{channel_to_u8, ColorPlane, Depth, DepthPlane, Edge, PlaneBasis, Sub};
 use super::screen::Viewport;
@@ -45,7 +47,7 @@ impl ScreenVertex {
     /// A vertex given directly in screen space (the `screen` camera of scene files): pixel
     /// x right, pixel y down, depth in 0..=1 (0 nearest), linear colour in 0..=1. Snaps to
     /// 1/256 px with no float round trip through clip space, so pixel-exact input stays
-    /// pixel-exact. `None` for NaN. Coordinates beyond +-2^17 px are clamped (there is no
+    /// pixel-exact. `None` for NaN. Coordinates beyond +-2^21 px are clamped (there is no
     /// clipping on this path): give such geometry in clip space instead.
     pub fn from_pixels(x: f64, y: f64, z: f64, rgb: [f64; 3]) -> Option<ScreenVertex> {
         if rgb.iter().any(|c| c.is_nan()) {
@@ -248,7 +250,7 @@ pub struct PreparedVertex {
 #[inline]
 pub fn prepare(v: &Vertex, viewport: Viewport) -> Option<PreparedVertex> {
     let clip = ClipVertex::new(v)?;
-    let planes = plane_mask(&clip);
+    let planes = plane_mask(&clip, guard(viewport));
     Some(PreparedVertex {
         outcode: outcode(&clip),
         planes,
@@ -373,7 +375,7 @@ fn setup_prepared(
         counters.culled_invalid += 1;
         return;
     };
-    match clip_classified([ca, cb, cc], outcodes, planes) {
+    match clip_classified([ca, cb, cc], outcodes, planes, guard(viewport)) {
         ClipResult::Outside => counters.culled_outside += 1,
         ClipResult::Inside(t) => finish_polygon(&t, prim, viewport, options, counters, emit),
         ClipResult::Polygon(p) => {
