@@ -127,7 +127,9 @@ fn every_bad_run_spec_is_refused_naming_its_field() {
         check_refusal(&out, &file, &fragment);
         let stderr = String::from_utf8_lossy(&out.stderr);
         assert!(
-            !stderr.contains("--procs") && !stderr.contains("--frames") && !stderr.contains("--set"),
+            !stderr.contains("--procs")
+                && !stderr.contains("--frames")
+                && !stderr.contains("--set"),
             "{}: a file's mistake is not worded as a flag: {stderr}",
             file.display()
         );

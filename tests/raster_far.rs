@@ -85,8 +85,18 @@ fn referee(v: Viewport, verts: &[Vertex], tris: &[[u32; 3]]) -> Vec<Option<u32>>
                 (a.0, a.1, dx, dy, bias)
             })
             .collect();
-        let lo = |k: usize| p.iter().map(|q| if k == 0 { q.0 } else { q.1 }).min().unwrap();
-        let hi = |k: usize| p.iter().map(|q| if k == 0 { q.0 } else { q.1 }).max().unwrap();
+        let lo = |k: usize| {
+            p.iter()
+                .map(|q| if k == 0 { q.0 } else { q.1 })
+                .min()
+                .unwrap()
+        };
+        let hi = |k: usize| {
+            p.iter()
+                .map(|q| if k == 0 { q.0 } else { q.1 })
+                .max()
+                .unwrap()
+        };
         let (x0, x1) = ((lo(0) / 256 - 1).max(0), (hi(0) / 256 + 1).min(w - 1));
         let (y0, y1) = ((lo(1) / 256 - 1).max(0), (hi(1) / 256 + 1).min(h - 1));
         for py in y0..=y1 {
@@ -104,9 +114,25 @@ fn referee(v: Viewport, verts: &[Vertex], tris: &[[u32; 3]]) -> Vec<Option<u32>>
     owner
 }
 
+/// Draws `tris` with no face culled (a fan's slivers face both ways on screen).
+fn draw_both_faces(
+    v: Viewport,
+    verts: &[Vertex],
+    tris: &[[u32; 3]],
+    t: &mut impl Target,
+) -> Counters {
+    let options = RasterOptions {
+        cull: CullMode::None,
+    };
+    draw_mesh(verts, tris, v, &options, t)
+}
+
 /// A closed fan of `n` slivers around the screen's centre, its rim a circle of `radius` px.
 fn fan(v: Viewport, n: usize, radius: f64) -> (Vec<Vertex>, Vec<[u32; 3]>) {
-    let (cx, cy) = (f64::from(v.width()) / 2.0 + 0.37, f64::from(v.height()) / 2.0 - 0.21);
+    let (cx, cy) = (
+        f64::from(v.width()) / 2.0 + 0.37,
+        f64::from(v.height()) / 2.0 - 0.21,
+    );
     let mut verts = vec![at_pixel(v, cx, cy)];
     for k in 0..n {
         let a = std::f64::consts::TAU * k as f64 / n as f64;
@@ -124,15 +150,7 @@ fn closed_fans_with_far_rims_match_the_exact_referee() {
     for (n, radius) in [(5_000, 3_000.0), (5_000, 10_000.0), (2_000, 1.0e6)] {
         let (verts, tris) = fan(v, n, radius);
         let mut target = OwnerTarget::new(v);
-        draw_mesh(
-            &verts,
-            &tris,
-            v,
-            &RasterOptions {
-                cull: CullMode::None,
-            },
-            &mut target,
-        );
+        draw_both_faces(v, &verts, &tris, &mut target);
         let twice = target.count.iter().filter(|&&c| c > 1).count();
         let holes = target.count.iter().filter(|&&c| c == 0).count();
         assert_eq!(
@@ -196,22 +214,12 @@ fn anti_aliased_edges_shared_by_thousands_of_slivers_cover_each_sample_once() {
                 .collect(),
             counts: vec![[0; 16]; v.pixels()],
         };
-        draw_mesh(
-            &verts,
-            &tris,
-            v,
-            &RasterOptions {
-                cull: CullMode::None,
-            },
-            &mut target,
+        draw_both_faces(v, &verts, &tris, &mut target);
+        let wrong = target.counts.iter().flatten().filter(|&&c| c != 1).count();
+        assert_eq!(
+            wrong, 0,
+            "rim at {radius} px: samples not covered exactly once"
         );
-        let wrong = target
-            .counts
-            .iter()
-            .flatten()
-            .filter(|&&c| c != 1)
-            .count();
-        assert_eq!(wrong, 0, "rim at {radius} px: samples not covered exactly once");
     }
 }
 
@@ -222,15 +230,7 @@ fn a_million_slivers_and_slivers_thinner_than_a_subpixel_are_watertight() {
     let v = vp(640, 512);
     let (verts, tris) = fan(v, 1_000_000, 2_000.0);
     let mut target = OwnerTarget::new(v);
-    let c = draw_mesh(
-        &verts,
-        &tris,
-        v,
-        &RasterOptions {
-            cull: CullMode::None,
-        },
-        &mut target,
-    );
+    let c = draw_both_faces(v, &verts, &tris, &mut target);
     assert!(c.triangles_set_up > 900_000, "{c:?}");
     let bad = target.count.iter().filter(|&&k| k != 1).count();
     assert_eq!(bad, 0, "pixels not covered exactly once");
@@ -259,15 +259,7 @@ fn depths_from_1e_minus_7_to_1e7_and_a_ground_behind_the_eye_stay_watertight() {
         .map(|k| [0, 1 + k, 1 + (k + 1) % n as u32])
         .collect();
     let mut target = OwnerTarget::new(v);
-    let c = draw_mesh(
-        &verts,
-        &tris,
-        v,
-        &RasterOptions {
-            cull: CullMode::None,
-        },
-        &mut target,
-    );
+    let c = draw_both_faces(v, &verts, &tris, &mut target);
     assert!(c.clipped > 0, "the ground behind the eye is clipped: {c:?}");
     assert!(target.count.iter().all(|&k| k <= 1), "a pixel drawn twice");
     let w = v.width() as usize;
@@ -287,7 +279,11 @@ fn a_fan_reaching_far_off_screen_is_one_image_at_every_processor_count() {
     let mut obj = String::from("v 0.013 -0.007 0 1 1 1\n");
     for k in 0..n {
         let a = std::f64::consts::TAU * k as f64 / n as f64;
-        let (r, g, b) = ((k % 7) as f64 / 6.0, (k % 5) as f64 / 4.0, (k % 3) as f64 / 2.0);
+        let (r, g, b) = (
+            (k % 7) as f64 / 6.0,
+            (k % 5) as f64 / 4.0,
+            (k % 3) as f64 / 2.0,
+        );
         obj += &format!("v {} {} 0 {r} {g} {b}\n", 1e3 * a.cos(), 1e3 * a.sin());
     }
     for k in 0..n {
@@ -315,7 +311,8 @@ fn a_fan_reaching_far_off_screen_is_one_image_at_every_processor_count() {
         for procs in [1, 3, 7] {
             let spec = sortsim::spec::run::RunSpec {
                 schema: None,
-                machine: std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("machines/delta.json"),
+                machine: std::path::Path::new(env!("CARGO_MANIFEST_DIR"))
+                    .join("machines/delta.json"),
                 scene: scene_file.clone(),
                 algo: algo.into(),
                 procs,

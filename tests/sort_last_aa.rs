@@ -135,7 +135,11 @@ fn every_algorithm_reproduces_the_sequential_supersampled_render() {
         .map(|&a| (a, common::sort_last_machine(a).0, vec![1, 3]))
         .collect();
     algos.push(("sort-last/2-3-swap", "snooping-bus.json", vec![1, 3]));
-    for a in ["sort-middle/static", "sort-middle/ellsworth", "sort-first/mueller"] {
+    for a in [
+        "sort-middle/static",
+        "sort-middle/ellsworth",
+        "sort-first/mueller",
+    ] {
         algos.push((a, "delta.json", vec![1, 3, 13]));
     }
     for (algo, machine, counts) in algos {
@@ -180,7 +184,10 @@ fn every_algorithm_reproduces_the_sequential_adaptive_render_unless_a_pool_runs_
     let mut fell_back = 0;
     for algo in algos {
         for (pool, procs) in [("8MB", 3), ("8MB", 13), ("", 13)] {
-            let mut set = vec![("aa", "adaptive"), ("machine.memory.capacity_per_node", "64MB")];
+            let mut set = vec![
+                ("aa", "adaptive"),
+                ("machine.memory.capacity_per_node", "64MB"),
+            ];
             if !pool.is_empty() {
                 set.push(("aa-pool", pool));
             }

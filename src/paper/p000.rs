@@ -347,7 +347,11 @@ fn min_max(v: &[f64]) -> (f64, f64) {
         .fold((f64::MAX, f64::MIN), |(lo, hi), &x| (lo.min(x), hi.max(x)))
 }
 
-fn parallel_rows(options: &PaperOptions, data: &PaperData, m: &mut Measurements) -> Result<(), String> {
+fn parallel_rows(
+    options: &PaperOptions,
+    data: &PaperData,
+    m: &mut Measurements,
+) -> Result<(), String> {
     // Table 1's 20 frames even under --quick: fewer moved the polygons per second by a fifth
     // (90 K over 5 frames, 74 K over 20), and all 20 take under a second more.
     let frames = "0..20";

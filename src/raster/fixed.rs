@@ -375,7 +375,10 @@ impl DepthPlane {
         }
         // |f| < 2^32 and |d| <= 2^30: the numerators stay below 2^63, exact in i128 (and
         // below 2^59 for a triangle that is not far).
-        let (f1, f2) = (i128::from(z[1]) - i128::from(z0), i128::from(z[2]) - i128::from(z0));
+        let (f1, f2) = (
+            i128::from(z[1]) - i128::from(z0),
+            i128::from(z[2]) - i128::from(z0),
+        );
         let (dx1, dy1) = (i128::from(basis.d1.0), i128::from(basis.d1.1));
         let (dx2, dy2) = (i128::from(basis.d2.0), i128::from(basis.d2.1));
         let (nx, ny) = (f1 * dy2 - f2 * dy1, dx1 * f2 - dx2 * f1);

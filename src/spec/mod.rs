@@ -108,7 +108,8 @@ pub fn read_input(path: &Path) -> std::io::Result<String> {
 /// As `load_json`, for text already in memory; `path` is only used in messages.
 pub fn parse_json<T: DeserializeOwned>(path: &Path, text: &str) -> Result<T, SpecError> {
     let mut de = serde_json::Deserializer::from_str(text);
-    let value = serde_path_to_error::deserialize(&mut de).map_err(|e| from_path_error(path, text, e))?;
+    let value =
+        serde_path_to_error::deserialize(&mut de).map_err(|e| from_path_error(path, text, e))?;
     de.end().map_err(|e| syntax_error(path, &e))?;
     Ok(value)
 }

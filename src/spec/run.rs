@@ -88,16 +88,15 @@ impl RunSpec {
         })?;
         let machine = self.machine_with_overrides(written)?;
         if self.procs == 0 {
-            return Err(RunSpecError::Invalid(
-                format!("{}: a run needs at least 1 processor", written.name("procs", "0")),
-            ));
+            return Err(RunSpecError::Invalid(format!(
+                "{}: a run needs at least 1 processor",
+                written.name("procs", "0")
+            )));
         }
-        let machine = machine
-            .with_nodes(self.procs)
-            .map_err(|e| {
-                let procs = written.name("procs", &self.procs.to_string());
-                RunSpecError::Invalid(format!("{procs}: {e}"))
-            })?;
+        let machine = machine.with_nodes(self.procs).map_err(|e| {
+            let procs = written.name("procs", &self.procs.to_string());
+            RunSpecError::Invalid(format!("{procs}: {e}"))
+        })?;
         let options = Options::new(
             self.set
                 .iter()
@@ -220,7 +219,14 @@ impl Written {
     fn option_error(self, e: &OptionError) -> String {
         match (self, e) {
             (Written::Flags, e) => e.to_string(),
-            (_, OptionError::Invalid { key, value, message }) => {
+            (
+                _,
+                OptionError::Invalid {
+                    key,
+                    value,
+                    message,
+                },
+            ) => {
                 format!("{}: {message}", self.set(key, value))
             }
             (_, OptionError::Unknown { key, algo, valid }) => format!(

@@ -57,7 +57,13 @@ enum Unexpected {
 impl Unexpected {
     fn parse(message: &str) -> Option<Unexpected> {
         if let Some(rest) = message.strip_prefix("invalid length ") {
-            return rest.split(',').next()?.trim().parse().ok().map(Unexpected::Length);
+            return rest
+                .split(',')
+                .next()?
+                .trim()
+                .parse()
+                .ok()
+                .map(Unexpected::Length);
         }
         let rest = message
             .strip_prefix("invalid type: ")
@@ -154,7 +160,10 @@ mod tests {
     #[test]
     fn a_bad_value_in_a_tagged_object_is_found_by_what_serde_did_not_expect() {
         let m = "invalid type: string \"abc\", expected f32";
-        assert_eq!(narrow(SCENE, "camera", m).as_deref(), Some("camera.fov_deg"));
+        assert_eq!(
+            narrow(SCENE, "camera", m).as_deref(),
+            Some("camera.fov_deg")
+        );
         let m = "invalid length 2, expected an array of length 3";
         assert_eq!(
             narrow(SCENE, "geometry[0].motion", m).as_deref(),
@@ -169,7 +178,10 @@ mod tests {
         // Two zeros in `eye`: the path cannot tell which.
         let m = "invalid value: integer `0`, expected a positive number";
         assert_eq!(narrow(SCENE, "camera", m), None);
-        assert_eq!(narrow(SCENE, "geometry[0]", "invalid type: null, expected x"), None);
+        assert_eq!(
+            narrow(SCENE, "geometry[0]", "invalid type: null, expected x"),
+            None
+        );
         assert_eq!(narrow("not json", "camera", "missing field `x`"), None);
     }
 }

@@ -238,7 +238,9 @@ impl Target for SupersampleTarget {
 /// corner: cell centres (2i + 1) / 2k, exact on the subpixel lattice for k = 2, 4, 8, 16.
 pub fn sample_positions(side: u32) -> Vec<(u8, u8)> {
     let at = |i: u32| ((2 * i + 1) * SUBPIXEL_ONE as u32 / (2 * side)) as u8;
-    (0..side * side).map(|s| (at(s % side), at(s / side))).collect()
+    (0..side * side)
+        .map(|s| (at(s % side), at(s / side)))
+        .collect()
 }
 
 /// Calls `visit(k, z, c)` for each sample `k` of `positions` that pixel `x` of `span`'s row
