@@ -249,4 +249,46 @@ fn check_names_the_operations_a_machine_leaves_unpriced() {
     let after = check(&delta);
     assert!(after.contains("charged at zero (not priced):"), "{after}");
     assert!(after.contains("count_sum"), "{after}");
+
+    // A run on that file names count_sum as charged at zero (Ellsworth's summing tree uses
+    // it); an explicit zero is a price, and an unused unpriced operation is not named.
+    let run = |v: &serde_json::Value| {
+        std::fs::write(&file, v.to_string()).unwrap();
+        let out_dir = dir.path().join("run");
+        let out = sortsim(&[
+            "run",
+            "--machine",
+            file.to_str().unwrap(),
+            "--scene",
+            "scenes/plb-head-standin.json",
+            "--algo",
+            "sort-middle/ellsworth",
+            "--procs",
+            "8",
+            "--frames",
+            "0..2",
+            "--no-timeline",
+            "-o",
+            out_dir.to_str().unwrap(),
+        ]);
+        assert!(
+            out.status.success(),
+            "{}",
+            String::from_utf8_lossy(&out.stderr)
+        );
+        let summary: serde_json::Value =
+            serde_json::from_str(&std::fs::read_to_string(out_dir.join("summary.json")).unwrap())
+                .unwrap();
+        (String::from_utf8(out.stdout).unwrap(), summary)
+    };
+    let (text, summary) = run(&delta);
+    assert_eq!(summary["unpriced_ops"], serde_json::json!(["count_sum"]));
+    assert!(
+        text.contains("Charged at zero:** the run used count_sum"),
+        "{text}"
+    );
+    delta["cpu"]["costs"]["count_sum"] = "0ns".into();
+    let (text, summary) = run(&delta);
+    assert!(summary.get("unpriced_ops").is_none(), "{summary}");
+    assert!(!text.contains("Charged at zero"), "{text}");
 }

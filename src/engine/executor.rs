@@ -171,6 +171,9 @@ pub(super) struct State<M> {
     overflow: Option<SimError>,
     /// What made the charge `compute` is about to reserve too long, when it was.
     pub overflow_cause: Option<String>,
+    /// Operations charged that the machine does not price (bits over `Op`): they cost
+    /// nothing, and the run's summary says so.
+    pub unpriced_used: u32,
 }
 
 impl<M: Payload> State<M> {
@@ -413,6 +416,7 @@ impl<M: Payload> Sim<M> {
             timeline: None,
             overflow: None,
             overflow_cause: None,
+            unpriced_used: 0,
         };
         Sim {
             state: Rc::new(RefCell::new(state)),
@@ -567,6 +571,7 @@ impl<M: Payload> Sim<M> {
             links: st.net.as_ref().map(Network::link_stats).unwrap_or_default(),
             memory: st.nodes.iter().map(|n| n.pool.stats()).collect(),
             timeline: st.timeline.clone(),
+            unpriced_ops: crate::machine::Op::from_bits(st.unpriced_used),
             link_timeline: st
                 .timeline
                 .as_ref()

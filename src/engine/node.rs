@@ -130,6 +130,7 @@ impl<M: Payload> Node<M> {
         let t = {
             let mut st = self.st.borrow_mut();
             let t = st.cpu.costs.time(counts);
+            st.unpriced_used |= st.cpu.costs.unpriced_in(counts);
             if t == SimTime::MAX {
                 let cause = st.cpu.costs.largest_term(counts);
                 st.overflow_cause = Some(cause);

@@ -57,6 +57,8 @@ pub struct RunStats {
     pub timeline: Option<Vec<CpuSpan>>,
     /// Link occupancy (messages in flight per link), if the run recorded a timeline.
     pub link_timeline: Option<Vec<crate::net::LinkSpan>>,
+    /// Operations the programs charged that the machine does not price (charged at zero).
+    pub unpriced_ops: Vec<crate::machine::Op>,
 }
 
 impl RunStats {

@@ -98,6 +98,16 @@ impl Op {
         Op::ALL.into_iter().find(|op| op.name() == name)
     }
 
+    /// The operations whose bits are set in `bits` (as [`CostTable::unpriced_in`] gives
+    /// them), in `Op::ALL` order.
+    pub fn from_bits(bits: u32) -> Vec<Op> {
+        Op::ALL
+            .iter()
+            .copied()
+            .filter(|&op| bits & (1 << op as usize) != 0)
+            .collect()
+    }
+
     /// The valid names, for error messages.
     pub fn valid_names() -> String {
         Op::ALL
@@ -108,18 +118,40 @@ impl Op {
     }
 }
 
-/// Time per operation, indexed by `Op`.
+/// Time per operation, indexed by `Op`, and which operations the machine prices at all (an
+/// operation its file leaves out costs nothing, which a run reports rather than hides).
 #[derive(Clone, Debug, Default, PartialEq, Eq)]
 pub struct CostTable {
     per_op: [SimTime; Op::ALL.len()],
+    /// Bit `op` set when the machine gives the operation a cost (zero included).
+    priced: u32,
 }
 
 impl CostTable {
     pub fn set(&mut self, op: Op, cost: SimTime) {
         self.per_op[op as usize] = cost;
+        self.priced |= 1 << op as usize;
     }
     pub fn get(&self, op: Op) -> SimTime {
         self.per_op[op as usize]
+    }
+    /// True when the machine gives `op` a cost (possibly zero, on purpose).
+    pub fn is_priced(&self, op: Op) -> bool {
+        self.priced & (1 << op as usize) != 0
+    }
+    /// The operations `counts` performs that the machine leaves unpriced, as a bit set over
+    /// `Op` (see [`Op::from_bits`]).
+    #[inline]
+    pub fn unpriced_in(&self, counts: &Counts) -> u32 {
+        if self.priced == (1 << Op::ALL.len()) - 1 {
+            return 0;
+        }
+        counts
+            .n
+            .iter()
+            .enumerate()
+            .filter(|&(i, &n)| n > 0 && self.priced & (1 << i) == 0)
+            .fold(0, |bits, (i, _)| bits | 1 << i)
     }
     /// The time to perform `counts`; `SimTime::MAX` when that passes the largest simulated
     /// time (the engine refuses such a charge).

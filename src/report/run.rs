@@ -126,6 +126,9 @@ pub struct RunSummary {
     pub mean_messages_per_frame: f64,
     pub per_frame: Vec<FrameSummary>,
     pub machine_metrics: Summary,
+    /// Operations the run charged that the machine file does not price (each cost nothing).
+    #[serde(skip_serializing_if = "Vec::is_empty")]
+    pub unpriced_ops: Vec<&'static str>,
 }
 
 #[derive(Serialize, Debug, Clone, PartialEq)]
@@ -224,6 +227,12 @@ impl RunSummary {
             mean_messages_per_frame: mean(per_frame.iter().map(|f| f.messages as f64)),
             per_frame,
             machine_metrics: Summary::from_stats(&result.stats),
+            unpriced_ops: result
+                .stats
+                .unpriced_ops
+                .iter()
+                .map(|op| op.name())
+                .collect(),
         }
     }
 
@@ -250,6 +259,15 @@ impl RunSummary {
             "\nmean frame time {:.6} s, {:.0} triangles/s, load imbalance {:.1} %, {:.0} bytes and {:.0} messages per frame\n",
             self.mean_frame_s, self.mean_triangles_per_s, self.mean_load_imbalance_pct, self.mean_bytes_per_frame, self.mean_messages_per_frame
         );
+        if !self.unpriced_ops.is_empty() {
+            let _ = writeln!(
+                s,
+                "**Charged at zero:** the run used {}, which {} does not price (give each a cost in \
+                 its `cpu.costs`).\n",
+                self.unpriced_ops.join(", "),
+                run.machine
+            );
+        }
         let _ = writeln!(s, "## Frames\n\n| frame | time (s) | triangles in view | triangles/s | load imbalance (%) | bytes | messages |");
         let _ = writeln!(s, "|---:|---:|---:|---:|---:|---:|---:|");
         for f in &self.per_frame {

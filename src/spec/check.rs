@@ -31,7 +31,7 @@ pub fn check(path: &Path) -> Result<String, CheckError> {
             // uses it: say which, so a file older than an operation is not silently faster.
             let unpriced: Vec<&str> = crate::machine::Op::ALL
                 .iter()
-                .filter(|&&op| m.cpu.costs.get(op) == crate::units::SimTime::ZERO)
+                .filter(|&&op| !m.cpu.costs.is_priced(op))
                 .map(|op| op.name())
                 .collect();
             Ok(format!(
