@@ -26,3 +26,8 @@ pub fn check_list(text: &str, count: u64) -> Result<(), String> {
 
 /// The most points (simulations) a sweep may list.
 pub const MAX_SWEEP_POINTS: u64 = 1_000_000;
+
+/// The most packet hops (packets times the links each crosses) a `netsim` pattern may ask of
+/// the `packet` transport, which simulates every one: about five seconds of host time on a
+/// contended route. `flow` and `hops` take any size.
+pub const MAX_PACKET_HOPS: u64 = 100_000_000;

@@ -1133,3 +1133,37 @@ fn a_sweep_into_a_file_is_refused_before_it_simulates() {
         "refused before any point was written"
     );
 }
+
+#[test]
+fn a_pattern_past_the_packet_budget_is_refused_at_packet_fidelity_only() {
+    // Two 100 GB messages sharing links: 2.4e7 4 KiB packets each over five hops, which
+    // the packet transport would simulate one by one; flow takes them whole.
+    let dir = tempfile::tempdir().unwrap();
+    let file = dir.path().join("huge.json");
+    std::fs::write(
+        &file,
+        r#"{"messages": [{"src": 0, "dst": 5, "bytes": "100GB", "start": "0us"},
+                         {"src": 1, "dst": 6, "bytes": "100GB", "start": "0us"}]}"#,
+    )
+    .unwrap();
+    let run = |fidelity: &str| {
+        sortsim(&[
+            "netsim",
+            "machines/delta.json",
+            file.to_str().unwrap(),
+            "--fidelity",
+            fidelity,
+        ])
+    };
+    check_refusal(
+        &run("packet"),
+        &file,
+        "messages[0].bytes: at packet fidelity the pattern is",
+    );
+    let flow = run("flow");
+    assert!(
+        flow.status.success(),
+        "{}",
+        String::from_utf8_lossy(&flow.stderr)
+    );
+}

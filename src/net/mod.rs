@@ -246,6 +246,7 @@ pub enum NetError {
 pub struct Network {
     topology: Box<dyn Topology>,
     transport: Box<dyn Transport>,
+    fidelity: Fidelity,
     timing: Timing,
     /// Per link: (bytes, messages) that crossed it, side by side (an injection updates both
     /// for every link of its route).
@@ -278,6 +279,7 @@ impl Network {
         Ok(Network {
             topology,
             transport,
+            fidelity: cfg.fidelity,
             timing,
             carried: vec![(Bytes::ZERO, 0); links],
             routes: routes::Routes::new(nodes),
@@ -287,6 +289,11 @@ impl Network {
 
     pub fn nodes(&self) -> u32 {
         self.topology.nodes()
+    }
+
+    /// The transport model this network runs.
+    pub fn fidelity(&self) -> Fidelity {
+        self.fidelity
     }
 
     /// Whether every ordered pair of nodes has a route (see [`Network::can_route`]).

@@ -12,7 +12,7 @@ use rand::SeedableRng;
 use rand_chacha::ChaCha8Rng;
 use serde::{Deserialize, Serialize};
 
-use super::{Delivered, Dest, MsgId, NetError, Network, NetworkConfig, NodeId};
+use super::{Delivered, Dest, Fidelity, MsgId, NetError, Network, NetworkConfig, NodeId};
 use crate::units::{Bandwidth, Bytes, SimTime};
 
 /// One message of a pattern file.
@@ -133,7 +133,41 @@ pub fn parse_pattern(net: &Network, pattern: &Pattern) -> Result<Vec<ParsedMessa
         .map(|(i, m)| parse_message(net, i, m))
         .collect::<Result<_, _>>()?;
     check_horizon(net, &parsed)?;
+    check_packet_budget(net, &parsed)?;
     Ok(parsed)
+}
+
+/// At `packet` fidelity, refuses a pattern whose packets times hops pass
+/// [`limits::MAX_PACKET_HOPS`](crate::limits::MAX_PACKET_HOPS), naming the message that
+/// contributes most, before any packet is simulated.
+fn check_packet_budget(net: &Network, messages: &[ParsedMessage]) -> Result<(), NetError> {
+    if net.fidelity() != Fidelity::Packet {
+        return Ok(());
+    }
+    let packet = net.timing().packet_size.get().max(1);
+    let work = |m: &ParsedMessage| {
+        let hops = match m.dest {
+            Dest::Node(d) => u64::from(net.hops(m.src, d).max(1)),
+            Dest::Broadcast => 1,
+        };
+        m.bytes.get().div_ceil(packet).max(1).saturating_mul(hops)
+    };
+    let total = messages.iter().fold(0u64, |t, m| t.saturating_add(work(m)));
+    let limit = crate::limits::MAX_PACKET_HOPS;
+    if total <= limit {
+        return Ok(());
+    }
+    // The first of the largest (max_by_key keeps the last of equals).
+    let i = (0..messages.len())
+        .rev()
+        .max_by_key(|&i| work(&messages[i]))
+        .unwrap_or(0);
+    Err(NetError::Pattern(format!(
+        "messages[{i}].bytes: at packet fidelity the pattern is {total:.3e} packet hops ({} B \
+         packets); the limit is {limit:.0e} (sortsim::limits::MAX_PACKET_HOPS): send fewer or \
+         smaller messages, or use --fidelity flow, which takes any size",
+        packet
+    )))
 }
 
 /// Refuses a pattern that could end past the largest simulated time: its last start plus
