@@ -95,3 +95,52 @@ pub fn pattern(data: &[u8]) {
     };
     round_trip::<Pattern>("pattern", text);
 }
+
+/// Every command-line value parser the library owns, fed the same text: times, sizes and
+/// rates, frame ranges and processor lists, the anti-aliasing modes, sweep shards, Slurm's
+/// time, memory and partition, and each algorithm's `--set KEY=VALUE` options. None may
+/// panic; what they accept must keep their promises (a frame range non-empty and inside the
+/// scene, a list within its limit, a time or size written back reads back equal).
+pub fn options(data: &[u8]) {
+    let Some(text) = utf8(data) else {
+        return;
+    };
+    use sortsim::units::{Bandwidth, Bytes, SimTime};
+    if let Ok(t) = text.parse::<SimTime>() {
+        let back: SimTime = format!("{}ps", t.ps())
+            .parse()
+            .expect("picoseconds read back");
+        assert_eq!(back, t, "{text:?}: a time written in ps reads back equal");
+    }
+    if let Ok(b) = text.parse::<Bytes>() {
+        let back: Bytes = format!("{}B", b.get()).parse().expect("bytes read back");
+        assert_eq!(back, b, "{text:?}: a size written in B reads back equal");
+    }
+    let _ = text.parse::<Bandwidth>();
+    for count in [1, 80, u32::MAX] {
+        if let Ok(range) = sortsim::spec::run::parse_frames(Some(text), count) {
+            assert!(
+                !range.is_empty() && range.end <= count,
+                "{text:?}: frames {range:?} of {count}"
+            );
+        }
+    }
+    if let Ok(list) = sortsim::algo::sort_middle::utilization::parse_list(text) {
+        assert!(
+            list.len() as u64 <= sortsim::limits::MAX_LIST_ITEMS,
+            "{text:?}: {} values",
+            list.len()
+        );
+    }
+    let _ = sortsim::raster::aa::AaMethod::parse(text);
+    let _ = text.parse::<sortsim::accuracy::AaMode>();
+    let _ = text.parse::<sortsim::sweep::shard::Shard>();
+    let _ = sortsim::sweep::slurm::check_time(text);
+    let _ = sortsim::sweep::slurm::check_mem(text);
+    let _ = sortsim::sweep::slurm::check_value("--partition", text, "debug");
+    let (key, value) = text.split_once('=').unwrap_or(("aa", text));
+    let options = sortsim::algo::Options::new([(key.to_string(), value.to_string())].into());
+    for algo in sortsim::algo::AlgorithmId::ALL {
+        let _ = algo.check_option_values(&options);
+    }
+}

@@ -57,3 +57,8 @@ fn traces() {
 fn patterns() {
     replay("pattern", checks::pattern);
 }
+
+#[test]
+fn option_values() {
+    replay("options", checks::options);
+}
