@@ -23,7 +23,7 @@ use sortsim::raster::encode_png;
 use sortsim::report::{cost::Stopwatch, to_json, write_atomic};
 use sortsim::scene::Scene;
 use sortsim::spec::run::{parse_frames, RunSpec, RunSpecError};
-use sortsim::spec::{check::check, load_json, machine::load_machine, SpecError};
+use sortsim::spec::{check::check, load_json, machine::load_machine, SpecError, SpecKind};
 
 /// What went wrong, sorted by whose fault it is.
 enum Failure {
@@ -173,7 +173,7 @@ fn restore_default_sigpipe() {
 fn check_files(files: &[PathBuf]) -> Result<(), Failure> {
     let mut first_error = None;
     for file in files {
-        match check(file) {
+        match check_file(file) {
             Ok(summary) => println!("OK   {}: {summary}", file.display()),
             Err(e) => {
                 println!("FAIL {}", file.display());
@@ -182,6 +182,33 @@ fn check_files(files: &[PathBuf]) -> Result<(), Failure> {
         }
     }
     first_error.map_or(Ok(()), |e| Err(e.into()))
+}
+
+/// One file for `check`: a trace (by its magic bytes), a calibration spec, or any other spec.
+fn check_file(file: &Path) -> Result<String, Failure> {
+    let head = std::fs::File::open(file).and_then(|mut f| {
+        let mut head = [0u8; 8];
+        std::io::Read::read(&mut f, &mut head).map(|n| head[..n].to_vec())
+    });
+    if head.is_ok_and(|h| h == sortsim::trace::format::MAGIC) {
+        let trace =
+            sortsim::trace::read_trace(file).map_err(|e| Failure::BadInput(e.to_string()))?;
+        let m = trace.meta();
+        return Ok(format!(
+            "trace of frame {} ({}x{}, {} primitives{}): {} fragments",
+            m.frame,
+            m.width,
+            m.height,
+            m.primitives,
+            if m.culled { ", back faces culled" } else { "" },
+            trace.len()
+        ));
+    }
+    if SpecKind::detect(file)? == SpecKind::Calibration {
+        let root = Path::new(env!("CARGO_MANIFEST_DIR"));
+        return sortsim::calibrate::check(file, root).map_err(|e| Failure::BadInput(e.to_string()));
+    }
+    Ok(check(file)?)
 }
 
 fn netsim(args: &NetsimArgs) -> Result<(), Failure> {
@@ -518,14 +545,15 @@ fn calibrate(args: &cli::CalibrateArgs) -> Result<(), Failure> {
         CalibrationError::Failed(_) => Failure::Internal(e.to_string()),
     };
     let spec = load_spec(&args.spec).map_err(to_failure)?;
-    let out = out_dir(&args.out, &args.spec, "reports/calibrate-");
-    writable_folder(&out)?;
     let root = Path::new(env!("CARGO_MANIFEST_DIR"));
     let options = sortsim::calibrate::FitOptions {
         jobs: jobs(args.jobs),
         hold_out: args.hold_out.clone(),
         allow_predicted: args.allow_predicted,
     };
+    sortsim::calibrate::validate(&spec, &args.spec, root, &options).map_err(to_failure)?;
+    let out = out_dir(&args.out, &args.spec, "reports/calibrate-");
+    writable_folder(&out)?;
     let result = calibrate(&spec, &args.spec, root, &options).map_err(to_failure)?;
     sortsim::report::calibration::write(&out, &result)?;
     print!("{}", sortsim::report::calibration::markdown(&result));

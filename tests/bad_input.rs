@@ -137,6 +137,42 @@ fn every_bad_run_spec_is_refused_naming_its_field() {
 }
 
 #[test]
+fn every_bad_calibration_spec_is_refused_by_check_and_calibrate_alike() {
+    let out_dir = common::scratch("bad-calibration");
+    for (file, fragment) in corpus("calibration") {
+        let out = sortsim(&["check", file.to_str().unwrap()]);
+        check_refusal(&out, &file, &fragment);
+        let out = sortsim(&[
+            "calibrate",
+            file.to_str().unwrap(),
+            "-o",
+            out_dir.to_str().unwrap(),
+        ]);
+        check_refusal(&out, &file, &fragment);
+        assert!(
+            !out_dir.exists(),
+            "{}: a refused fit wrote output",
+            file.display()
+        );
+    }
+    // And every shipped calibration spec checks out, as what it is.
+    let fits = Path::new(env!("CARGO_MANIFEST_DIR")).join("machines/fits");
+    for e in std::fs::read_dir(&fits).unwrap() {
+        let path = e.unwrap().path();
+        let out = sortsim(&["check", path.to_str().unwrap()]);
+        let stdout = String::from_utf8_lossy(&out.stdout);
+        assert!(out.status.success(), "{}: {stdout}", path.display());
+        let is_fit = path.file_name().unwrap().to_string_lossy().contains("-to-");
+        assert_eq!(
+            stdout.contains(": calibration of "),
+            is_fit,
+            "{}: {stdout}",
+            path.display()
+        );
+    }
+}
+
+#[test]
 fn every_bad_pattern_is_refused_and_writes_nothing() {
     let out_dir = common::scratch("bad-pattern");
     for (file, fragment) in corpus("pattern") {

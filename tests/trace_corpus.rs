@@ -72,7 +72,18 @@ fn every_bad_trace_is_refused_with_its_message() {
         let name = file.file_name().unwrap().to_string_lossy();
         check_refusal(&out, &name, &fragment);
         assert!(!out_dir.exists(), "{name}: no report for a refused trace");
+        // `check` knows a trace by its magic bytes and reads it the same way.
+        if std::fs::read(&file).unwrap().starts_with(b"SORTTRC\n") {
+            check_refusal(
+                &sortsim(&["check", file.to_str().unwrap()]),
+                &name,
+                &fragment,
+            );
+        }
     }
+    let good = sortsim(&["check", "traces/p003-zinnia.trace"]);
+    assert!(good.status.success());
+    assert!(String::from_utf8_lossy(&good.stdout).contains("trace of frame 0 (1024x768"));
 }
 
 #[test]

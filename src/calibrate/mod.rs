@@ -305,6 +305,49 @@ impl CostFunction for Problem<'_, '_> {
     }
 }
 
+/// What a spec fits, checked against the paper's data and the machine before any run.
+struct Prepared {
+    id: PaperId,
+    data: crate::paper::PaperData,
+    machine: serde_json::Value,
+    /// The bundled machine the candidates stand in for.
+    file_name: String,
+}
+
+/// Checks a calibration spec as `sortsim calibrate` would (its targets against the paper's
+/// rows and roles, its machine and parameter fields), short of running anything: the line
+/// `sortsim check` prints for it.
+pub fn check(spec_file: &Path, root: &Path) -> Result<String, CalibrationError> {
+    let spec = load_spec(spec_file)?;
+    let options = FitOptions {
+        jobs: 1,
+        hold_out: Vec::new(),
+        allow_predicted: false,
+    };
+    let prepared = prepare(&spec, spec_file, root, &options)?;
+    Ok(format!(
+        "calibration of {} to paper {}: {} targets, parameters {}",
+        prepared.file_name,
+        spec.paper,
+        spec.targets.len(),
+        spec.parameters
+            .iter()
+            .map(|p| format!("{:?} {:?}", p.name, p.range))
+            .collect::<Vec<_>>()
+            .join(", ")
+    ))
+}
+
+/// Checks `spec` as [`calibrate`] will, with these options, before anything is written or run.
+pub fn validate(
+    spec: &CalibrationSpec,
+    spec_file: &Path,
+    root: &Path,
+    fit_options: &FitOptions,
+) -> Result<(), CalibrationError> {
+    prepare(spec, spec_file, root, fit_options).map(|_| ())
+}
+
 /// Fits the spec's parameters; `root` is the repository (scenes/, papers/, machines/).
 pub fn calibrate(
     spec: &CalibrationSpec,
@@ -312,6 +355,48 @@ pub fn calibrate(
     root: &Path,
     fit_options: &FitOptions,
 ) -> Result<Calibration, CalibrationError> {
+    let Prepared {
+        id,
+        data,
+        machine,
+        file_name,
+    } = prepare(spec, spec_file, root, fit_options)?;
+    // The candidates live beside copies of every bundled machine, since a paper's experiments
+    // may use several.
+    let dir = tempdir_for_candidates(root).map_err(CalibrationError::Failed)?;
+    let work = dir.path().to_path_buf();
+    let objective = Objective {
+        spec,
+        machine: machine.clone(),
+        id,
+        fitting: spec
+            .targets
+            .iter()
+            .filter(|t| !fit_options.hold_out.contains(t))
+            .cloned()
+            .collect(),
+        held_out: fit_options.hold_out.clone(),
+        spec_name: spec_name(spec_file, root),
+        options: PaperOptions {
+            quick: spec.quick,
+            jobs: fit_options.jobs,
+            root: root.to_path_buf(),
+            machines: Some(work.clone()),
+        },
+        work: work.clone(),
+        file_name,
+        evaluations: Mutex::new(0),
+        failure: Mutex::new(None),
+    };
+    fit(&objective, &data)
+}
+
+fn prepare(
+    spec: &CalibrationSpec,
+    spec_file: &Path,
+    root: &Path,
+    fit_options: &FitOptions,
+) -> Result<Prepared, CalibrationError> {
     let bad = |message: String| CalibrationError::Spec {
         file: spec_file.to_path_buf(),
         message,
@@ -354,6 +439,8 @@ pub fn calibrate(
             "--hold-out leaves no target to fit; hold out fewer rows".into(),
         ));
     }
+    // The machine as `check` reads it (field paths), then as the candidates are built from.
+    crate::spec::machine::load_machine(&spec.machine).map_err(|e| bad(e.to_string()))?;
     let text = crate::spec::read_input(&spec.machine)
         .map_err(|e| bad(format!("{}: {e}", spec.machine.display())))?;
     let machine: serde_json::Value =
@@ -380,34 +467,12 @@ pub fn calibrate(
              name the bundled machine the fitted one stands in for with \"replaces\" (e.g. \"delta.json\")"
         )));
     }
-    // The candidates live beside copies of every bundled machine, since a paper's experiments
-    // may use several.
-    let dir = tempdir_for_candidates(root).map_err(CalibrationError::Failed)?;
-    let work = dir.path().to_path_buf();
-    let objective = Objective {
-        spec,
-        machine: machine.clone(),
+    Ok(Prepared {
         id,
-        fitting: spec
-            .targets
-            .iter()
-            .filter(|t| !fit_options.hold_out.contains(t))
-            .cloned()
-            .collect(),
-        held_out: fit_options.hold_out.clone(),
-        spec_name: spec_name(spec_file, root),
-        options: PaperOptions {
-            quick: spec.quick,
-            jobs: fit_options.jobs,
-            root: root.to_path_buf(),
-            machines: Some(work.clone()),
-        },
-        work: work.clone(),
+        data,
+        machine,
         file_name,
-        evaluations: Mutex::new(0),
-        failure: Mutex::new(None),
-    };
-    fit(&objective, &data)
+    })
 }
 
 fn fit(

@@ -81,6 +81,12 @@ pub fn check(path: &Path) -> Result<String, CheckError> {
                 sweep.points.len()
             ))
         }
+        SpecKind::Calibration => Err(SpecError::invalid(
+            path,
+            "",
+            "a calibration spec: `sortsim check` checks it through `calibrate::check`",
+        )
+        .into()),
         SpecKind::Pattern => {
             let _: crate::net::pattern::Pattern = load_json(path)?;
             Ok("network pattern (run it with `sortsim netsim MACHINE PATTERN`)".into())

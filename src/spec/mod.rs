@@ -161,6 +161,8 @@ pub enum SpecKind {
     Run,
     Sweep,
     Pattern,
+    /// A `sortsim calibrate` spec (`targets` and `parameters`), checked by `calibrate::check`.
+    Calibration,
 }
 
 impl SpecKind {
@@ -168,7 +170,9 @@ impl SpecKind {
     pub fn detect(path: &Path) -> Result<SpecKind, SpecError> {
         let value: serde_json::Value = load_json(path)?;
         let has = |key: &str| value.get(key).is_some();
-        if has("network") || has("cpu") || has("memory") {
+        if has("targets") && has("parameters") {
+            Ok(SpecKind::Calibration)
+        } else if has("network") || has("cpu") || has("memory") {
             Ok(SpecKind::Machine)
         } else if has("geometry") || has("resolution") {
             Ok(SpecKind::Scene)
@@ -187,7 +191,7 @@ impl SpecKind {
             Err(SpecError::invalid(
                 path,
                 "",
-                "cannot tell what kind of spec this is: a machine has `network`, a scene has `geometry`, a run has `algo`, a sweep has lists (`procs: [...]`, `vary`), a network pattern has `messages`",
+                "cannot tell what kind of spec this is: a machine has `network`, a scene has `geometry`, a run has `algo`, a sweep has lists (`procs: [...]`, `vary`), a network pattern has `messages`, a calibration has `targets` and `parameters`; a trace starts with the bytes \"SORTTRC\\n\"",
             ))
         }
     }
