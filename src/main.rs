@@ -181,7 +181,7 @@ fn check_files(files: &[PathBuf]) -> Result<(), Failure> {
             }
         }
     }
-    first_error.map_or(Ok(()), |e| Err(e))
+    first_error.map_or(Ok(()), Err)
 }
 
 /// One file for `check`: a trace (by its magic bytes), a calibration spec, or any other spec.
