@@ -71,6 +71,23 @@ fn check_refusal(out: &Output, file: &Path, fragment: &str) {
     );
 }
 
+/// Runs `command FILE -o OUT` and checks the refusal of [`check_refusal`] and that `out` was
+/// not created.
+fn refused_writing_nothing(command: &str, file: &Path, fragment: &str, out_dir: &Path) {
+    let out = sortsim(&[
+        command,
+        file.to_str().unwrap(),
+        "-o",
+        out_dir.to_str().unwrap(),
+    ]);
+    check_refusal(&out, file, fragment);
+    assert!(
+        !out_dir.exists(),
+        "{}: a refused {command} wrote output",
+        file.display()
+    );
+}
+
 #[test]
 fn every_bad_machine_is_refused_with_its_message() {
     let out_dir = common::scratch("bad-machine-run");
@@ -142,18 +159,7 @@ fn every_bad_calibration_spec_is_refused_by_check_and_calibrate_alike() {
     for (file, fragment) in corpus("calibration") {
         let out = sortsim(&["check", file.to_str().unwrap()]);
         check_refusal(&out, &file, &fragment);
-        let out = sortsim(&[
-            "calibrate",
-            file.to_str().unwrap(),
-            "-o",
-            out_dir.to_str().unwrap(),
-        ]);
-        check_refusal(&out, &file, &fragment);
-        assert!(
-            !out_dir.exists(),
-            "{}: a refused fit wrote output",
-            file.display()
-        );
+        refused_writing_nothing("calibrate", &file, &fragment, &out_dir);
     }
     // And every shipped calibration spec checks out, as what it is.
     let fits = Path::new(env!("CARGO_MANIFEST_DIR")).join("machines/fits");
@@ -800,18 +806,7 @@ fn every_bad_sweep_is_refused_and_writes_nothing() {
     let out_dir = common::scratch("bad-sweep");
     for (file, fragment) in corpus("sweep") {
         let rel = file.strip_prefix(env!("CARGO_MANIFEST_DIR")).unwrap();
-        let out = sortsim(&[
-            "sweep",
-            rel.to_str().unwrap(),
-            "-o",
-            out_dir.to_str().unwrap(),
-        ]);
-        check_refusal(&out, &file, &fragment);
-        assert!(
-            !out_dir.exists(),
-            "{}: a refused sweep wrote output",
-            file.display()
-        );
+        refused_writing_nothing("sweep", rel, &fragment, &out_dir);
         // `check` sets every point up as `sweep` would: refused too, nothing simulated. (It
         // guesses a file's kind, so a sweep whose lists are all single values may be read as
         // the run spec it also is, and be refused with that kind's words for the same field.)
