@@ -93,8 +93,8 @@ pub struct CaseResult {
     pub depth_ties: u64,
     /// The largest depth gap (sortsim units) among the depth ties.
     pub largest_tie_gap: u32,
-    /// Triangles with a vertex outside GL's framebuffer, which GL clips (none in the
-    /// built-in cases; their pixels would count as differences if clipping moved an edge).
+    /// Triangles with a vertex outside GL's framebuffer, which GL clips: a case with any is a
+    /// measurement of GL's clipper (`far-fan`), left out of the pass/fail count.
     pub gl_clipped: usize,
     /// Triangles that cross the image's border (drawn unclipped by GL thanks to the margin).
     pub crossing_border: usize,
@@ -151,8 +151,38 @@ pub fn cases(quick: bool) -> Vec<Case> {
             include_str!("../../scenes/spd-teapot.json"),
         ));
         all.push(fans("random-fans-dense", 1500, 8, 11));
+        all.push(far_fan("far-fan", 5_000, 3_000.0));
     }
     all
+}
+
+/// A closed fan of `n` slivers around the image's centre whose rim lies `radius` px out,
+/// beyond GL's framebuffer: sortsim draws it with its own edges (tests/raster_far.rs holds it
+/// to an exact referee), GL clips it, and the pixels its clipper moves are what this case
+/// measures.
+fn far_fan(name: &str, n: u32, radius: f64) -> Case {
+    let centre = f64::from(SIZE) / 2.0;
+    let vertex = |x: f64, y: f64, z: f64| ScreenVertex {
+        x: Sub::snap(x).expect("finite"),
+        y: Sub::snap(y).expect("finite"),
+        z: Depth::from_unit(z).expect("a depth"),
+        rgb: [0; 3],
+    };
+    let hub = vertex(centre + 0.37, centre - 0.21, 0.5);
+    let rim: Vec<ScreenVertex> = (0..n)
+        .map(|k| {
+            let a = std::f64::consts::TAU * f64::from(k) / f64::from(n);
+            vertex(centre + radius * a.cos(), centre + radius * a.sin(), 0.5)
+        })
+        .collect();
+    let triangles = (0..n as usize)
+        .filter_map(|k| ScreenTriangle::new([hub, rim[k], rim[(k + 1) % rim.len()]], k as u32))
+        .collect();
+    Case {
+        name: name.to_string(),
+        what: "a closed fan of 5,000 slivers whose rim lies 3,000 px out (GL clips it)",
+        triangles,
+    }
 }
 
 /// A generator seen through a perspective camera, set up by sortsim's front end.
@@ -399,7 +429,12 @@ pub fn validate(
         });
         renderer = answer.renderer;
     }
-    let coverage_differences = results.iter().map(|r| r.coverage_differences).sum();
+    // A case GL has to clip measures GL's clipper, not the rasterizers: reported, not counted.
+    let coverage_differences = results
+        .iter()
+        .filter(|r| r.gl_clipped == 0)
+        .map(|r| r.coverage_differences)
+        .sum();
     Ok((
         RasterValidation {
             renderer,
