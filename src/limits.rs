@@ -31,3 +31,7 @@ pub const MAX_SWEEP_POINTS: u64 = 1_000_000;
 /// the `packet` transport, which simulates every one: about five seconds of host time on a
 /// contended route. `flow` and `hops` take any size.
 pub const MAX_PACKET_HOPS: u64 = 100_000_000;
+
+/// The most events the engine's queue holds pending at once (its slot index has 24 bits):
+/// `bench phold` refuses more logical processes times events per process than this.
+pub const MAX_PENDING_EVENTS: u64 = 1 << 24;

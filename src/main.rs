@@ -703,6 +703,16 @@ fn fidelity_name(f: FidelityArg) -> &'static str {
 
 /// Runs PHOLD and prints its summary and cost as JSON; returns what it printed.
 fn bench_phold(args: &PholdArgs) -> Result<String, Failure> {
+    let pending = u64::from(args.lps) * u64::from(args.events_per_lp);
+    if pending > sortsim::limits::MAX_PENDING_EVENTS {
+        return Err(Failure::BadInput(format!(
+            "--lps {} x --events-per-lp {} is {pending} events in flight; the engine holds at most \
+             {} pending at once (sortsim::limits::MAX_PENDING_EVENTS)",
+            args.lps,
+            args.events_per_lp,
+            sortsim::limits::MAX_PENDING_EVENTS
+        )));
+    }
     let cfg = PholdConfig {
         lps: args.lps,
         events_per_lp: args.events_per_lp,

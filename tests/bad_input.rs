@@ -202,6 +202,10 @@ fn every_bad_pattern_is_refused_and_writes_nothing() {
 fn bad_flags_are_refused_with_exit_code_2() {
     let cases: &[(&[&str], &str)] = &[
         (&["bench", "phold", "--remote", "1.5"], "not a probability"),
+        (
+            &["bench", "phold", "--lps", "1048576", "--events-per-lp", "4294967295"],
+            "events in flight; the engine holds at most 16777216",
+        ),
         // A negative number names its option; a malformed range is blamed on its syntax.
         (
             &["run", "--machine", "machines/delta.json", "--scene", "scenes/spd-teapot.json",

@@ -21,6 +21,7 @@ use dary_heap::QuaternaryHeap;
 use crate::units::SimTime;
 
 const SLOT_BITS: u32 = 24;
+const _: () = assert!(1 << SLOT_BITS == crate::limits::MAX_PENDING_EVENTS);
 const SEQ_BITS: u32 = 64 - SLOT_BITS;
 
 /// Pending events, earliest first, FIFO among equal times.
