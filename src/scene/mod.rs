@@ -67,7 +67,7 @@ pub enum SceneError {
         line: usize,
         message: String,
     },
-    #[error("{}: frame {frame} is out of range: the scene has {count} frames (valid 0..={})", file.display(), count.saturating_sub(1))]
+    #[error("{}: frame {frame} is out of range: the scene has {count} frame{} (valid 0..={})", file.display(), if *count == 1 { "" } else { "s" }, count.saturating_sub(1))]
     FrameOutOfRange {
         file: PathBuf,
         frame: u32,
