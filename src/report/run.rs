@@ -108,8 +108,11 @@ impl RunHeader {
     /// The run's context for a markdown report: scene, frames, seed, fidelity.
     pub fn context(&self) -> String {
         format!(
-            "scene `{}`, frames {:?}, seed {}, network fidelity `{}`",
-            self.scene, self.frames, self.seed, self.fidelity
+            "scene `{}`, frames {}, seed {}, network fidelity `{}`",
+            self.scene,
+            frame_list(&self.frames),
+            self.seed,
+            self.fidelity
         )
     }
 }
@@ -431,4 +434,19 @@ pub fn timeline_json(result: &RunResult) -> Option<String> {
         events.join(",\n")
     );
     Some(out)
+}
+
+/// Frames as a person writes them: `0..20` (20 excluded, as `--frames` reads it) when they
+/// run on without a gap, else listed.
+fn frame_list(frames: &[u32]) -> String {
+    match (frames.first(), frames.last()) {
+        (Some(&a), Some(&b)) if b.checked_sub(a).map(|d| d as usize + 1) == Some(frames.len()) => {
+            format!("{a}..{}", u64::from(b) + 1)
+        }
+        _ => frames
+            .iter()
+            .map(u32::to_string)
+            .collect::<Vec<_>>()
+            .join(", "),
+    }
 }

@@ -35,14 +35,19 @@ pub fn check(path: &Path) -> Result<String, CheckError> {
                 .map(|op| op.name())
                 .collect();
             Ok(format!(
-                "machine '{}': {} nodes, {:?} {:?}, links {} with {} per hop, {:?} switching, fidelity {}{}",
+                "machine '{}': {} nodes, {} {}, links {} with {} per hop, {} switching, fidelity {}{}",
                 m.name,
                 m.nodes,
-                m.network.topology,
-                m.network.dims,
+                m.network.topology.name(),
+                m.network
+                    .dims
+                    .iter()
+                    .map(u32::to_string)
+                    .collect::<Vec<_>>()
+                    .join("x"),
                 m.network.link_bandwidth,
                 m.network.hop_latency,
-                m.network.switching,
+                m.network.switching.name(),
                 m.network.fidelity.name(),
                 if unpriced.is_empty() {
                     String::new()
@@ -64,11 +69,12 @@ pub fn check(path: &Path) -> Result<String, CheckError> {
             crate::algo::check_options(&cfg)
                 .map_err(|e| run_error(RunSpecError::Invalid(e.to_string())))?;
             Ok(format!(
-                "run: {} on {} processors of '{}', frames {:?}",
+                "run: {} on {} processors of '{}', frames {}..{}",
                 cfg.algo.id(),
                 cfg.machine.nodes,
                 cfg.machine.name,
-                cfg.frames
+                cfg.frames.start,
+                cfg.frames.end
             ))
         }
         SpecKind::Sweep => {
