@@ -248,14 +248,15 @@ pub enum CountsArg {
 
 #[derive(Args, Debug)]
 pub struct RunArgs {
+    /// Machine spec (machines/*.json): processors, costs, network, memory.
     #[arg(long, allow_negative_numbers = true)]
     pub machine: PathBuf,
+    /// Scene spec (scenes/*.json): geometry, camera and its motion, frames.
     #[arg(long, allow_negative_numbers = true)]
     pub scene: PathBuf,
-    /// Algorithm id: sort-middle/static, sort-middle/ellsworth, sort-last/df, sort-last/pc,
-    /// sort-last/scanline-flow, sort-last/pixelflow, sort-last/direct-send, sort-last/snooping.
-    #[arg(long, allow_negative_numbers = true)]
+    #[arg(long, help = sortsim::algo::AlgorithmId::IDS_HELP, allow_negative_numbers = true)]
     pub algo: String,
+    /// Processors the run uses (at most the machine's nodes).
     #[arg(long, allow_negative_numbers = true)]
     pub procs: u32,
     /// "A..B" (B excluded) or "A"; all frames when absent.
@@ -287,9 +288,7 @@ pub struct AccuracyArgs {
     /// Machine spec (its network fidelity is the one the modes run at).
     #[arg(long, allow_negative_numbers = true)]
     pub machine: PathBuf,
-    /// Algorithm id: sort-middle/static, sort-middle/ellsworth, sort-last/df, sort-last/pc,
-    /// sort-last/scanline-flow, sort-last/pixelflow, sort-last/direct-send, sort-last/snooping.
-    #[arg(long, allow_negative_numbers = true)]
+    #[arg(long, help = sortsim::algo::AlgorithmId::IDS_HELP, allow_negative_numbers = true)]
     pub algo: String,
     /// Processors the run uses.
     #[arg(long, allow_negative_numbers = true)]

@@ -229,6 +229,12 @@ impl AlgorithmId {
         text
     }
 
+    /// The valid ids as `--help` prints them (a test keeps this equal to [`AlgorithmId::ALL`]).
+    pub const IDS_HELP: &'static str = "Algorithm id: sort-middle/static, sort-middle/ellsworth, \
+        sort-last/df, sort-last/pc, sort-last/scanline-flow, sort-last/pixelflow, \
+        sort-last/direct-send, sort-last/snooping, sort-last/tree, sort-last/binary-swap, \
+        sort-last/radix-k, sort-last/2-3-swap, sort-first/mueller";
+
     /// The valid ids, for error messages.
     pub fn valid_ids() -> String {
         AlgorithmId::ALL
@@ -383,5 +389,16 @@ pub fn run(cfg: &RunConfig) -> Result<RunResult, RunError> {
     match cfg.algo.family() {
         Family::SortMiddle(v) => sort_middle::run(cfg, v),
         Family::SortLast(v) => sort_last::run(cfg, v),
+    }
+}
+
+#[cfg(test)]
+mod ids_help_tests {
+    #[test]
+    fn the_help_lists_every_algorithm_id() {
+        let listed = super::AlgorithmId::IDS_HELP
+            .trim_start_matches("Algorithm id: ")
+            .replace(char::is_whitespace, "");
+        assert_eq!(listed, super::AlgorithmId::valid_ids().replace(' ', ""));
     }
 }
