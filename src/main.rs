@@ -324,7 +324,7 @@ fn accuracy(args: &AccuracyArgs) -> Result<(), Failure> {
         _ => Failure::Internal(e.to_string()),
     })?;
     print!("\n{markdown}");
-    println!("\nreport written to {}", out.display());
+    print!("\n{}", sortsim::report::closing_line(&out, ""));
     Ok(())
 }
 
@@ -589,7 +589,7 @@ fn validate(args: &cli::ValidateArgs) -> Result<(), Failure> {
     }
     write(&args.out, &result)?;
     print!("{}", markdown(&result));
-    println!("report: {}", args.out.join("validate.md").display());
+    print!("{}", sortsim::report::closing_line(&args.out, ""));
     let agrees = result.network.as_ref().is_none_or(|(n, _)| n.pass)
         && result.raster.as_ref().is_none_or(|(r, _)| r.pass);
     if agrees {
@@ -776,11 +776,7 @@ fn default_job() -> Result<(), Failure> {
             fidelity: &table,
         },
     )?;
-    println!(
-        "\nreport written to {}; open {} in a browser",
-        out.display(),
-        out.join("index.html").display()
-    );
+    print!("\n{}", sortsim::report::closing_line(&out, ""));
     Ok(())
 }
 
@@ -867,9 +863,12 @@ fn utilization(args: &cli::UtilizationArgs) -> Result<(), Failure> {
         );
         let files = (scene.as_str(), machine.as_str());
         sortsim::report::utilization::write(dir, &outcome, &modes, files)?;
-        println!("written to {}", dir.display());
     }
-    println!("simulated in {wall:.1} s wall");
+    let detail = format!(" (simulated in {wall:.1} s wall)");
+    match &args.out {
+        Some(dir) => print!("{}", sortsim::report::closing_line(dir, &detail)),
+        None => println!("simulated in {wall:.1} s wall"),
+    }
     Ok(())
 }
 
@@ -938,8 +937,11 @@ fn trace_replay(args: &cli::TraceReplayArgs) -> Result<(), Failure> {
     if let Some(dir) = &args.out {
         let trace = args.trace.display().to_string();
         sortsim::report::trace::write(dir, &report, &trace)?;
-        println!("written to {}", dir.display());
     }
-    println!("replayed in {wall:.2} s wall");
+    let detail = format!(" (replayed in {wall:.2} s wall)");
+    match &args.out {
+        Some(dir) => print!("{}", sortsim::report::closing_line(dir, &detail)),
+        None => println!("replayed in {wall:.2} s wall"),
+    }
     Ok(())
 }

@@ -138,7 +138,7 @@ fn describe_names_size_frames_and_triangles() {
     );
     assert_eq!(
         s.describe(),
-        "scene: 64x48, 3 frames, 1 objects, 152 triangles per frame, perspective camera, back-face culling on"
+        "scene: 64x48, 3 frames, 1 object, 152 triangles per frame, perspective camera, back-face culling on"
     );
 }
 

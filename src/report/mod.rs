@@ -84,6 +84,21 @@ pub fn write_text(dir: &Path, name: &str, text: &str) -> Result<(), plot::PlotEr
 
 /// Pretty JSON with a trailing newline; serde_json keeps struct field order, and every map in
 /// a report is a BTreeMap or a Vec, so the text is deterministic.
+/// The line every report command ends with: where the report went, what it cost (`detail`,
+/// may be empty) and, when the folder has one, the page to open.
+pub fn closing_line(dir: &Path, detail: &str) -> String {
+    let page = dir.join("index.html");
+    if page.is_file() {
+        format!(
+            "report written to {}{detail}; page: {}\n",
+            dir.display(),
+            page.display()
+        )
+    } else {
+        format!("report written to {}{detail}\n", dir.display())
+    }
+}
+
 pub fn to_json<T: serde::Serialize>(value: &T) -> String {
     let mut s = serde_json::to_string_pretty(value).expect("report types serialize");
     s.push('\n');

@@ -22,12 +22,12 @@ use crate::raster::encode_png;
 /// The line `sortsim run` prints after the summary: where the report went and what the
 /// simulation cost.
 pub fn closing_line(dir: &Path, cost: &Cost) -> String {
-    format!(
-        "report written to {} (simulated in {:.2} s wall, {} events); page: {}\n",
-        dir.display(),
-        cost.wall_s,
-        cost.events,
-        dir.join("index.html").display()
+    super::closing_line(
+        dir,
+        &format!(
+            " (simulated in {:.2} s wall, {} events)",
+            cost.wall_s, cost.events
+        ),
     )
 }
 

@@ -161,9 +161,11 @@ impl Scene {
             CameraSpec::Screen => "screen",
         };
         format!(
-            "scene: {w}x{h}, {} frames, {} objects, {} triangles per frame, {camera} camera, back-face culling {}",
+            "scene: {w}x{h}, {} frame{}, {} object{}, {} triangles per frame, {camera} camera, back-face culling {}",
             self.spec.frames,
+            if self.spec.frames == 1 { "" } else { "s" },
             self.objects.len(),
+            if self.objects.len() == 1 { "" } else { "s" },
             self.triangle_count(),
             if self.spec.cull_backfaces { "on" } else { "off" }
         )
