@@ -109,7 +109,11 @@ fn main() -> ExitCode {
             regions,
             json,
         }) => scene_stats(&scene, frames.as_deref(), regions, json),
-        Some(Command::Bench(BenchCommand::Phold(args))) => bench_phold(&args).map(|_| ()),
+        Some(Command::Bench(BenchCommand::Phold(args))) => bench_phold(&args).map(|_| {
+            if let Some(dir) = &args.out {
+                print!("{}", sortsim::report::closing_line(dir, ""));
+            }
+        }),
         Some(Command::Bench(BenchCommand::Overhead {
             machine,
             scene,
@@ -726,7 +730,7 @@ fn bench_phold(args: &PholdArgs) -> Result<String, Failure> {
     if let Some(dir) = &args.out {
         sortsim::report::bench::write_phold(dir, &summary, &cost)?;
     }
-    let text = format!("{}{}", to_json(&summary), to_json(&cost));
+    let text = sortsim::report::bench::phold_text(&summary, &cost);
     print!("{text}");
     Ok(text)
 }
@@ -747,7 +751,7 @@ fn default_job() -> Result<(), Failure> {
     check_files(&files)?;
     let out = root.join("reports/default");
     let sweep_table = default_sweep(root, &out)?;
-    println!("\nPHOLD, 16,384 events in flight, engine against a bare binary-heap loop:");
+    println!("\nPHOLD on the engine against a bare binary-heap loop:");
     let phold = bench_phold(&PholdArgs {
         lps: 1024,
         events_per_lp: 16,

@@ -25,6 +25,35 @@ pub fn write_phold(dir: &Path, summary: &PholdSummary, cost: &PholdCost) -> Resu
     write_text(dir, "cost.json", &to_json(cost))
 }
 
+/// What `bench phold` prints: the workload, both loops' event rates and their ratio, and
+/// whether they processed the same events (summary.json and cost.json hold every number).
+pub fn phold_text(summary: &PholdSummary, cost: &PholdCost) -> String {
+    format!(
+        "PHOLD: {} logical processes x {} events = {} in flight, {:.0}% remote, mean delay {:.3} us, \
+         lookahead {:.3} us, simulated to {:.3} us (seed {})\n\
+         engine:    {} events in {:.3} s wall, {:.2} M events/s\n\
+         bare heap: {} in {:.3} s wall, {:.2} M events/s\n\
+         engine / bare heap: {:.2}x; same events in the same order: {} (trace {})\n",
+        summary.lps,
+        summary.events_per_lp,
+        summary.in_flight,
+        100.0 * summary.remote,
+        summary.mean_s * 1e6,
+        summary.lookahead_s * 1e6,
+        summary.simulated_end_s * 1e6,
+        summary.seed,
+        summary.events,
+        cost.engine_wall_s,
+        cost.engine_events_per_s / 1e6,
+        if summary.baseline_agrees { "the same" } else { "different" },
+        cost.baseline_wall_s,
+        cost.baseline_events_per_s / 1e6,
+        cost.ratio_to_baseline,
+        if summary.baseline_agrees { "yes" } else { "NO" },
+        summary.trace_hash
+    )
+}
+
 /// The three growth charts, one line per fidelity, written under `dir`.
 fn scale_plots(report: &ScaleReport, dir: &Path) -> Result<(), PlotError> {
     for (stem, title, x_label, curve) in [
