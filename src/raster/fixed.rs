@@ -48,7 +48,7 @@ pub const PIXEL_CENTRE: i64 = SUBPIXEL_ONE / 2;
 pub const MAX_COORD_PX: i64 = 1 << 21;
 
 /// The coordinate range before the guard band moved out to a million pixels: a triangle
-/// within it takes exactly the plane arithmetic it always took (see [`PlaneBasis::far`]).
+/// within it takes exactly the plane arithmetic it always took (see [`PlaneBasis::is_far`]).
 const NEAR_LIMIT: i64 = (1 << 17) * SUBPIXEL_ONE;
 
 /// A snapped screen coordinate in 1/256 pixel (the `s.8` format): |value| <= 2^29.
@@ -321,19 +321,17 @@ pub struct PlaneBasis {
     /// The pixel whose centre anchors the plane (the pixel containing vertex 0).
     pub ox: i64,
     pub oy: i64,
+    /// A vertex lies beyond 2^17 px ([`PlaneBasis::is_far`]), set once per triangle.
+    pub far: bool,
 }
 
 impl PlaneBasis {
-    /// True when a vertex lies beyond 2^17 px (the range every triangle had while the guard
-    /// band sat at 8 half-viewports): its planes are evaluated up to 2^22 px from the anchor,
-    /// so they take tighter limits. A triangle within the range keeps the arithmetic it
-    /// always had, bit for bit.
-    pub fn far(&self) -> bool {
-        let (x1, y1) = (self.x0 + self.d1.0, self.y0 + self.d1.1);
-        let (x2, y2) = (self.x0 + self.d2.0, self.y0 + self.d2.1);
-        [self.x0, self.y0, x1, y1, x2, y2]
-            .iter()
-            .any(|c| c.abs() > NEAR_LIMIT)
+    /// True when a coordinate (subpixel steps) lies beyond 2^17 px, the range every triangle
+    /// had while the guard band sat at 8 half-viewports: such a triangle's planes are evaluated
+    /// up to 2^22 px from the anchor, so they take tighter limits. A triangle within the range
+    /// keeps the arithmetic it always had, bit for bit.
+    pub fn is_far(coordinates: &[Sub]) -> bool {
+        coordinates.iter().any(|c| c.wide().abs() > NEAR_LIMIT)
     }
 
     /// Offset of the anchor pixel's centre from vertex 0, in subpixel steps (|.| <= 128).
@@ -385,7 +383,7 @@ impl DepthPlane {
         let per_step = (one as f64) * basis.inv_area2;
         let per_pixel = per_step * SUBPIXEL_ONE as f64;
         let (gxf, gyf) = (nx as f64 * per_pixel, ny as f64 * per_pixel);
-        let fast_limit = if basis.far() {
+        let fast_limit = if basis.far {
             (1u64 << 58) as f64
         } else {
             (1u64 << 62) as f64
@@ -485,7 +483,7 @@ impl ColorPlane {
         let (cx, cy) = (centre(basis.ox) - basis.x0, centre(basis.oy) - basis.y0);
         let per_step = (1i64 << COLOR_FRAC) as f64 * basis.inv_area2;
         let per_pixel = per_step * SUBPIXEL_ONE as f64;
-        let lim = if basis.far() {
+        let lim = if basis.far {
             COLOR_GRADIENT_LIMIT_FAR
         } else {
             COLOR_GRADIENT_LIMIT

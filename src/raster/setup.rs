@@ -506,6 +506,7 @@ impl RasterTriangle {
             inv_area2: 1.0 / t.area2 as f64,
             ox: anchor.0,
             oy: anchor.1,
+            far: PlaneBasis::is_far(&[v0.x, v0.y, v1.x, v1.y, v2.x, v2.y]),
         };
         let depth = DepthPlane::new(&basis, [v0.z.raw(), v1.z.raw(), v2.z.raw()]);
         let channel = |ch: usize| ColorPlane::new(&basis, [v0.rgb[ch], v1.rgb[ch], v2.rgb[ch]]);

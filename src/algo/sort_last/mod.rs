@@ -160,6 +160,9 @@ pub(crate) struct Ctx {
     /// samples with the sequential supersampling buffer's rule, then ships them as
     /// locations of `viewport`).
     pub screen: Viewport,
+    /// With `aa=supersample:N`, each pixel's sample positions (`raster::aa::sample_positions`),
+    /// built once for every untested fragment a node ships; empty otherwise.
+    pub sample_positions: Vec<(u8, u8)>,
     pub background: [u8; 3],
     pub raster: RasterOptions,
     /// Adaptive anti-aliasing: pools, the frame's grid, statistics.
@@ -654,6 +657,10 @@ pub fn run(cfg: &RunConfig, variant: Variant) -> Result<RunResult, RunError> {
     let screen = super::reference::viewport(&first);
     let viewport = super::aa::sample_grid(cfg, screen, settings.side)?;
     let n = cfg.machine.nodes;
+    let sample_positions = match settings.side {
+        1 => Vec::new(),
+        side => crate::raster::aa::sample_positions(side),
+    };
     let ctx = Rc::new(Ctx {
         aa: aa::AaState::new(&settings.aa, n, viewport.pixels() as u64, first.background),
         settings,
@@ -661,6 +668,7 @@ pub fn run(cfg: &RunConfig, variant: Variant) -> Result<RunResult, RunError> {
         cfg: cfg.clone(),
         viewport,
         screen,
+        sample_positions,
         background: first.background,
         raster: super::reference::raster_options(&first),
         book: FrameBook::new(

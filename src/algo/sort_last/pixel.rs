@@ -15,8 +15,8 @@ use std::fmt::Debug;
 
 use super::Ctx;
 use crate::raster::aa::{
-    for_each_sample, sample_positions, AaPixel, AdaptiveConfig, AdaptiveTarget, Blocks, Grid,
-    SupersampleTarget, PIXEL_BYTES,
+    for_each_sample, AaPixel, AdaptiveConfig, AdaptiveTarget, Blocks, Grid, SupersampleTarget,
+    PIXEL_BYTES,
 };
 use crate::raster::scan::{Fragment, Sampling, Span};
 use crate::raster::target::nearer;
@@ -171,9 +171,8 @@ impl ShippedPixel for Px {
             });
             return;
         }
-        let positions = sample_positions(side);
         let (x0, y0) = (f.x * side, span.y() * side);
-        for_each_sample(&positions, span, f.x, counters, |k, z, _| {
+        for_each_sample(&ctx.sample_positions, span, f.x, counters, |k, z, _| {
             let (i, j) = (k as u32 % side, k as u32 / side);
             out.push(Px {
                 loc: (y0 + j) * ctx.viewport.width() + x0 + i,
