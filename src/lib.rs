@@ -19,6 +19,7 @@
 
 pub mod accuracy;
 pub mod algo;
+pub mod app;
 pub mod bench;
 pub mod calibrate;
 pub mod engine;

@@ -241,6 +241,16 @@ impl RunSummary {
 
     /// summary.md: per-frame table, then per-node time by phase and traffic.
     pub fn markdown(&self) -> String {
+        self.markdown_with(true)
+    }
+
+    /// What `sortsim run` prints: summary.md with its per-node table folded into one line per
+    /// quantity (min, mean, max and the node that has the max) unless `verbose`.
+    pub fn terminal(&self, verbose: bool) -> String {
+        self.markdown_with(verbose)
+    }
+
+    fn markdown_with(&self, nodes_in_full: bool) -> String {
         let mut s = String::new();
         let run = &self.run;
         let _ = writeln!(
@@ -287,6 +297,30 @@ impl RunSummary {
             );
         }
         self.aa_markdown(&mut s);
+        if nodes_in_full {
+            self.node_table(&mut s);
+        } else {
+            self.node_digest(&mut s);
+        }
+        let busiest = self
+            .machine_metrics
+            .links
+            .iter()
+            .filter(|l| l.bytes > 0)
+            .count();
+        let _ = writeln!(
+            s,
+            "\n{} of {} links carried traffic.",
+            busiest,
+            self.machine_metrics.links.len()
+        );
+        s
+    }
+}
+
+impl RunSummary {
+    /// The per-node table of summary.md: time per phase, busy, comm, idle, traffic, memory.
+    fn node_table(&self, s: &mut String) {
         let phases: Vec<&String> = {
             let mut all: Vec<&String> = self
                 .machine_metrics
@@ -331,23 +365,56 @@ impl RunSummary {
                 n.memory_high_water_bytes
             );
         }
-        let busiest = self
-            .machine_metrics
-            .links
-            .iter()
-            .filter(|l| l.bytes > 0)
-            .count();
+    }
+
+    /// The per-node table in a few lines: each column's min, mean and max over the nodes.
+    fn node_digest(&self, s: &mut String) {
+        let nodes = &self.machine_metrics.nodes;
+        if nodes.is_empty() {
+            return;
+        }
         let _ = writeln!(
             s,
-            "\n{} of {} links carried traffic.",
-            busiest,
-            self.machine_metrics.links.len()
+            "\n## Per node ({} nodes; min / mean / max, busiest node)\n",
+            nodes.len()
         );
-        s
+        let _ = writeln!(s, "| quantity | min | mean | max | at node |");
+        let _ = writeln!(s, "|---|---:|---:|---:|---:|");
+        type Column = (&'static str, fn(&super::summary::NodeSummary) -> f64, usize);
+        let columns: [Column; 6] = [
+            ("busy (s)", |n| n.busy_s, 6),
+            ("comm (s)", |n| n.comm_s, 6),
+            ("idle (s)", |n| n.idle_s, 6),
+            ("sent bytes", |n| n.sent_bytes as f64, 0),
+            ("sent messages", |n| n.sent_messages as f64, 0),
+            (
+                "memory high-water (bytes)",
+                |n| n.memory_high_water_bytes as f64,
+                0,
+            ),
+        ];
+        for (name, value, digits) in columns {
+            let values: Vec<f64> = nodes.iter().map(value).collect();
+            let (mut at, mut max, mut min) = (0, f64::MIN, f64::MAX);
+            for (i, &v) in values.iter().enumerate() {
+                if v > max {
+                    (at, max) = (i, v);
+                }
+                min = min.min(v);
+            }
+            let mean = values.iter().sum::<f64>() / values.len() as f64;
+            let _ = writeln!(
+                s,
+                "| {name} | {min:.digits$} | {mean:.digits$} | {max:.digits$} | {} |",
+                nodes[at].node
+            );
+        }
+        let _ = writeln!(
+            s,
+            "\nEvery node's row: summary.md in the report folder, or --verbose."
+        );
     }
-}
 
-impl RunSummary {
     /// The anti-aliasing table of summary.md, when the run anti-aliased.
     fn aa_markdown(&self, s: &mut String) {
         if self.per_frame.iter().all(|f| f.aa.is_none()) {

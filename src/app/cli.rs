@@ -1,5 +1,5 @@
-//! Command-line arguments (clap): structure and validation of flags only. Turning them into a
-//! run, and printing, happens in `main.rs`; the work itself in the library.
+//! Command-line arguments (clap): structure, help and validation of flags only. Turning them
+//! into calls happens in the command modules beside this one; the work itself in the library.
 
 use std::path::PathBuf;
 
@@ -12,12 +12,22 @@ use clap::{Args, Parser, Subcommand, ValueEnum};
     about = "Deterministic simulator of parallel polygon-rendering machines",
     long_about = "Deterministic discrete-event simulator of parallel polygon-rendering machines \
 (sort-middle, sort-last, pixel merging, adaptive supersampling). With no command it runs the \
-built-in default job and writes its report under reports/.",
+built-in default job and writes its report under reports/default in the current folder.\n\n\
+Bundled machines, scenes and sweeps are read from the data root: --root or SORTSIM_ROOT, else \
+the current folder when it is a sortsim checkout (it has machines/ and scenes/), else the copy \
+carried in the binary. A relative file named on the command line is read from the current \
+folder when it exists there, else from the data root.",
     after_help = "Examples:\n  sortsim check machines/*.json\n  sortsim netsim machines/delta.json tests/patterns/complement-16x32.json --fidelity packet\n  sortsim bench phold --lps 1024 --events-per-lp 16"
 )]
 pub struct Cli {
     #[command(subcommand)]
     pub command: Option<Command>,
+    /// Data root: the folder holding machines/, scenes/, sweeps/ and papers/.
+    #[arg(long, global = true, value_name = "DIR", env = crate::app::data::ROOT_VAR)]
+    pub root: Option<PathBuf>,
+    /// Print every table in full (per-node rows of a run); the report files always have them.
+    #[arg(short, long, global = true)]
+    pub verbose: bool,
 }
 
 #[derive(Subcommand, Debug)]
@@ -45,34 +55,12 @@ pub enum Command {
     #[command(
         after_help = "Example:\n  sortsim render scenes/spd-teapot.json --frame 0 -o teapot.png\n  sortsim render scenes/spd-teapot.json --aa supersample:16 -o teapot-aa.png"
     )]
-    Render {
-        scene: PathBuf,
-        #[arg(long, default_value_t = 0, allow_negative_numbers = true)]
-        frame: u32,
-        /// Anti-aliasing: none, adaptive or supersample:N (N = 4, 9, 16, ... 256), the image
-        /// every algorithm reproduces with --set aa=<the same>.
-        #[arg(long, default_value = "none", value_parser = parse_aa, allow_negative_numbers = true)]
-        aa: sortsim::raster::aa::AaMethod,
-        /// PNG file to write.
-        #[arg(short, long, value_name = "PNG", allow_negative_numbers = true)]
-        out: PathBuf,
-    },
+    Render(RenderArgs),
     /// Statistics of a scene's frames next to the paper's numbers (JSON with --json).
     #[command(
         after_help = "Example:\n  sortsim scene-stats scenes/polio-standin.json --frames 0..3 --regions 40x32 --json"
     )]
-    SceneStats {
-        scene: PathBuf,
-        /// "A..B" or "A"; frame 0 when absent.
-        #[arg(long, allow_negative_numbers = true)]
-        frames: Option<String>,
-        /// Region size for the overlap factor, WxH pixels.
-        #[arg(long, value_parser = region_size, allow_negative_numbers = true)]
-        regions: Option<(u32, u32)>,
-        /// Print JSON, one object per frame.
-        #[arg(long, allow_negative_numbers = true)]
-        json: bool,
-    },
+    SceneStats(SceneStatsArgs),
     /// Run every point of a sweep spec in parallel; write sweep.csv, sweep.json and plots.
     #[command(
         after_help = "Example:\n  sortsim sweep sweeps/p002-fig9-plb.json -o reports/fig9-plb --jobs 2\n\nA sweep spec is a run spec in which machine, scene, algo, procs and seed may be lists,\nplus \"vary\": {\"option\": [values]}; every combination is run. Rerunning with the same\nDIR skips the points whose summary.json exists."
@@ -118,7 +106,7 @@ pub enum Command {
         after_help = "Example:\n  sortsim schema machine > machine.schema.json\n\nIn VS Code, map the schemas to files with `json.schemas` in settings.json, e.g.\n  {\"fileMatch\": [\"machines/*.json\"], \"url\": \"./schemas/machine.schema.json\"}"
     )]
     Schema {
-        #[arg(value_parser = sortsim::spec::schema::KINDS)]
+        #[arg(value_parser = crate::spec::schema::KINDS)]
         kind: String,
     },
     /// Print a shell completion script for sortsim.
@@ -254,7 +242,7 @@ pub struct RunArgs {
     /// Scene spec (scenes/*.json): geometry, camera and its motion, frames.
     #[arg(long, allow_negative_numbers = true)]
     pub scene: PathBuf,
-    #[arg(long, help = sortsim::algo::AlgorithmId::IDS_HELP, allow_negative_numbers = true)]
+    #[arg(long, help = crate::algo::AlgorithmId::IDS_HELP, allow_negative_numbers = true)]
     pub algo: String,
     /// Processors the run uses (at most the machine's nodes).
     #[arg(long, allow_negative_numbers = true)]
@@ -288,7 +276,7 @@ pub struct AccuracyArgs {
     /// Machine spec (its network fidelity is the one the modes run at).
     #[arg(long, allow_negative_numbers = true)]
     pub machine: PathBuf,
-    #[arg(long, help = sortsim::algo::AlgorithmId::IDS_HELP, allow_negative_numbers = true)]
+    #[arg(long, help = crate::algo::AlgorithmId::IDS_HELP, allow_negative_numbers = true)]
     pub algo: String,
     /// Processors the run uses.
     #[arg(long, allow_negative_numbers = true)]
@@ -304,7 +292,7 @@ pub struct AccuracyArgs {
         value_parser = aa_mode,
         allow_negative_numbers = true,
     )]
-    pub modes: Vec<sortsim::accuracy::AaMode>,
+    pub modes: Vec<crate::accuracy::AaMode>,
     /// Network fidelities to run the `none` mode at, comma-separated.
     #[arg(
         long,
@@ -320,16 +308,16 @@ pub struct AccuracyArgs {
     #[arg(long, default_value_t = 1, allow_negative_numbers = true)]
     pub seed: u64,
     /// Samples per pixel side of the reference image (16: 16x16 samples per pixel).
-    #[arg(long, default_value_t = sortsim::accuracy::DEFAULT_REFERENCE_SCALE,
+    #[arg(long, default_value_t = crate::accuracy::DEFAULT_REFERENCE_SCALE,
           allow_negative_numbers = true,
-          value_parser = clap::value_parser!(u32).range(1..=sortsim::accuracy::reference::MAX_SCALE as i64))]
+          value_parser = clap::value_parser!(u32).range(1..=crate::accuracy::reference::MAX_SCALE as i64))]
     pub reference_scale: u32,
     /// Report folder; reports/accuracy/<scene name> when absent.
     #[arg(short, long, value_name = "DIR", allow_negative_numbers = true)]
     pub out: Option<PathBuf>,
 }
 
-fn aa_mode(s: &str) -> Result<sortsim::accuracy::AaMode, String> {
+fn aa_mode(s: &str) -> Result<crate::accuracy::AaMode, String> {
     s.parse()
 }
 
@@ -347,7 +335,7 @@ pub struct SweepArgs {
     /// Run only shard I of T (0 <= I < T): the points dealt to it, balanced by estimated
     /// cost; no table (that is --collect's). What each Slurm array task runs.
     #[arg(long, value_name = "I/T", conflicts_with_all = ["collect", "slurm"], allow_negative_numbers = true)]
-    pub shard: Option<sortsim::sweep::Shard>,
+    pub shard: Option<crate::sweep::Shard>,
     /// Build the table, plots and page from the points' files in DIR, written by the shards;
     /// fails with the list of missing points.
     #[arg(long, conflicts_with = "slurm")]
@@ -360,13 +348,13 @@ pub struct SweepArgs {
     #[arg(long, value_name = "T", requires = "slurm", value_parser = clap::value_parser!(u32).range(1..=100_000), allow_negative_numbers = true)]
     pub tasks: Option<u32>,
     /// Slurm partition of both jobs.
-    #[arg(long, value_name = "P", requires = "slurm", value_parser = |v: &str| sortsim::sweep::slurm::check_value("--partition", v, "debug"), allow_negative_numbers = true)]
+    #[arg(long, value_name = "P", requires = "slurm", value_parser = |v: &str| crate::sweep::slurm::check_value("--partition", v, "debug"), allow_negative_numbers = true)]
     pub partition: Option<String>,
     /// Wall-clock limit of each array task (Slurm's format: 30, 1:30:00, 2-00:00:00).
-    #[arg(long, value_name = "HH:MM:SS", requires = "slurm", value_parser = sortsim::sweep::slurm::check_time, allow_negative_numbers = true)]
+    #[arg(long, value_name = "HH:MM:SS", requires = "slurm", value_parser = crate::sweep::slurm::check_time, allow_negative_numbers = true)]
     pub time: Option<String>,
     /// Memory of each array task (Slurm's format: 4G, 500M).
-    #[arg(long, value_name = "M", requires = "slurm", value_parser = sortsim::sweep::slurm::check_mem, allow_negative_numbers = true)]
+    #[arg(long, value_name = "M", requires = "slurm", value_parser = crate::sweep::slurm::check_mem, allow_negative_numbers = true)]
     pub mem: Option<String>,
     /// Submit both jobs with sbatch (the collect job after the whole array succeeds) and
     /// print their ids.
@@ -378,7 +366,7 @@ pub struct SweepArgs {
 fn run_long_help() -> String {
     format!(
         "Example:\n  sortsim run --machine machines/delta.json --scene scenes/plb-head-standin.json \\\n      --algo sort-middle/ellsworth --procs 64 --frames 0..4 --set granularity=8 -o reports/plb-64\n\n{}\nMachine fields are set the same way: --set machine.network.fidelity=packet.",
-        sortsim::algo::AlgorithmId::options_help()
+        crate::algo::AlgorithmId::options_help()
     )
 }
 
@@ -568,13 +556,13 @@ pub struct PholdArgs {
     pub remote: f64,
     /// Mean of the exponential part of the delay.
     #[arg(long, default_value = "1us", allow_negative_numbers = true)]
-    pub mean: sortsim::units::SimTime,
+    pub mean: crate::units::SimTime,
     /// Fixed part of the delay (the lookahead).
     #[arg(long, default_value = "100ns", allow_negative_numbers = true)]
-    pub lookahead: sortsim::units::SimTime,
+    pub lookahead: crate::units::SimTime,
     /// Simulated end time.
     #[arg(long, default_value = "1ms", allow_negative_numbers = true)]
-    pub end: sortsim::units::SimTime,
+    pub end: crate::units::SimTime,
     #[arg(long, default_value_t = 1, allow_negative_numbers = true)]
     pub seed: u64,
     /// Also write DIR/summary.json (deterministic) and DIR/cost.json (wall times).
@@ -606,7 +594,47 @@ fn region_size(s: &str) -> Result<(u32, u32), String> {
 }
 
 /// `--aa`: an anti-aliasing method as `--set aa=` spells it.
-fn parse_aa(s: &str) -> Result<sortsim::raster::aa::AaMethod, String> {
-    sortsim::raster::aa::AaMethod::parse(s)
-        .ok_or_else(|| format!("expected {}", sortsim::raster::aa::AaMethod::VALID))
+fn parse_aa(s: &str) -> Result<crate::raster::aa::AaMethod, String> {
+    crate::raster::aa::AaMethod::parse(s)
+        .ok_or_else(|| format!("expected {}", crate::raster::aa::AaMethod::VALID))
+}
+
+#[derive(Args, Debug)]
+pub struct RenderArgs {
+    pub scene: PathBuf,
+    #[arg(long, default_value_t = 0, allow_negative_numbers = true)]
+    pub frame: u32,
+    /// Anti-aliasing: none, adaptive or supersample:N (N = 4, 9, 16, ... 256), the image
+    /// every algorithm reproduces with --set aa=<the same>.
+    #[arg(long, default_value = "none", value_parser = parse_aa, allow_negative_numbers = true)]
+    pub aa: crate::raster::aa::AaMethod,
+    /// PNG file to write.
+    #[arg(short, long, value_name = "PNG", allow_negative_numbers = true)]
+    pub out: PathBuf,
+}
+
+#[derive(Args, Debug)]
+pub struct SceneStatsArgs {
+    pub scene: PathBuf,
+    /// "A..B" or "A"; frame 0 when absent.
+    #[arg(long, allow_negative_numbers = true)]
+    pub frames: Option<String>,
+    /// Region size for the overlap factor, WxH pixels.
+    #[arg(long, value_parser = region_size, allow_negative_numbers = true)]
+    pub regions: Option<(u32, u32)>,
+    /// Print JSON, one object per frame.
+    #[arg(long, allow_negative_numbers = true)]
+    pub json: bool,
+}
+
+impl From<FidelityArg> for crate::net::Fidelity {
+    fn from(f: FidelityArg) -> crate::net::Fidelity {
+        use crate::net::Fidelity;
+        match f {
+            FidelityArg::Ideal => Fidelity::Ideal,
+            FidelityArg::Hops => Fidelity::Hops,
+            FidelityArg::Flow => Fidelity::Flow,
+            FidelityArg::Packet => Fidelity::Packet,
+        }
+    }
 }

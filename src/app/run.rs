@@ -1,0 +1,90 @@
+//! `sortsim run` and `sortsim accuracy`: one simulated run (or one per anti-aliasing mode and
+//! fidelity) and its report. The run itself lives in `algo`, the report in `report`.
+
+use std::collections::BTreeMap;
+
+use super::cli::{AccuracyArgs, RunArgs};
+use super::{is_internal, out_dir, Context, Failure};
+use crate::net::Fidelity;
+use crate::report::cost::Stopwatch;
+use crate::spec::run::RunSpec;
+
+pub(super) fn run(ctx: &Context, args: &RunArgs, verbose: bool) -> Result<(), Failure> {
+    let spec = RunSpec {
+        schema: None,
+        machine: ctx.input(&args.machine),
+        scene: ctx.input(&args.scene),
+        algo: args.algo.clone(),
+        procs: args.procs,
+        frames: args.frames.clone(),
+        seed: args.seed,
+        set: parse_set(&args.set)?,
+    };
+    let mut cfg = spec.resolve(None)?;
+    cfg.timeline = !args.no_timeline;
+    let clock = Stopwatch::start();
+    let result = crate::algo::run(&cfg)?;
+    let cost = clock.cost(result.stats.events);
+    let summary = crate::report::run::write_report(&args.out, &cfg, &result, &cost)?;
+    print!("{}", summary.terminal(verbose));
+    print!("\n{}", crate::report::run::closing_line(&args.out, &cost));
+    Ok(())
+}
+
+/// `--set KEY=VALUE` flags as a run spec's `set` map.
+fn parse_set(pairs: &[String]) -> Result<BTreeMap<String, String>, Failure> {
+    pairs
+        .iter()
+        .map(|kv| {
+            kv.split_once('=')
+                .map(|(k, v)| (k.trim().to_string(), v.trim().to_string()))
+                .ok_or_else(|| Failure::BadInput(format!("--set {kv}: expected KEY=VALUE")))
+        })
+        .collect()
+}
+
+/// `sortsim accuracy`: every anti-aliasing mode and network fidelity of one run, against a
+/// supersampled reference; the report goes to `-o` (reports/accuracy/<scene name>).
+pub(super) fn accuracy(ctx: &Context, args: &AccuracyArgs) -> Result<(), Failure> {
+    use crate::accuracy::{run_study, StudyConfig, StudyError};
+    let out = out_dir(&args.out, &args.scene, "reports/accuracy/");
+    let mut fidelities: Vec<Fidelity> = args.fidelities.iter().map(|&f| f.into()).collect();
+    fidelities.sort_unstable();
+    fidelities.dedup();
+    let mut modes = Vec::new();
+    for m in &args.modes {
+        if !modes.contains(m) {
+            modes.push(*m);
+        }
+    }
+    let cfg = StudyConfig {
+        run: RunSpec {
+            schema: None,
+            machine: ctx.input(&args.machine),
+            scene: ctx.input(&args.scene),
+            algo: args.algo.clone(),
+            procs: args.procs,
+            frames: args.frames.clone(),
+            seed: args.seed,
+            set: parse_set(&args.set)?,
+        },
+        modes,
+        fidelities,
+        reference_scale: args.reference_scale,
+    };
+    let study = run_study(&cfg, &mut |line| println!("{line}")).map_err(|e| {
+        let internal = matches!(e, StudyError::Size(_)) || e.run_error().is_some_and(is_internal);
+        if internal {
+            Failure::Internal(e.to_string())
+        } else {
+            Failure::BadInput(e.to_string())
+        }
+    })?;
+    let markdown = crate::report::accuracy::write_report(&out, &study).map_err(|e| match e {
+        crate::report::accuracy::ReportError::Io { .. } => Failure::BadInput(e.to_string()),
+        _ => Failure::Internal(e.to_string()),
+    })?;
+    print!("\n{markdown}");
+    print!("\n{}", crate::report::closing_line(&out, ""));
+    Ok(())
+}
