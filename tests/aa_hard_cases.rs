@@ -263,7 +263,7 @@ fn a_pool_exhausted_mid_frame_on_one_node_only() {
 /// run twice records the same numbers (no host state leaks into them).
 #[test]
 fn summaries_show_anti_aliasing_only_when_on_and_deterministically() {
-    use sortsim::report::run::RunSummary;
+    use sortsim::metrics::run::RunSummary;
     let b = scene("p000-letter-b.json");
     let summarize = |set: &[(&str, &str)]| {
         let spec = RunSpec {

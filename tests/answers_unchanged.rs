@@ -13,10 +13,10 @@ use std::collections::BTreeMap;
 use std::path::PathBuf;
 
 use sortsim::algo::run;
+use sortsim::metrics::run::RunSummary;
 use sortsim::net::pattern::{all_to_all, hot_spot, random_staggered, run_pattern, Pattern};
 use sortsim::net::{Fidelity, NetworkConfig, TopologyKind};
-use sortsim::report::run::RunSummary;
-use sortsim::report::to_json;
+use sortsim::output::to_json;
 use sortsim::spec::run::RunSpec;
 use sortsim::trace::format::fnv1a64;
 use sortsim::units::{Bytes, SimTime};

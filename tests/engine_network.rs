@@ -7,7 +7,8 @@ use std::cell::RefCell;
 use std::rc::Rc;
 
 use sortsim::engine::{Filter, Sim};
-use sortsim::report::{summary::Summary, to_json};
+use sortsim::metrics::machine::Summary;
+use sortsim::output::to_json;
 use sortsim::units::{Bandwidth, Bytes, SimTime};
 
 fn torus(fidelity: &str, switching: &str) -> sortsim::machine::MachineConfig {

@@ -4,7 +4,7 @@
 
 mod common;
 
-use sortsim::report::plot::{line_chart, ChartOptions, LineChart, Series};
+use sortsim::output::plot::{line_chart, ChartOptions, LineChart, Series};
 
 fn out_dir(name: &str) -> common::Scratch {
     common::scratch(name)

@@ -21,8 +21,8 @@ use std::sync::Arc;
 
 use crate::algo::{check_options, RunConfig, RunError, RunResult};
 use crate::net::Fidelity;
+use crate::output::cost::{Cost, Stopwatch};
 use crate::raster::Framebuffer;
-use crate::report::cost::{Cost, Stopwatch};
 use crate::scene::{Scene, SceneError};
 use crate::spec::run::{RunSpec, RunSpecError};
 use crate::units::{Bytes, SimTime};

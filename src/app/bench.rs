@@ -8,14 +8,14 @@ use super::cli::{BenchCommand, FidelityArg, PholdArgs};
 use super::{writable_folder, Context, Failure};
 use crate::bench::{phold_report, PholdConfig};
 use crate::net::Fidelity;
-use crate::report::to_json;
+use crate::output::to_json;
 use crate::scene::Scene;
 
 pub(super) fn run(ctx: &Context, cmd: &BenchCommand) -> Result<(), Failure> {
     match cmd {
         BenchCommand::Phold(args) => bench_phold(args).map(|_| {
             if let Some(dir) = &args.out {
-                print!("{}", crate::report::closing_line(dir, ""));
+                print!("{}", crate::output::closing_line(dir, ""));
             }
         }),
         BenchCommand::Overhead {

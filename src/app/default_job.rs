@@ -52,7 +52,7 @@ pub(super) fn run(ctx: &Context) -> Result<(), Failure> {
             fidelity: &table,
         },
     )?;
-    print!("\n{}", crate::report::closing_line(&out, ""));
+    print!("\n{}", crate::output::closing_line(&out, ""));
     Ok(())
 }
 

@@ -60,10 +60,10 @@ impl From<crate::spec::check::CheckError> for Failure {
 
 /// A report that could not be written is the user's folder's fault; a chart that could not be
 /// drawn is a bug.
-impl From<crate::report::plot::PlotError> for Failure {
-    fn from(e: crate::report::plot::PlotError) -> Failure {
+impl From<crate::output::plot::PlotError> for Failure {
+    fn from(e: crate::output::plot::PlotError) -> Failure {
         match e {
-            crate::report::plot::PlotError::Io { .. } => Failure::BadInput(e.to_string()),
+            crate::output::plot::PlotError::Io { .. } => Failure::BadInput(e.to_string()),
             _ => Failure::Internal(e.to_string()),
         }
     }
@@ -173,13 +173,13 @@ fn out_dir(given: &Option<PathBuf>, input: &Path, prefix: &str) -> PathBuf {
 fn writable_folder(dir: &Path) -> Result<(), Failure> {
     let probe = dir.join(".writable");
     std::fs::create_dir_all(dir)
-        .and_then(|()| crate::report::write_atomic(&probe, b""))
+        .and_then(|()| crate::output::write_atomic(&probe, b""))
         .and_then(|()| std::fs::remove_file(&probe))
         .map_err(|e| Failure::BadInput(format!("{}: cannot write: {e}", dir.display())))
 }
 
 fn write_bytes(path: &Path, bytes: &[u8]) -> Result<(), Failure> {
-    crate::report::write_atomic(path, bytes)
+    crate::output::write_atomic(path, bytes)
         .map_err(|e| Failure::BadInput(format!("{}: cannot write: {e}", path.display())))
 }
 

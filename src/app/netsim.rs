@@ -4,7 +4,7 @@ use super::cli::NetsimArgs;
 use super::{Context, Failure};
 use crate::net::fidelity::{fidelity_table, format_table};
 use crate::net::pattern::{run_pattern, Pattern};
-use crate::report::{cost::Stopwatch, to_json};
+use crate::output::{cost::Stopwatch, to_json};
 use crate::spec::{load_json, machine::load_machine};
 
 pub(super) fn run(ctx: &Context, args: &NetsimArgs) -> Result<(), Failure> {

@@ -3,7 +3,7 @@
 
 use super::cli::{CalibrateArgs, PaperArgs};
 use super::{jobs, out_dir, writable_folder, Context, Failure};
-use crate::report::cost::Stopwatch;
+use crate::output::cost::Stopwatch;
 
 /// `sortsim paper`: runs each paper's experiments, writes its folder, prints its headline.
 pub(super) fn paper(ctx: &Context, args: &PaperArgs) -> Result<(), Failure> {

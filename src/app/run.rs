@@ -6,7 +6,7 @@ use std::collections::BTreeMap;
 use super::cli::{AccuracyArgs, RunArgs};
 use super::{is_internal, out_dir, Context, Failure};
 use crate::net::Fidelity;
-use crate::report::cost::Stopwatch;
+use crate::output::cost::Stopwatch;
 use crate::spec::run::RunSpec;
 
 pub(super) fn run(ctx: &Context, args: &RunArgs, verbose: bool) -> Result<(), Failure> {
@@ -85,6 +85,6 @@ pub(super) fn accuracy(ctx: &Context, args: &AccuracyArgs) -> Result<(), Failure
         _ => Failure::Internal(e.to_string()),
     })?;
     print!("\n{markdown}");
-    print!("\n{}", crate::report::closing_line(&out, ""));
+    print!("\n{}", crate::output::closing_line(&out, ""));
     Ok(())
 }

@@ -4,8 +4,8 @@
 use super::cli::{RenderArgs, SceneStatsArgs};
 use super::{write_bytes, Context, Failure};
 use crate::algo::reference;
+use crate::output::to_json;
 use crate::raster::encode_png;
-use crate::report::to_json;
 use crate::scene::Scene;
 use crate::spec::run::parse_frames;
 

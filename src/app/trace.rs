@@ -4,7 +4,7 @@ use std::path::Path;
 
 use super::cli::{AssignArg, MergeAlgoArg, TraceCommand, TraceReplayArgs};
 use super::{Context, Failure};
-use crate::report::cost::Stopwatch;
+use crate::output::cost::Stopwatch;
 use crate::scene::Scene;
 
 /// `sortsim trace record|replay` (paper 003's pixel traces).
@@ -75,7 +75,7 @@ fn trace_replay(ctx: &Context, args: &TraceReplayArgs) -> Result<(), Failure> {
     }
     let detail = format!(" (replayed in {wall:.2} s wall)");
     match &args.out {
-        Some(dir) => print!("{}", crate::report::closing_line(dir, &detail)),
+        Some(dir) => print!("{}", crate::output::closing_line(dir, &detail)),
         None => println!("replayed in {wall:.2} s wall"),
     }
     Ok(())

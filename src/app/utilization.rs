@@ -2,7 +2,7 @@
 
 use super::cli::{CountsArg, UtilizationArgs};
 use super::{Context, Failure};
-use crate::report::cost::Stopwatch;
+use crate::output::cost::Stopwatch;
 use crate::scene::Scene;
 use crate::spec::machine::load_machine;
 use crate::spec::run::parse_frames;
@@ -64,7 +64,7 @@ pub(super) fn run(ctx: &Context, args: &UtilizationArgs) -> Result<(), Failure> 
     }
     let detail = format!(" (simulated in {wall:.1} s wall)");
     match &args.out {
-        Some(dir) => print!("{}", crate::report::closing_line(dir, &detail)),
+        Some(dir) => print!("{}", crate::output::closing_line(dir, &detail)),
         None => println!("simulated in {wall:.1} s wall"),
     }
     Ok(())

@@ -27,7 +27,7 @@ pub(super) fn run(args: &ValidateArgs) -> Result<(), Failure> {
     }
     write(&args.out, &result)?;
     print!("{}", markdown(&result));
-    print!("{}", crate::report::closing_line(&args.out, ""));
+    print!("{}", crate::output::closing_line(&args.out, ""));
     let agrees = result.network.as_ref().is_none_or(|(n, _)| n.pass)
         && result.raster.as_ref().is_none_or(|(r, _)| r.pass);
     if agrees {

@@ -19,7 +19,7 @@ use serde::Serialize;
 use super::{overhead, phold_report, PholdConfig};
 use crate::net::pattern::{random_staggered, run_pattern};
 use crate::net::{Fidelity, NetworkConfig, TopologyKind};
-use crate::report::cost::peak_host_memory;
+use crate::output::cost::peak_host_memory;
 use crate::scene::Scene;
 use crate::spec::run::RunSpec;
 use crate::units::{Bytes, SimTime};

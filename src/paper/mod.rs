@@ -24,7 +24,7 @@ use std::path::PathBuf;
 
 use serde::Serialize;
 
-use crate::report::plot::{ChartOptions, Series};
+use crate::output::plot::{ChartOptions, Series};
 pub use data::{PaperData, Reference, Role};
 pub use verdict::{judge, Tally, Verdict};
 

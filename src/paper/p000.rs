@@ -10,13 +10,13 @@ use std::path::Path;
 
 use crate::algo::reference::render_adaptive_sequence;
 use crate::algo::RunResult;
+use crate::output::plot::{ChartOptions, Series};
 use crate::raster::aa::cases::{every_pixel_an_edge, shared_edge_in_one_pixel};
 use crate::raster::aa::{
     AaStats, AdaptiveConfig, AdaptiveTarget, Grid, SupersampleTarget, PIXEL_BYTES, RECLAIM_SPREAD,
     SUBPIXEL_BYTES,
 };
 use crate::raster::{draw_screen_triangles, Viewport};
-use crate::report::plot::{ChartOptions, Series};
 use crate::scene::{FrameGeometry, Scene};
 
 use super::runs::{mean, run_jobs, triangles_per_s, Job};

@@ -5,7 +5,7 @@
 //! Owns which runs answer which row of papers/001.json. Must never hold a paper value.
 
 use crate::algo::RunResult;
-use crate::report::plot::{ChartOptions, Series};
+use crate::output::plot::{ChartOptions, Series};
 
 use super::runs::{run_jobs, Job};
 use super::{paper_value, Chart, Measured, Measurements, PaperData, PaperOptions};

@@ -15,7 +15,7 @@ use crate::algo::sort_middle::utilization::{self, CountsMode};
 use crate::algo::sort_middle::DEFAULT_BUFFER;
 use crate::algo::{FrameRecord, RunResult};
 use crate::machine::{MachineConfig, Op};
-use crate::report::plot::{ChartOptions, Series};
+use crate::output::plot::{ChartOptions, Series};
 use crate::scene::summary::summary;
 use crate::scene::Scene;
 use crate::spec::machine::load_machine;

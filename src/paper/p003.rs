@@ -8,8 +8,8 @@
 
 use std::path::Path;
 
+use crate::output::plot::{ChartOptions, Series};
 use crate::raster::ACTIVE_PIXEL_BYTES;
-use crate::report::plot::{ChartOptions, Series};
 use crate::scene::planes::{back_to_front_planes, PLANES_SCREEN};
 use crate::scene::Scene;
 use crate::spec::scene::SceneSpec;

@@ -14,11 +14,11 @@ use std::path::{Path, PathBuf};
 
 use serde::Serialize;
 
-use super::cost::Cost;
-use super::plot::{line_chart, ChartOptions, PlotError, Series};
-use super::run::RunHeader;
-use super::{to_json, write_atomic};
 use crate::accuracy::{base_options, FidelityResult, ModeResult, RunMeasure, Study};
+use crate::metrics::run::RunHeader;
+use crate::output::cost::Cost;
+use crate::output::plot::{line_chart, ChartOptions, PlotError, Series};
+use crate::output::{to_json, write_atomic};
 use crate::raster::{encode_png, Framebuffer};
 
 /// accuracy.json.
@@ -276,7 +276,7 @@ pub fn write_report(dir: &Path, study: &Study) -> Result<String, ReportError> {
         write(dir, &name, &png(&m.image)?)?;
     }
     charts(dir, &summary, &cost)?;
-    super::page::Page::new("Accuracy versus time")
+    crate::output::page::Page::new("Accuracy versus time")
         .markdown(&md)
         .images_of(dir)
         .files(&["accuracy.md", "accuracy.json", "fidelity.txt", "cost.json"])

@@ -7,10 +7,10 @@
 
 use std::path::Path;
 
-use super::plot::{line_chart, ChartOptions, PlotError, Series};
-use super::{to_json, write_text};
 use crate::bench::scale::{ScaleReport, CURVE_FIDELITIES};
 use crate::bench::{PholdCost, PholdSummary};
+use crate::output::plot::{line_chart, ChartOptions, PlotError, Series};
+use crate::output::{to_json, write_text};
 
 /// Writes `bench scale`'s folder; `table` is the text it printed.
 pub fn write_scale(dir: &Path, report: &ScaleReport, table: &str) -> Result<(), PlotError> {

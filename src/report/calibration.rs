@@ -7,10 +7,10 @@
 use std::fmt::Write as _;
 use std::path::Path;
 
-use super::page::Page;
-use super::plot::PlotError;
-use super::{to_json, write_text};
 use crate::calibrate::{Calibration, Residual};
+use crate::output::page::Page;
+use crate::output::plot::PlotError;
+use crate::output::{to_json, write_text};
 
 pub fn markdown(c: &Calibration) -> String {
     let mut md = format!("# Calibration of {} to paper {}\n\n", c.machine, c.paper);

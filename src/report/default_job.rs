@@ -8,9 +8,9 @@ use std::path::{Path, PathBuf};
 
 use maud::html;
 
-use super::page::{text_block, Page};
-use super::plot::PlotError;
-use super::write_text;
+use crate::output::page::{text_block, Page};
+use crate::output::plot::PlotError;
+use crate::output::write_text;
 
 pub struct DefaultJob<'a> {
     pub machines: &'a [PathBuf],

@@ -9,98 +9,11 @@
 pub mod accuracy;
 pub mod bench;
 pub mod calibration;
-pub mod cost;
 pub mod default_job;
 pub mod netsim;
-pub mod page;
 pub mod paper;
-pub mod plot;
 pub mod run;
-pub mod summary;
 pub mod sweep;
 pub mod trace;
 pub mod utilization;
 pub mod validate;
-
-use std::io::Write;
-use std::path::Path;
-
-/// Writes `bytes` to `path` through a temporary file in the same folder and a rename, so a
-/// reader (or an interrupted run) never sees a partial file; temporaries of writers killed
-/// before their rename are removed once the file is whole again.
-pub fn write_atomic(path: &Path, bytes: &[u8]) -> std::io::Result<()> {
-    if path.is_dir() {
-        return Err(std::io::Error::new(
-            std::io::ErrorKind::InvalidInput,
-            "is a folder; give the name of a file to write",
-        ));
-    }
-    let dir = path
-        .parent()
-        .filter(|d| !d.as_os_str().is_empty())
-        .unwrap_or(Path::new("."));
-    std::fs::create_dir_all(dir)?;
-    let name = path
-        .file_name()
-        .map(|n| n.to_string_lossy().into_owned())
-        .unwrap_or_default();
-    let tmp = dir.join(format!(".{name}.tmp{}", std::process::id()));
-    let written = std::fs::File::create(&tmp).and_then(|mut file| {
-        file.write_all(bytes)?;
-        file.sync_all()?;
-        drop(file);
-        std::fs::rename(&tmp, path)
-    });
-    if let Err(e) = written {
-        // Nothing half-written stays behind, whatever failed.
-        let _ = std::fs::remove_file(&tmp);
-        return Err(e);
-    }
-    remove_stale_temporaries(dir, &name);
-    Ok(())
-}
-
-/// Deletes the temporary files an earlier writer of `dir/name` left when it was killed
-/// between creating and renaming one (their names carry that writer's process id). Best
-/// effort: the report is already whole, so a failure here is not an error.
-fn remove_stale_temporaries(dir: &Path, name: &str) {
-    let prefix = format!(".{name}.tmp");
-    let Ok(entries) = std::fs::read_dir(dir) else {
-        return;
-    };
-    for e in entries.filter_map(Result::ok) {
-        if e.file_name().to_string_lossy().starts_with(&prefix) {
-            let _ = std::fs::remove_file(e.path());
-        }
-    }
-}
-
-/// Writes `text` to `dir/name` through [`write_atomic`]; a failure names the file (reported as
-/// the plot module's `Io` error, which every report writer returns).
-pub fn write_text(dir: &Path, name: &str, text: &str) -> Result<(), plot::PlotError> {
-    let path = dir.join(name);
-    write_atomic(&path, text.as_bytes()).map_err(|source| plot::PlotError::Io { path, source })
-}
-
-/// Pretty JSON with a trailing newline; serde_json keeps struct field order, and every map in
-/// a report is a BTreeMap or a Vec, so the text is deterministic.
-/// The line every report command ends with: where the report went, what it cost (`detail`,
-/// may be empty) and, when the folder has one, the page to open.
-pub fn closing_line(dir: &Path, detail: &str) -> String {
-    let page = dir.join("index.html");
-    if page.is_file() {
-        format!(
-            "report written to {}{detail}; page: {}\n",
-            dir.display(),
-            page.display()
-        )
-    } else {
-        format!("report written to {}{detail}\n", dir.display())
-    }
-}
-
-pub fn to_json<T: serde::Serialize>(value: &T) -> String {
-    let mut s = serde_json::to_string_pretty(value).expect("report types serialize");
-    s.push('\n');
-    s
-}

@@ -7,11 +7,11 @@
 
 use std::path::Path;
 
-use super::cost::Cost;
-use super::plot::PlotError;
-use super::{to_json, write_text};
 use crate::net::fidelity::{format_table, FidelityRow};
 use crate::net::pattern::PatternReport;
+use crate::output::cost::Cost;
+use crate::output::plot::PlotError;
+use crate::output::{to_json, write_text};
 
 pub fn write(dir: &Path, report: &PatternReport, cost: &Cost) -> Result<(), PlotError> {
     write_text(dir, "summary.json", &to_json(report))?;

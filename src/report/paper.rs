@@ -12,9 +12,9 @@ use std::path::Path;
 
 use maud::{html, Markup};
 
-use super::page::shell;
-use super::plot::{LineChart, PlotError};
-use super::{to_json, write_text};
+use crate::output::page::shell;
+use crate::output::plot::{LineChart, PlotError};
+use crate::output::{to_json, write_text};
 use crate::paper::{PaperReport, Role, RowReport, Verdict};
 
 /// Writes one paper's folder: plots, paper.md, paper.json, index.html.

@@ -5,24 +5,23 @@
 //!
 //! Must never run a simulation; it only formats what a run measured.
 
-use std::collections::BTreeMap;
 use std::fmt::Write as _;
 use std::path::Path;
 
-use serde::Serialize;
-
-use super::cost::Cost;
-use super::page::{phase_bars, timeline_note, Page};
-use super::plot::PlotError;
-use super::summary::Summary;
-use super::{to_json, write_atomic, write_text};
-use crate::algo::{FrameRecord, RunConfig, RunResult};
+use crate::algo::{RunConfig, RunResult};
+use crate::metrics::machine::NodeSummary;
+use crate::metrics::run::RunSummary;
+use crate::output::cost::Cost;
+use crate::output::page::{Page, PALETTE};
+use crate::output::plot::PlotError;
+use crate::output::{to_json, write_atomic, write_text};
 use crate::raster::encode_png;
+use maud::{html, Markup};
 
 /// The line `sortsim run` prints after the summary: where the report went and what the
 /// simulation cost.
 pub fn closing_line(dir: &Path, cost: &Cost) -> String {
-    super::closing_line(
+    crate::output::closing_line(
         dir,
         &format!(
             " (simulated in {:.2} s wall, {} events)",
@@ -75,170 +74,7 @@ pub fn write_report(
     Ok(summary)
 }
 
-/// What a run was: the fields every report of one run spec opens with (summary.json,
-/// accuracy.json).
-#[derive(Serialize, Debug, Clone, PartialEq)]
-pub struct RunHeader {
-    pub machine: String,
-    pub scene: String,
-    pub algo: &'static str,
-    pub procs: u32,
-    pub frames: Vec<u32>,
-    pub seed: u64,
-    /// The machine's network fidelity.
-    pub fidelity: &'static str,
-    pub options: BTreeMap<String, String>,
-}
-
-impl RunHeader {
-    /// The header of `cfg`, reporting `options` as its options.
-    pub fn new(cfg: &RunConfig, options: BTreeMap<String, String>) -> RunHeader {
-        RunHeader {
-            machine: cfg.machine.name.clone(),
-            scene: cfg.scene.file().display().to_string(),
-            algo: cfg.algo.id(),
-            procs: cfg.machine.nodes,
-            frames: cfg.frames.clone().collect(),
-            seed: cfg.seed,
-            fidelity: cfg.machine.network.fidelity.name(),
-            options,
-        }
-    }
-
-    /// The run's context for a markdown report: scene, frames, seed, fidelity.
-    pub fn context(&self) -> String {
-        format!(
-            "scene `{}`, frames {}, seed {}, network fidelity `{}`",
-            self.scene,
-            frame_list(&self.frames),
-            self.seed,
-            self.fidelity
-        )
-    }
-}
-
-/// summary.json of a run.
-#[derive(Serialize, Debug, Clone, PartialEq)]
-pub struct RunSummary {
-    #[serde(flatten)]
-    pub run: RunHeader,
-    pub mean_frame_s: f64,
-    pub mean_triangles_per_s: f64,
-    pub mean_load_imbalance_pct: f64,
-    pub mean_bytes_per_frame: f64,
-    pub mean_messages_per_frame: f64,
-    pub per_frame: Vec<FrameSummary>,
-    pub machine_metrics: Summary,
-    /// Operations the run charged that the machine file does not price (each cost nothing).
-    #[serde(skip_serializing_if = "Vec::is_empty")]
-    pub unpriced_ops: Vec<&'static str>,
-}
-
-#[derive(Serialize, Debug, Clone, PartialEq)]
-pub struct FrameSummary {
-    pub frame: u32,
-    pub time_s: f64,
-    pub triangles_in_view: u64,
-    pub triangles_per_s: f64,
-    pub load_imbalance_pct: f64,
-    pub bytes: u64,
-    pub messages: u64,
-    /// Sort-first: primitives' database records sent to processors that did not hold them.
-    #[serde(skip_serializing_if = "Option::is_none")]
-    pub records_moved: Option<u64>,
-    /// Anti-aliasing this frame, when the run used it.
-    #[serde(skip_serializing_if = "Option::is_none")]
-    pub aa: Option<AaFrameSummary>,
-}
-
-/// One frame's anti-aliasing over all nodes (paper 000's memory figures).
-#[derive(Serialize, Debug, Clone, PartialEq)]
-pub struct AaFrameSummary {
-    /// Samples per side each node used (4 = 4x4).
-    pub grid_side_per_node: Vec<u32>,
-    pub supersampled_pixels: u64,
-    pub reclaimed_pixels: u64,
-    pub overflowed_pixels: u64,
-    /// Super pixels left after reclaiming.
-    pub live_super_pixels: u64,
-    /// Pixels of the screen the nodes held.
-    pub pixels: u64,
-    /// Per node: Pixel array plus Subpixel cells in use at the end of the frame.
-    pub memory_min_bytes: u64,
-    pub memory_mean_bytes: f64,
-    pub memory_max_bytes: u64,
-}
-
-fn aa_summary(r: &FrameRecord) -> Option<AaFrameSummary> {
-    if r.aa.is_empty() {
-        return None;
-    }
-    let sum = |f: fn(&crate::raster::aa::AaStats) -> u64| r.aa.iter().map(f).sum::<u64>();
-    let memory: Vec<u64> = r.aa.iter().map(|a| a.memory_used().get()).collect();
-    Some(AaFrameSummary {
-        grid_side_per_node: r.aa.iter().map(|a| a.grid_side).collect(),
-        supersampled_pixels: sum(|a| a.supersampled_pixels),
-        reclaimed_pixels: sum(|a| a.reclaimed_pixels),
-        overflowed_pixels: sum(|a| a.overflowed_pixels),
-        live_super_pixels: sum(|a| a.live_super_pixels),
-        pixels: sum(|a| a.pixels),
-        memory_min_bytes: memory.iter().copied().min().unwrap_or(0),
-        memory_mean_bytes: mean(memory.iter().map(|&m| m as f64)),
-        memory_max_bytes: memory.iter().copied().max().unwrap_or(0),
-    })
-}
-
-fn frame_summary(r: &FrameRecord) -> FrameSummary {
-    let t = r.time().as_secs_f64();
-    FrameSummary {
-        frame: r.frame,
-        time_s: t,
-        triangles_in_view: r.triangles_in_view,
-        triangles_per_s: if t > 0.0 {
-            r.triangles_in_view as f64 / t
-        } else {
-            0.0
-        },
-        load_imbalance_pct: r.load_imbalance_pct(),
-        bytes: r.bytes.get(),
-        messages: r.messages,
-        records_moved: r.records_moved,
-        aa: aa_summary(r),
-    }
-}
-
-fn mean(values: impl Iterator<Item = f64>) -> f64 {
-    let (sum, n) = values.fold((0.0, 0usize), |(s, n), v| (s + v, n + 1));
-    if n == 0 {
-        0.0
-    } else {
-        sum / n as f64
-    }
-}
-
 impl RunSummary {
-    pub fn new(cfg: &RunConfig, result: &RunResult) -> RunSummary {
-        let per_frame: Vec<FrameSummary> = result.frames.iter().map(frame_summary).collect();
-        let options = cfg.options.pairs().map(|(k, v)| (k.clone(), v.clone()));
-        RunSummary {
-            run: RunHeader::new(cfg, options.collect()),
-            mean_frame_s: mean(per_frame.iter().map(|f| f.time_s)),
-            // The papers average triangles/s over the frames (paper 002, Performance).
-            mean_triangles_per_s: mean(per_frame.iter().map(|f| f.triangles_per_s)),
-            mean_load_imbalance_pct: mean(per_frame.iter().map(|f| f.load_imbalance_pct)),
-            mean_bytes_per_frame: mean(per_frame.iter().map(|f| f.bytes as f64)),
-            mean_messages_per_frame: mean(per_frame.iter().map(|f| f.messages as f64)),
-            per_frame,
-            machine_metrics: Summary::from_stats(&result.stats),
-            unpriced_ops: result
-                .stats
-                .unpriced_ops
-                .iter()
-                .map(|op| op.name())
-                .collect(),
-        }
-    }
-
     /// summary.md: per-frame table, then per-node time by phase and traffic.
     pub fn markdown(&self) -> String {
         self.markdown_with(true)
@@ -380,7 +216,7 @@ impl RunSummary {
         );
         let _ = writeln!(s, "| quantity | min | mean | max | at node |");
         let _ = writeln!(s, "|---|---:|---:|---:|---:|");
-        type Column = (&'static str, fn(&super::summary::NodeSummary) -> f64, usize);
+        type Column = (&'static str, fn(&NodeSummary) -> f64, usize);
         let columns: [Column; 6] = [
             ("busy (s)", |n| n.busy_s, 6),
             ("comm (s)", |n| n.comm_s, 6),
@@ -503,17 +339,57 @@ pub fn timeline_json(result: &RunResult) -> Option<String> {
     Some(out)
 }
 
-/// Frames as a person writes them: `0..20` (20 excluded, as `--frames` reads it) when they
-/// run on without a gap, else listed.
-fn frame_list(frames: &[u32]) -> String {
-    match (frames.first(), frames.last()) {
-        (Some(&a), Some(&b)) if b.checked_sub(a).map(|d| d as usize + 1) == Some(frames.len()) => {
-            format!("{a}..{}", u64::from(b) + 1)
+/// One horizontal bar per node: its busy time split by phase, then idle, to the run's end.
+pub fn phase_bars(nodes: &[NodeSummary], end_s: f64) -> Markup {
+    let mut phases: Vec<&str> = nodes
+        .iter()
+        .flat_map(|n| n.busy_by_phase_s.keys().map(String::as_str))
+        .collect();
+    phases.sort_unstable();
+    phases.dedup();
+    let colour =
+        |p: &str| PALETTE[phases.iter().position(|q| *q == p).unwrap_or(0) % PALETTE.len()];
+    let width = |s: f64| {
+        if end_s > 0.0 {
+            100.0 * s / end_s
+        } else {
+            0.0
         }
-        _ => frames
-            .iter()
-            .map(u32::to_string)
-            .collect::<Vec<_>>()
-            .join(", "),
+    };
+    html! {
+        h2 { "Time by phase, per node" }
+        p { "Each bar is one node from the start of the run to its end; grey is idle." }
+        div.legend {
+            @for p in &phases {
+                span { i style={ "background:" (colour(p)) } {} (p) }
+            }
+            span { i style="background:#e6e6e6" {} "idle" }
+        }
+        div.bars {
+            @for n in nodes {
+                div.bar title={ "node " (n.node) } {
+                    span.label { (n.node) }
+                    div.track {
+                        @for (p, s) in &n.busy_by_phase_s {
+                            div.seg style={ "width:" (format!("{:.3}", width(*s))) "%;background:" (colour(p)) }
+                                title={ (p) ": " (format!("{s:.6}")) " s" } {}
+                        }
+                    }
+                }
+            }
+        }
+    }
+}
+
+/// How to look at a run's timeline.json.
+pub fn timeline_note() -> Markup {
+    html! {
+        h2 { "Timeline" }
+        p {
+            a href="timeline.json" { "timeline.json" }
+            ": open ui.perfetto.dev in a browser, choose \"Open trace file\" and pick this file \
+             (or chrome://tracing, Load): one track per node's cpu, one slice per stretch of work, \
+             named after its phase."
+        }
     }
 }

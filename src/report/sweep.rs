@@ -1,17 +1,12 @@
-//! A sweep's page (index.html): its note, the table as the terminal prints it, the plots and
-//! links to sweep.csv, sweep.json and cost.json; and the lines the command prints after it.
+//! The lines `sortsim sweep` prints after its table: where the points and report went, what
+//! failed, and the Slurm scripts and job ids.
 //!
-//! Must never compute a row (that is `sweep::table`); it only lays out what the sweep wrote.
+//! Must never compute a row (that is `sweep::table`) nor write a sweep's files (that is
+//! `sweep`, which writes its table, plots and page).
 
 use std::path::Path;
 
-use maud::html;
-
-use super::page::{text_block, Page};
-use super::plot::PlotError;
 use crate::sweep::slurm::{Scripts, Submitted};
-use crate::sweep::spec::Sweep;
-use crate::sweep::table::{format_rows, Row};
 use crate::sweep::{ShardOutcome, SweepOutcome};
 
 /// What `sortsim sweep --shard I/T` prints: the shard's points run and skipped, and each
@@ -84,21 +79,4 @@ pub fn closing_lines(outcome: &SweepOutcome, out: &Path, jobs: usize) -> String 
         out.join("index.html").display()
     );
     text
-}
-
-pub fn write_page(dir: &Path, sweep: &Sweep, rows: &[Row]) -> Result<(), PlotError> {
-    let name = sweep
-        .file
-        .file_name()
-        .map_or_else(|| "sweep".to_string(), |n| n.to_string_lossy().into_owned());
-    Page::new(format!("Sweep {name}"))
-        .section(html! {
-            @if let Some(note) = &sweep.note { p { (note) } }
-            p { (rows.len()) " points; speedup is triangles/s over the one-processor point's. "
-                "Each point's summary.json is under points/." }
-        })
-        .section(text_block("Table", &format_rows(rows)))
-        .images_of(dir)
-        .files(&["sweep.csv", "sweep.json", "cost.json"])
-        .write(dir)
 }

@@ -7,8 +7,8 @@
 
 use std::path::Path;
 
-use super::plot::{line_chart, ChartOptions, PlotError};
-use super::{to_json, write_text};
+use crate::output::plot::{line_chart, ChartOptions, PlotError};
+use crate::output::{to_json, write_text};
 use crate::trace::replay::{Baseline, Report};
 use crate::trace::Trace;
 
@@ -54,8 +54,8 @@ pub fn write(dir: &Path, report: &Report, trace: &str) -> Result<(), PlotError> 
             },
         )?;
     }
-    super::page::Page::new(format!("Trace replay: {trace}"))
-        .section(super::page::text_block("Traffic", &report.table()))
+    crate::output::page::Page::new(format!("Trace replay: {trace}"))
+        .section(crate::output::page::text_block("Traffic", &report.table()))
         .images_of(dir)
         .files(&["replay.csv", "replay.json"])
         .write(dir)

@@ -7,9 +7,9 @@
 
 use std::path::Path;
 
-use super::plot::{line_chart, ChartOptions, PlotError, Series};
-use super::{to_json, write_text};
 use crate::algo::sort_middle::utilization::{CountsMode, Outcome};
+use crate::output::plot::{line_chart, ChartOptions, PlotError, Series};
+use crate::output::{to_json, write_text};
 
 /// Figure 5's count mode among those asked for: the previous frame's counts when present (as
 /// in the paper), else the current frame's.
@@ -162,9 +162,12 @@ pub fn write(
         3,
         |c| c.relative_time,
     );
-    super::page::Page::new(format!("Utilization simulation: {}", files.0))
-        .section(super::page::text_block("Utilization", &utilization_table))
-        .section(super::page::text_block(
+    crate::output::page::Page::new(format!("Utilization simulation: {}", files.0))
+        .section(crate::output::page::text_block(
+            "Utilization",
+            &utilization_table,
+        ))
+        .section(crate::output::page::text_block(
             "Performance model",
             &relative_table,
         ))

@@ -10,8 +10,8 @@ use std::path::Path;
 
 use serde::Serialize;
 
-use super::plot::PlotError;
-use super::{to_json, write_text};
+use crate::output::plot::PlotError;
+use crate::output::{to_json, write_text};
 use crate::validate::{network, raster};
 
 /// What one `sortsim validate` ran: either part may be absent.

@@ -16,6 +16,7 @@
 //! Owns scheduling, resuming and the report folder of a sweep. Must never change how a single
 //! run simulates (that is `algo`), and never write a file except through `write_atomic`.
 
+pub mod page;
 pub mod plots;
 pub mod shard;
 pub mod slurm;
@@ -33,10 +34,10 @@ use serde::{Deserialize, Serialize};
 
 use crate::algo::{RunConfig, RunError};
 use crate::engine::SimError;
-use crate::report::cost::{Cost, Stopwatch};
-use crate::report::plot::PlotError;
-use crate::report::run::RunSummary;
-use crate::report::{to_json, write_atomic};
+use crate::metrics::run::RunSummary;
+use crate::output::cost::{Cost, Stopwatch};
+use crate::output::plot::PlotError;
+use crate::output::{to_json, write_atomic};
 use crate::scene::Scene;
 use crate::spec::run::parse_frames;
 use crate::spec::SpecError;
@@ -624,7 +625,7 @@ fn write_reports(sweep: &Sweep, out: &Path, rows: &[Row]) -> Result<(), SweepErr
         to_json(&table::SweepTable::new(sweep, rows)).as_bytes(),
     )?;
     plots::write_plots(sweep, rows, &out.join("plots"))?;
-    crate::report::sweep::write_page(out, sweep, rows)?;
+    page::write_page(out, sweep, rows)?;
     Ok(())
 }
 

@@ -9,7 +9,7 @@ use std::path::Path;
 
 use super::spec::Sweep;
 use super::table::Row;
-use crate::report::plot::{line_chart, ChartOptions, PlotError, Series};
+use crate::output::plot::{line_chart, ChartOptions, PlotError, Series};
 
 /// A chart of the sweep: file stem, title, y label, the metric, and whether y starts at zero.
 struct Metric {

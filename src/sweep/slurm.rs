@@ -16,7 +16,7 @@ use std::process::Command;
 use super::shard::ShardPlan;
 use super::spec::Sweep;
 use super::{deal, write, SweepError};
-use crate::report::to_json;
+use crate::output::to_json;
 
 /// How the array job asks Slurm for resources.
 #[derive(Debug, Clone, Default)]

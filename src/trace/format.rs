@@ -511,7 +511,7 @@ pub fn read_trace(path: &Path) -> Result<Trace, TraceError> {
 /// Writes `trace` to `path` (atomically: a temporary file, then a rename).
 pub fn write_trace(path: &Path, trace: &Trace) -> Result<u64, TraceError> {
     let bytes = encode(trace);
-    crate::report::write_atomic(path, &bytes).map_err(|e| TraceError {
+    crate::output::write_atomic(path, &bytes).map_err(|e| TraceError {
         file: path.to_path_buf(),
         kind: TraceErrorKind::Write(e),
     })?;

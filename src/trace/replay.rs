@@ -19,9 +19,9 @@
 
 use super::format::Trace;
 use crate::algo::primitives::deal;
+use crate::output::plot::Series;
 use crate::raster::target::nearer;
 use crate::raster::ACTIVE_PIXEL_BYTES;
-use crate::report::plot::Series;
 
 /// A merging algorithm of paper 003.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, PartialOrd, Ord)]

@@ -9,7 +9,7 @@
 //! a failed chart leaves no file behind. The same input gives the same SVG bytes.
 //!
 //! ```no_run
-//! use sortsim::report::plot::{line_chart, ChartOptions, Series};
+//! use sortsim::output::plot::{line_chart, ChartOptions, Series};
 //! let series = [Series::new("static", vec![(1.0, 1.0), (2.0, 1.9), (4.0, 3.5)])];
 //! let options = ChartOptions { log_x: true, y_from_zero: true };
 //! line_chart("out/speedup".as_ref(), "Speedup", "processors", "speedup", &series, options).unwrap();

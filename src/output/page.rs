@@ -11,7 +11,6 @@ use std::path::Path;
 use maud::{html, Markup, PreEscaped, DOCTYPE};
 
 use super::plot::PlotError;
-use super::summary::NodeSummary;
 use super::write_text;
 
 /// A page under construction: sections in the order they are added.
@@ -124,61 +123,6 @@ pub fn text_block(title: &str, text: &str) -> Markup {
     html! { h2 { (title) } pre { (text) } }
 }
 
-/// One horizontal bar per node: its busy time split by phase, then idle, to the run's end.
-pub fn phase_bars(nodes: &[NodeSummary], end_s: f64) -> Markup {
-    let mut phases: Vec<&str> = nodes
-        .iter()
-        .flat_map(|n| n.busy_by_phase_s.keys().map(String::as_str))
-        .collect();
-    phases.sort_unstable();
-    phases.dedup();
-    let colour =
-        |p: &str| PALETTE[phases.iter().position(|q| *q == p).unwrap_or(0) % PALETTE.len()];
-    let width = |s: f64| {
-        if end_s > 0.0 {
-            100.0 * s / end_s
-        } else {
-            0.0
-        }
-    };
-    html! {
-        h2 { "Time by phase, per node" }
-        p { "Each bar is one node from the start of the run to its end; grey is idle." }
-        div.legend {
-            @for p in &phases {
-                span { i style={ "background:" (colour(p)) } {} (p) }
-            }
-            span { i style="background:#e6e6e6" {} "idle" }
-        }
-        div.bars {
-            @for n in nodes {
-                div.bar title={ "node " (n.node) } {
-                    span.label { (n.node) }
-                    div.track {
-                        @for (p, s) in &n.busy_by_phase_s {
-                            div.seg style={ "width:" (format!("{:.3}", width(*s))) "%;background:" (colour(p)) }
-                                title={ (p) ": " (format!("{s:.6}")) " s" } {}
-                        }
-                    }
-                }
-            }
-        }
-    }
-}
-
-/// How to look at a run's timeline.json.
-pub fn timeline_note() -> Markup {
-    html! {
-        h2 { "Timeline" }
-        p {
-            a href="timeline.json" { "timeline.json" }
-            ": open ui.perfetto.dev in a browser, choose \"Open trace file\" and pick this file \
-             (or chrome://tracing, Load): one track per node's cpu, one slice per stretch of work, \
-             named after its phase."
-        }
-    }
-}
-
 /// A self-contained page: inline CSS, no script, images by relative path.
 pub fn shell(title: &str, body: Markup) -> Markup {
     html! {
@@ -195,7 +139,8 @@ pub fn shell(title: &str, body: Markup) -> Markup {
     }
 }
 
-const PALETTE: [&str; 8] = [
+/// The colours of phases and series, in order, on every page.
+pub const PALETTE: [&str; 8] = [
     "#4e79a7", "#f28e2b", "#59a14f", "#e15759", "#76b7b2", "#edc948", "#b07aa1", "#9c755f",
 ];
 

@@ -1,0 +1,30 @@
+//! A sweep's page (index.html): its note, the table as the terminal prints it, the plots and
+//! links to sweep.csv, sweep.json and cost.json.
+//!
+//! Must never compute a row (that is `table`); it only lays out what the sweep wrote.
+
+use std::path::Path;
+
+use maud::html;
+
+use super::spec::Sweep;
+use super::table::{format_rows, Row};
+use crate::output::page::{text_block, Page};
+use crate::output::plot::PlotError;
+
+pub fn write_page(dir: &Path, sweep: &Sweep, rows: &[Row]) -> Result<(), PlotError> {
+    let name = sweep
+        .file
+        .file_name()
+        .map_or_else(|| "sweep".to_string(), |n| n.to_string_lossy().into_owned());
+    Page::new(format!("Sweep {name}"))
+        .section(html! {
+            @if let Some(note) = &sweep.note { p { (note) } }
+            p { (rows.len()) " points; speedup is triangles/s over the one-processor point's. "
+                "Each point's summary.json is under points/." }
+        })
+        .section(text_block("Table", &format_rows(rows)))
+        .images_of(dir)
+        .files(&["sweep.csv", "sweep.json", "cost.json"])
+        .write(dir)
+}
