@@ -224,8 +224,8 @@ fn bad_flags_are_refused_with_exit_code_2() {
         ),
         (
             &["run", "--machine", "machines/delta.json", "--scene", "scenes/spd-teapot.json",
-              "--algo", "sort-middle/static", "--procs", "4", "--frames", "0..=3"],
-            "--frames 0..=3: '0..=3' is not a frame range",
+              "--algo", "sort-middle/static", "--procs", "4", "--frames", "0..=x"],
+            "--frames 0..=x: '0..=x' is not a range: write A..B (A to B-1) or A..=B (A to B)",
         ),
         (
             &["run", "--machine", "machines/delta.json", "--scene", "scenes/spd-teapot.json",
@@ -235,7 +235,7 @@ fn bad_flags_are_refused_with_exit_code_2() {
         (
             &["run", "--machine", "machines/delta.json", "--scene", "scenes/spd-teapot.json",
               "--algo", "sort-middle/static", "--procs", "4", "--frames", "5..2"],
-            "5..2 is an empty range",
+            "'5..2' is an empty range",
         ),
         // Slurm values are checked before they reach a batch script.
         (
@@ -252,8 +252,8 @@ fn bad_flags_are_refused_with_exit_code_2() {
         ),
         // Sizes refused before anything is allocated (sortsim::limits).
         (
-            &["utilization", "scenes/plb-head-standin.json", "--procs", "1..4294967295", "--frames", "0..2"],
-            "--procs: '1..4294967295' has 4294967295 values; the limit is 4096",
+            &["utilization", "scenes/plb-head-standin.json", "--procs", "1..=4294967295", "--frames", "0..2"],
+            "--procs: '1..=4294967295' has 4294967295 values; the limit is 4096",
         ),
         (
             &["utilization", "scenes/plb-head-standin.json", "--procs", "1..100000000:7", "--frames", "0..1"],
@@ -268,8 +268,8 @@ fn bad_flags_are_refused_with_exit_code_2() {
             "4000000 processors; at most 1048576",
         ),
         (
-            &["utilization", "scenes/plb-head-standin.json", "--procs", "8", "--granularity", "1..99999"],
-            "--granularity: '1..99999' has 99999 values; the limit is 4096",
+            &["utilization", "scenes/plb-head-standin.json", "--procs", "8", "--granularity", "1..=99999"],
+            "--granularity: '1..=99999' has 99999 values; the limit is 4096",
         ),
         (
             &[

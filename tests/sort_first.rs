@@ -8,8 +8,8 @@ mod common;
 use std::sync::Arc;
 
 use common::{root, scene};
-use sortsim::algo::sort_middle::assign::Assignment;
-use sortsim::algo::sort_middle::regions::RegionGrid;
+use sortsim::algo::image_space::assign::Assignment;
+use sortsim::algo::image_space::regions::RegionGrid;
 use sortsim::algo::{reference, RunResult};
 use sortsim::raster::setup_mesh;
 use sortsim::scene::Scene;

@@ -89,7 +89,7 @@ fn bad_flags_exit_2_with_one_clear_message() {
         (&["--granularity", "0,4"], "--granularity: 0 is not allowed"),
         (&["--procs", "0"], "--procs: 0 is not allowed"),
         (&["--procs", ""], "--procs"),
-        (&["--granularity", "4..1"], "the range is empty"),
+        (&["--granularity", "4..1"], "is an empty range"),
         (&["--procs", "2,4,...,101"], "never reaches 101"),
         (&["--frames", "70..99"], "--frames"),
         (

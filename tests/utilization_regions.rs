@@ -8,8 +8,8 @@
 
 use std::path::Path;
 
+use sortsim::algo::image_space::regions::RegionGrid;
 use sortsim::algo::reference::{raster_options, viewport};
-use sortsim::algo::sort_middle::regions::RegionGrid;
 use sortsim::algo::sort_middle::utilization::{FrameProfile, Prices};
 use sortsim::raster::{draw_screen_triangles, setup_mesh, RegionSet};
 use sortsim::scene::Scene;

@@ -9,6 +9,7 @@
 pub mod aa;
 pub mod charge;
 mod frames;
+pub mod image_space;
 pub mod options;
 pub mod primitives;
 pub mod reference;
@@ -111,20 +112,19 @@ impl AlgorithmId {
         use sort_last::Variant as L;
         use sort_middle::Variant as M;
         match self {
-            AlgorithmId::SortMiddleStatic => Family::SortMiddle(M::Static),
-            AlgorithmId::SortMiddleEllsworth => Family::SortMiddle(M::Ellsworth),
-            AlgorithmId::SortLastDf => Family::SortLast(L::Df),
-            AlgorithmId::SortLastPc => Family::SortLast(L::Pc),
-            AlgorithmId::SortLastScanlineFlow => Family::SortLast(L::ScanlineFlow),
-            AlgorithmId::SortLastPixelFlow => Family::SortLast(L::PixelFlow),
-            AlgorithmId::SortLastDirectSend => Family::SortLast(L::DirectSend),
-            AlgorithmId::SortLastSnooping => Family::SortLast(L::Snooping),
-            AlgorithmId::SortLastTree => Family::SortLast(L::Tree),
-            AlgorithmId::SortLastBinarySwap => Family::SortLast(L::BinarySwap),
-            AlgorithmId::SortLastRadixK => Family::SortLast(L::RadixK),
-            AlgorithmId::SortLastTwoThreeSwap => Family::SortLast(L::TwoThreeSwap),
-            // Sort-first runs on the sort-middle family's regions and rasterization stage.
-            AlgorithmId::SortFirstMueller => Family::SortMiddle(M::SortFirst),
+            AlgorithmId::SortMiddleStatic => Family::Middle(M::Static),
+            AlgorithmId::SortMiddleEllsworth => Family::Middle(M::Ellsworth),
+            AlgorithmId::SortLastDf => Family::Last(L::Df),
+            AlgorithmId::SortLastPc => Family::Last(L::Pc),
+            AlgorithmId::SortLastScanlineFlow => Family::Last(L::ScanlineFlow),
+            AlgorithmId::SortLastPixelFlow => Family::Last(L::PixelFlow),
+            AlgorithmId::SortLastDirectSend => Family::Last(L::DirectSend),
+            AlgorithmId::SortLastSnooping => Family::Last(L::Snooping),
+            AlgorithmId::SortLastTree => Family::Last(L::Tree),
+            AlgorithmId::SortLastBinarySwap => Family::Last(L::BinarySwap),
+            AlgorithmId::SortLastRadixK => Family::Last(L::RadixK),
+            AlgorithmId::SortLastTwoThreeSwap => Family::Last(L::TwoThreeSwap),
+            AlgorithmId::SortFirstMueller => Family::First,
         }
     }
 
@@ -371,24 +371,27 @@ where
 
 /// Where an algorithm sorts, and which of its family's variants it is.
 enum Family {
-    SortMiddle(sort_middle::Variant),
-    SortLast(sort_last::Variant),
+    Middle(sort_middle::Variant),
+    Last(sort_last::Variant),
+    First,
 }
 
 /// Checks `cfg`'s options (and that the machine offers what the algorithm needs) as a run
 /// would, without running it.
 pub fn check_options(cfg: &RunConfig) -> Result<(), RunError> {
     match cfg.algo.family() {
-        Family::SortMiddle(v) => sort_middle::check(cfg, v),
-        Family::SortLast(v) => sort_last::check(cfg, v),
+        Family::Middle(v) => sort_middle::check(cfg, v),
+        Family::Last(v) => sort_last::check(cfg, v),
+        Family::First => sort_first::check(cfg),
     }
 }
 
 /// Runs `cfg` to the end of its last frame.
 pub fn run(cfg: &RunConfig) -> Result<RunResult, RunError> {
     match cfg.algo.family() {
-        Family::SortMiddle(v) => sort_middle::run(cfg, v),
-        Family::SortLast(v) => sort_last::run(cfg, v),
+        Family::Middle(v) => sort_middle::run(cfg, v),
+        Family::Last(v) => sort_last::run(cfg, v),
+        Family::First => sort_first::run(cfg),
     }
 }
 

@@ -95,7 +95,7 @@ pub enum Command {
     Bench(BenchCommand),
     /// Ellsworth's utilization simulator and performance model (paper 002, Figures 4 and 5).
     #[command(
-        after_help = "Example:\n  sortsim utilization scenes/plb-head-standin.json --procs 2,4,...,512 --granularity 1..12 \\\n      --counts both --frame-step 4 -o reports/utilization-plb"
+        after_help = "Example:\n  sortsim utilization scenes/plb-head-standin.json --procs 2,4,...,512 --granularity 1..=12 \\\n      --counts both --frame-step 4 -o reports/utilization-plb"
     )]
     Utilization(UtilizationArgs),
     /// Pixel traces and the trace-driven merge-traffic simulation (paper 003).
@@ -153,7 +153,8 @@ pub struct TraceReplayArgs {
         allow_negative_numbers = true
     )]
     pub algo: Vec<MergeAlgoArg>,
-    /// Processor counts: 1,2,4,...,64 (geometric), 1..16 (both ends), 8,64.
+    /// Processor counts: 1,2,4,...,64 (geometric), 1..=16, 8,64; a range is A..B (B excluded)
+    /// or A..=B (B included).
     #[arg(long, default_value = "1,2,4,...,64", allow_negative_numbers = true)]
     pub procs: String,
     /// Primitive assignment: round-robin in database order, seeded random, or round-robin
@@ -199,13 +200,13 @@ pub struct UtilizationArgs {
     /// Machine whose cpu costs price the region times (machines/delta.json when absent).
     #[arg(long, allow_negative_numbers = true)]
     pub machine: Option<PathBuf>,
-    /// Processor counts: a list such as 2,4,...,512 (geometric), 2..512:x2, 8,64,512 or 1..16
-    /// (ranges here include both ends).
+    /// Processor counts: a list such as 2,4,...,512 (geometric), 2..=512:x2, 8,64,512 or 1..=16;
+    /// a range is A..B (B excluded) or A..=B (B included).
     #[arg(long, default_value = "2,4,...,512", allow_negative_numbers = true)]
     pub procs: String,
-    /// Granularity ratios (regions per processor): 1..12 (both ends included), 1,2,4,8,12,
-    /// 2..12:2.
-    #[arg(long, default_value = "1..12", allow_negative_numbers = true)]
+    /// Granularity ratios (regions per processor): 1..=12, 1,2,4,8,12 or 2..=12:2; a range is
+    /// A..B (B excluded) or A..=B (B included).
+    #[arg(long, default_value = "1..=12", allow_negative_numbers = true)]
     pub granularity: String,
     /// Whose polygon counts drive the assignment: this frame's, the previous frame's, or both.
     #[arg(
@@ -215,7 +216,7 @@ pub struct UtilizationArgs {
         allow_negative_numbers = true
     )]
     pub counts: CountsArg,
-    /// "A..B" (B excluded) or "A"; all frames when absent.
+    /// Frames: A..B (B excluded), A..=B (B included) or A; all frames when absent.
     #[arg(long, allow_negative_numbers = true)]
     pub frames: Option<String>,
     /// Sample every K-th frame of the range (the previous frame's counts are still those of
@@ -247,7 +248,7 @@ pub struct RunArgs {
     /// Processors the run uses (at most the machine's nodes).
     #[arg(long, allow_negative_numbers = true)]
     pub procs: u32,
-    /// "A..B" (B excluded) or "A"; all frames when absent.
+    /// Frames: A..B (B excluded), A..=B (B included) or A; all frames when absent.
     #[arg(long, allow_negative_numbers = true)]
     pub frames: Option<String>,
     /// key=value: an algorithm option (granularity=8) or a machine field (machine.network.fidelity=packet).
@@ -281,7 +282,7 @@ pub struct AccuracyArgs {
     /// Processors the run uses.
     #[arg(long, allow_negative_numbers = true)]
     pub procs: u32,
-    /// "A..B" (B excluded) or "A"; all frames when absent. Images are compared on the last.
+    /// Frames: A..B (B excluded), A..=B (B included) or A; all frames when absent. Images are compared on the last.
     #[arg(long, allow_negative_numbers = true)]
     pub frames: Option<String>,
     /// Anti-aliasing modes, comma-separated: none, adaptive, supersample:N.
@@ -616,7 +617,7 @@ pub struct RenderArgs {
 #[derive(Args, Debug)]
 pub struct SceneStatsArgs {
     pub scene: PathBuf,
-    /// "A..B" or "A"; frame 0 when absent.
+    /// Frames: A..B (B excluded), A..=B (B included) or A; frame 0 when absent.
     #[arg(long, allow_negative_numbers = true)]
     pub frames: Option<String>,
     /// Region size for the overlap factor, WxH pixels.

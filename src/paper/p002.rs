@@ -7,12 +7,12 @@
 
 use std::path::Path;
 
+use crate::algo::image_space::assign::Assignment;
+use crate::algo::image_space::regions::RegionGrid;
+use crate::algo::image_space::two_step::Groups;
+use crate::algo::image_space::DEFAULT_BUFFER;
 use crate::algo::reference::viewport;
-use crate::algo::sort_middle::assign::Assignment;
-use crate::algo::sort_middle::regions::RegionGrid;
-use crate::algo::sort_middle::two_step::Groups;
 use crate::algo::sort_middle::utilization::{self, CountsMode};
-use crate::algo::sort_middle::DEFAULT_BUFFER;
 use crate::algo::{FrameRecord, RunResult};
 use crate::machine::{MachineConfig, Op};
 use crate::output::plot::{ChartOptions, Series};

@@ -8,6 +8,7 @@
 pub mod check;
 pub mod machine;
 mod quantity;
+pub mod range;
 pub mod run;
 pub mod scene;
 pub mod schema;

@@ -28,7 +28,8 @@ pub struct RunSpec {
     pub scene: PathBuf,
     pub algo: String,
     pub procs: u32,
-    /// "A..B" (B excluded) or a single frame "A"; all frames when absent.
+    /// Frames: "A..B" (B excluded), "A..=B" (B included) or a single frame "A"; all frames
+    /// when absent.
     #[serde(default)]
     pub frames: Option<String>,
     #[serde(default = "default_seed")]
@@ -260,33 +261,38 @@ fn set_path(value: &mut serde_json::Value, path: &[&str], raw: &str) -> Result<(
     Ok(())
 }
 
-/// "A..B", "A" or all frames. A malformed range is blamed on its syntax, a well-formed one
-/// outside the scene on the scene's frames.
+/// `A..B`, `A..=B` (see `spec::range`), `A`, or all frames. A malformed range is blamed on
+/// its syntax, a well-formed one outside the scene on the scene's frames.
 pub fn parse_frames(text: Option<&str>, count: u32) -> Result<std::ops::Range<u32>, String> {
-    let syntax = |t: &str| {
-        format!("'{t}' is not a frame range: write A..B (frames A to B-1) or A, with A and B whole numbers")
-    };
-    let frame = |s: &str, t: &str| s.trim().parse::<u32>().map_err(|_| syntax(t));
     let range = match text {
         None => 0..count,
-        Some(t) => match t.split_once("..") {
-            Some((a, b)) => frame(a, t)?..frame(b, t)?,
+        Some(t) => match super::range::parse(t) {
+            Some(r) => {
+                let r = r?;
+                *r.start()..r.end().saturating_add(1)
+            }
             None => {
-                let a = frame(t, t)?;
+                let a = t.trim().parse::<u32>().map_err(|_| {
+                    format!(
+                        "'{t}' is not a frame range: write {}, or a single frame A",
+                        super::range::SYNTAX
+                    )
+                })?;
                 a..a.saturating_add(1)
             }
         },
     };
     if range.is_empty() {
         return Err(format!(
-            "{}..{} is an empty range; write A..B with A < B (B excluded)",
-            range.start, range.end
+            "the scene has no frames (0..{count}); there is nothing to run"
         ));
     }
     if range.end > count {
         return Err(format!(
-            "the scene has frames 0..{count} (B excluded), not {}..{}",
-            range.start, range.end
+            "the scene has frames 0..{count} (0 to {}), not {}..{}",
+            count.saturating_sub(1),
+            range.start,
+            range.end
         ));
     }
     Ok(range)
@@ -321,10 +327,17 @@ mod tests {
             assert!(e.contains("is an empty range"), "{bad}: {e}");
         }
         // Malformed: blamed on the syntax, whatever the scene.
-        for bad in ["x", "0..=3", "0-3", "-1", "1..2..3", ""] {
+        for bad in ["x", "0..=x", "0-3", "-1", "1..2..3", ""] {
             let e = parse_frames(Some(bad), 80).unwrap_err();
-            assert!(e.contains("is not a frame range"), "{bad}: {e}");
+            assert!(
+                e.contains("A..B (A to B-1) or A..=B (A to B)"),
+                "{bad}: {e}"
+            );
         }
+        // Both of Rust's forms.
+        assert_eq!(parse_frames(Some("2..5"), 80), Ok(2..5));
+        assert_eq!(parse_frames(Some("2..=5"), 80), Ok(2..6));
+        assert_eq!(parse_frames(Some("79..=79"), 80), Ok(79..80));
     }
 
     #[test]

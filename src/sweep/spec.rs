@@ -36,7 +36,7 @@ pub struct SweepSpec {
     #[serde(alias = "algos")]
     pub algo: OneOrMany<String>,
     pub procs: OneOrMany<u32>,
-    /// "A..B" (B excluded) or "A"; all frames when absent.
+    /// Frames: "A..B" (B excluded), "A..=B" (B included) or "A"; all frames when absent.
     #[serde(default)]
     pub frames: Option<String>,
     #[serde(default = "default_seed", alias = "seeds")]

@@ -3,10 +3,10 @@
 //! primitives that fell in them last frame, so only primitives that cross into other
 //! processors' regions move.
 //!
-//! One variant, `mueller` (the node program in `mueller.rs`). It runs on sort-middle's
-//! mechanisms (region grids, greedy assignment from summed per-region counts, the frame
-//! barriers and the rasterization stage); what is its own lives here: the options, and the
-//! host's book of who holds which primitive.
+//! One variant, `mueller` (the node program in `mueller.rs`). It runs on the image-space stages
+//! it shares with sort-middle (`algo::image_space`: region grids, greedy assignment from summed
+//! per-region counts, the frame barriers, the rasterization stage, and the host's book of who
+//! holds which primitive); what is its own lives here: the options and the node program.
 //!
 //! Must never name a topology, and never let the host's book decide anything a processor
 //! could not know: a holder of a primitive knows where it fell last frame, so it knows the
@@ -15,89 +15,35 @@
 pub mod mueller;
 pub mod options;
 
-use std::cell::RefCell;
+use super::image_space::{self, Choice, FirstSettings, RegionChoice, DATABASE_BYTES_PER_TRIANGLE};
+use super::options::parse;
+use super::{RunConfig, RunError, RunResult};
+pub use options::SortFirstOptions;
 
-pub use options::{Migrate, RegionRule, SortFirstOptions};
-
-/// The validated sort-first options (defaults for the sort-middle variants, which ignore them).
-#[derive(Clone, Copy, Debug)]
-pub struct FirstSettings {
-    pub regions: RegionRule,
-    pub migrate: Migrate,
+/// Reads sort-first's options.
+fn choice(cfg: &RunConfig) -> Result<Choice, RunError> {
+    let (f, aa) = parse::<SortFirstOptions>(&cfg.options, cfg.algo.id())?;
+    Ok(Choice {
+        regions: RegionChoice::PerProcessor(f.granularity.0),
+        buffer: f.buffer.0,
+        counts: image_space::options::CountsFrom::Previous,
+        two_step: image_space::options::TwoStep::Off,
+        polygon_estimate: None,
+        aa,
+        first: FirstSettings {
+            regions: f.regions,
+            migrate: f.migrate,
+        },
+        record_bytes: DATABASE_BYTES_PER_TRIANGLE,
+    })
 }
 
-impl Default for FirstSettings {
-    fn default() -> FirstSettings {
-        FirstSettings {
-            regions: RegionRule::Static,
-            migrate: Migrate::Batched,
-        }
-    }
+/// Checks sort-first's options against `cfg` without running it.
+pub fn check(cfg: &RunConfig) -> Result<(), RunError> {
+    image_space::check(cfg, choice(cfg)?)
 }
 
-/// Who holds each primitive's record during a frame: the processors whose regions it touched
-/// last frame (or, where it touched none, the one that held it first), sorted. Before the
-/// first frame primitive p is with processor p mod N (the even deal sort-middle also uses).
-///
-/// Host bookkeeping only: every holder of a primitive transformed it last frame and so knows
-/// this list itself.
-#[derive(Default)]
-pub struct HolderBook {
-    inner: RefCell<Book>,
-}
-
-#[derive(Default)]
-struct Book {
-    /// The frame `start`/`holders` describe; `None` before the first.
-    frame: Option<u32>,
-    /// Per primitive, `holders[start[p]..start[p + 1]]`.
-    start: Vec<u32>,
-    holders: Vec<u32>,
-    /// (primitive, processor) pairs kept for the next frame, as processors finish.
-    next: Vec<(u32, u32)>,
-}
-
-impl HolderBook {
-    /// The holders of primitive `prim` in `frame` (call with frames in order), `n`
-    /// processors, `prims` primitives.
-    pub fn holders(&self, frame: u32, prim: u32, n: u32, prims: usize) -> Vec<u32> {
-        let mut book = self.inner.borrow_mut();
-        book.settle(frame, prims);
-        if book.start.is_empty() {
-            return vec![prim % n];
-        }
-        let (a, b) = (book.start[prim as usize], book.start[prim as usize + 1]);
-        book.holders[a as usize..b as usize].to_vec()
-    }
-
-    /// Processor `me` keeps `prims` for the frame after `frame`.
-    pub fn keep(&self, frame: u32, me: u32, prims: &[u32]) {
-        let mut book = self.inner.borrow_mut();
-        book.settle(frame, 0);
-        book.next.extend(prims.iter().map(|&p| (p, me)));
-    }
-}
-
-impl Book {
-    /// Turns the pairs kept during the frame before `frame` into `frame`'s lists.
-    fn settle(&mut self, frame: u32, prims: usize) {
-        if self.frame == Some(frame) {
-            return;
-        }
-        if self.frame.is_some() {
-            let mut next = std::mem::take(&mut self.next);
-            next.sort_unstable();
-            next.dedup();
-            let count = prims.max(next.last().map_or(0, |&(p, _)| p as usize + 1));
-            self.start = vec![0; count + 1];
-            for &(p, _) in &next {
-                self.start[p as usize + 1] += 1;
-            }
-            for i in 0..count {
-                self.start[i + 1] += self.start[i];
-            }
-            self.holders = next.into_iter().map(|(_, q)| q).collect();
-        }
-        self.frame = Some(frame);
-    }
+/// Runs sort-first.
+pub fn run(cfg: &RunConfig) -> Result<RunResult, RunError> {
+    image_space::run(cfg, choice(cfg)?, mueller::processor)
 }

@@ -30,9 +30,9 @@
 use std::rc::Rc;
 
 use crate::algo::charge;
-use crate::algo::sort_middle::assign::Assignment;
-use crate::algo::sort_middle::buffers::HEADER_BYTES;
-use crate::algo::sort_middle::{
+use crate::algo::image_space::assign::Assignment;
+use crate::algo::image_space::buffers::HEADER_BYTES;
+use crate::algo::image_space::{
     children, collect_image, compute_assignment, finish_frame, parent, rasterize, start_frame,
     sum_counts, Ctx, Incoming, Msg, DATABASE_BYTES_PER_TRIANGLE, TAG_EXPECT_DOWN, TAG_EXPECT_UP,
 };
@@ -41,7 +41,7 @@ use crate::machine::{Counts, Op};
 use crate::raster::{setup_subset, ScreenTriangle};
 use crate::units::Bytes;
 
-use super::{Migrate, RegionRule};
+use crate::algo::image_space::options::{Migrate, RegionRule};
 
 pub(crate) async fn processor(node: Node<Msg>, ctx: Rc<Ctx>) -> Result<(), SimError> {
     let me = node.id();

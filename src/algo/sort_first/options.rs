@@ -2,44 +2,17 @@
 //! default the default.
 //!
 //! Owns the option names, types and defaults. Must never check them against a machine or a
-//! screen (that is sort-middle's `settings`, which knows both).
+//! screen (that is `image_space::settings`, which knows both).
 
-use crate::algo::options::choice_option;
-use crate::algo::sort_middle::options::{BufferSize, Granularity};
+use crate::algo::image_space::options::{
+    eight_regions, paper_buffer, BufferSize, Granularity, Migrate, RegionRule,
+};
 
-choice_option!(
-    /// How screen regions are assigned to processors.
-    RegionRule {
-        /// Interleaved, fixed for the whole run.
-        Static = "static",
-        /// Each frame by greedy bin packing on the previous frame's per-region counts
-        /// (sort-middle/ellsworth's balancing).
-        Adaptive = "adaptive",
-    }
-);
-
-choice_option!(
-    /// How the records of migrating primitives travel.
-    Migrate {
-        /// In buffers of `buffer` bytes per destination, sent when full and at the end of
-        /// the transformation.
-        Batched = "batched",
-        /// After each transformed batch, whatever is waiting for each destination.
-        Immediate = "immediate",
-    }
-);
-
-fn eight_regions() -> Granularity {
-    Granularity(8)
-}
 fn static_regions() -> RegionRule {
     RegionRule::Static
 }
 fn batched() -> Migrate {
     Migrate::Batched
-}
-fn paper_buffer() -> BufferSize {
-    BufferSize(crate::algo::sort_middle::DEFAULT_BUFFER)
 }
 
 /// sort-first/mueller (Mueller 1995).

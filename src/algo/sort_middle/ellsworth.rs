@@ -21,9 +21,9 @@
 use std::cell::RefCell;
 use std::rc::Rc;
 
-use super::assign::Assignment;
-use super::redistribute::{self, Redistributor};
-use super::{
+use crate::algo::image_space::assign::Assignment;
+use crate::algo::image_space::redistribute::{self, Redistributor};
+use crate::algo::image_space::{
     compute_assignment, finish_frame, rasterize, region_counts, start_frame, sum_counts, transform,
     CountsFrom, Ctx, Incoming, Msg,
 };
@@ -118,7 +118,8 @@ pub(super) async fn processor(node: Node<Msg>, ctx: Rc<Ctx>) -> Result<(), SimEr
             // Figure 6's loop starts with the assignment, so waiting for the summing tree
             // and processor 0's packing is the next frame's time, as in a frame rate.
             ctx.begin_frame(frame + 1, node.now());
-            node.recv(Filter::tag(super::TAG_ASSIGNED)).await;
+            node.recv(Filter::tag(crate::algo::image_space::TAG_ASSIGNED))
+                .await;
         }
     }
     node.free("polygon buffers", buffers)?;

@@ -2,66 +2,13 @@
 //! its help, its serde default the default (`sortsim run --help` and `sortsim schema
 //! options` print both from here).
 //!
-//! Owns the option names, types and defaults. Must never check them against a machine or a
-//! screen (that is `settings`, which knows both).
+//! Owns the option names and defaults. Must never check them against a machine or a screen
+//! (that is `image_space::settings`, which knows both).
 
-use crate::algo::options::{choice_option, count_option, quantity_option};
-use crate::units::{Bytes, SimTime};
+use crate::algo::image_space::options::{
+    eight_regions, paper_buffer, BufferSize, CountsFrom, Estimate, Granularity, RegionSide, TwoStep,
+};
 
-count_option!(
-    /// Regions per processor.
-    Granularity,
-    min = 1,
-    what = "a whole number of regions per processor, at least 1"
-);
-
-count_option!(
-    /// The side of a square region in pixels.
-    RegionSide,
-    min = 1,
-    what = "a region side in pixels, at least 1"
-);
-
-quantity_option!(
-    /// A polygon buffer's size.
-    BufferSize(Bytes),
-    what = "a buffer size such as 4KiB"
-);
-
-quantity_option!(
-    /// A time estimate.
-    Estimate(SimTime),
-    what = "a time such as 12us"
-);
-
-choice_option!(
-    /// When the per-region counts that drive the assignment are taken (paper 002).
-    CountsFrom {
-        /// This frame's counts assign the next frame's regions, summed while rasterizing.
-        Previous = "previous",
-        /// This frame's counts assign this frame's regions: everyone waits for them.
-        Current = "current",
-    }
-);
-
-choice_option!(
-    /// Two-step redistribution (paper 002, Figure 7).
-    TwoStep {
-        On = "on",
-        Off = "off",
-        Auto = "auto",
-    }
-);
-
-/// Paper 002's polygon buffer: "The buffer size was fixed at 4 Kbytes."
-pub const DEFAULT_BUFFER: Bytes = Bytes::new(4096);
-
-fn paper_buffer() -> BufferSize {
-    BufferSize(DEFAULT_BUFFER)
-}
-fn eight_regions() -> Granularity {
-    Granularity(8)
-}
 fn tiles_of_64() -> RegionSide {
     RegionSide(64)
 }

@@ -16,9 +16,11 @@
 use std::cell::RefCell;
 use std::rc::Rc;
 
-use super::assign::Assignment;
-use super::redistribute::{self, Redistributor};
-use super::{collect_image, finish_frame, rasterize, start_frame, transform, Ctx, Incoming, Msg};
+use crate::algo::image_space::assign::Assignment;
+use crate::algo::image_space::redistribute::{self, Redistributor};
+use crate::algo::image_space::{
+    collect_image, finish_frame, rasterize, start_frame, transform, Ctx, Incoming, Msg,
+};
 use crate::engine::{Node, SimError};
 use crate::units::Bytes;
 

@@ -28,9 +28,9 @@
 
 use std::collections::BTreeMap;
 
-use super::assign::Assignment;
-use super::buffers::{HEADER_BYTES, TRIANGLE_BYTES};
-use super::regions::{pixel_bounds, RegionGrid};
+use crate::algo::image_space::assign::Assignment;
+use crate::algo::image_space::buffers::{HEADER_BYTES, TRIANGLE_BYTES};
+use crate::algo::image_space::regions::{pixel_bounds, RegionGrid};
 use crate::algo::reference::{raster_options, viewport};
 use crate::machine::{MachineConfig, Op};
 use crate::raster::target::nearer;
@@ -807,8 +807,9 @@ fn relative(mut cells: Vec<Cell>) -> Vec<Cell> {
     cells
 }
 
-/// Parses a list of whole numbers: items separated by commas, each `N`, `A..B` (inclusive),
-/// `A..B:S` (step S) or `A..B:xF` (times F); or `A,B,...,Z`, which continues the first two
+/// Parses a list of whole numbers: items separated by commas, each `N`, a range `A..B` (B
+/// excluded) or `A..=B` (B included; `spec::range`), `A..=B:S` (step S) or `A..=B:xF`
+/// (times F); or `A,B,...,Z`, which continues the first two
 /// as a geometric series when it reaches Z exactly (2,4,...,512) and as an arithmetic one
 /// otherwise (1,2,...,12). The result is sorted, without repeats.
 pub fn parse_list(text: &str) -> Result<Vec<u32>, String> {
@@ -857,18 +858,16 @@ fn parse_item(item: &str) -> Result<Vec<u32>, String> {
             .parse::<u32>()
             .map_err(|_| format!("'{s}' is not a whole number (in '{item}')"))
     };
-    let Some((a, rest)) = item.split_once("..") else {
+    let (range, step) = item.split_once(':').unwrap_or((item, "1"));
+    let Some(range) = crate::spec::range::parse(range) else {
         return if item.is_empty() {
             Ok(Vec::new())
         } else {
             Ok(vec![number(item)?])
         };
     };
-    let (b, step) = rest.split_once(':').unwrap_or((rest, "1"));
-    let (a, b) = (number(a)?, number(b.trim_start_matches('='))?);
-    if a > b {
-        return Err(format!("'{item}': the range is empty ({a} > {b})"));
-    }
+    let range = range?;
+    let (a, b) = (*range.start(), *range.end());
     let mut v = Vec::new();
     if let Some(f) = step.strip_prefix('x') {
         let f = number(f)?;
@@ -1027,15 +1026,20 @@ mod tests {
             parse_list("1,2,...,12").unwrap(),
             (1..=12).collect::<Vec<_>>()
         );
-        assert_eq!(parse_list("1..12").unwrap(), (1..=12).collect::<Vec<_>>());
-        assert_eq!(parse_list("2..512:x2").unwrap().len(), 9);
+        // Ranges as Rust reads them: B excluded by `..`, included by `..=`.
+        assert_eq!(parse_list("1..12").unwrap(), (1..12).collect::<Vec<_>>());
+        assert_eq!(parse_list("1..=12").unwrap(), (1..=12).collect::<Vec<_>>());
+        assert_eq!(parse_list("2..=512:x2").unwrap().len(), 9);
+        assert_eq!(parse_list("2..512:x2").unwrap().len(), 8);
         assert_eq!(
-            parse_list("2..12:2, 1").unwrap(),
+            parse_list("2..=12:2, 1").unwrap(),
             vec![1, 2, 4, 6, 8, 10, 12]
         );
+        assert_eq!(parse_list("2..12:2").unwrap(), vec![2, 4, 6, 8, 10]);
         assert_eq!(parse_list("8,4,8").unwrap(), vec![4, 8]);
         assert!(parse_list("").is_err());
         assert!(parse_list("3..1").is_err());
+        assert!(parse_list("3..3").is_err());
         assert!(parse_list("a").is_err());
         assert!(parse_list("2,4,...,9").is_err());
         // Refused before expanding: a range, a stepped range, a series, a long list.
@@ -1048,7 +1052,7 @@ mod tests {
             let e = parse_list(big).unwrap_err();
             assert!(e.contains("the limit is 4096"), "{big}: {e}");
         }
-        assert_eq!(parse_list("1..4096").unwrap().len(), 4096);
+        assert_eq!(parse_list("1..=4096").unwrap().len(), 4096);
         assert!(parse_list("1..4:0").is_err());
     }
 

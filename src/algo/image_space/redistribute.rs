@@ -23,10 +23,10 @@ use crate::machine::{Counts, Op};
 use crate::raster::ScreenTriangle;
 
 /// An outgoing message: destination and payload (sizes follow from the payload).
-pub(super) type Outgoing = (u32, Msg);
+pub(crate) type Outgoing = (u32, Msg);
 
 /// One processor's redistribution state for one frame.
-pub(super) struct Redistributor {
+pub(crate) struct Redistributor {
     me: u32,
     processors: u32,
     frame: u32,
@@ -225,7 +225,7 @@ impl Redistributor {
 }
 
 /// Sends messages in order, tallying them in the frame record.
-pub(super) async fn send_all(node: &Node<Msg>, ctx: &Ctx, out: Vec<Outgoing>) {
+pub(crate) async fn send_all(node: &Node<Msg>, ctx: &Ctx, out: Vec<Outgoing>) {
     for (dst, msg) in out {
         let bytes = msg.bytes();
         ctx.count_message(msg.frame(), bytes);
@@ -236,7 +236,7 @@ pub(super) async fn send_all(node: &Node<Msg>, ctx: &Ctx, out: Vec<Outgoing>) {
 /// The forwarding handler of two-step redistribution: copies first-step polygons into the
 /// buffers for this group's members until every source that uses this processor has sent
 /// its last message. Polygons for this processor itself are posted to its own rasterizer.
-pub(super) async fn forward(
+pub(crate) async fn forward(
     node: Node<Msg>,
     ctx: Rc<Ctx>,
     state: Rc<RefCell<Redistributor>>,
@@ -298,7 +298,7 @@ pub(super) async fn forward(
 /// Counts the messages of incoming streams until each has delivered as many messages as its
 /// last one announced.
 #[derive(Default)]
-pub(super) struct Streams {
+pub(crate) struct Streams {
     /// Per sender: messages seen, and the stream's length once known.
     seen: std::collections::BTreeMap<u32, (u32, Option<u32>)>,
     ended: u32,
@@ -322,7 +322,7 @@ impl Streams {
 }
 
 /// The size of a polygon-carrying message.
-pub(super) fn polygon_bytes(msg: &Msg) -> crate::units::Bytes {
+pub(crate) fn polygon_bytes(msg: &Msg) -> crate::units::Bytes {
     match msg {
         Msg::Polygons { tris, .. } => message_bytes(tris.len(), TRIANGLE_BYTES),
         Msg::Forward { tris, .. } => message_bytes(tris.len(), ROUTED_TRIANGLE_BYTES),
