@@ -154,6 +154,24 @@ fn every_bad_run_spec_is_refused_naming_its_field() {
 }
 
 #[test]
+fn every_bad_paper_file_is_refused_by_check_naming_its_row() {
+    for (file, fragment) in corpus("paper") {
+        let out = sortsim(&["check", file.to_str().unwrap()]);
+        check_refusal(&out, &file, &fragment);
+    }
+    // And every shipped paper file checks out, with its rows counted by role.
+    for id in ["000", "001", "002", "003"] {
+        let file = format!("papers/{id}.json");
+        let out = sortsim(&["check", &file]);
+        let stdout = String::from_utf8_lossy(&out.stdout);
+        assert!(
+            out.status.success() && stdout.contains(" predicted, "),
+            "{file}: {stdout}"
+        );
+    }
+}
+
+#[test]
 fn every_bad_calibration_spec_is_refused_by_check_and_calibrate_alike() {
     let out_dir = common::scratch("bad-calibration");
     for (file, fragment) in corpus("calibration") {

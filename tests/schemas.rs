@@ -85,3 +85,117 @@ fn a_spec_the_reader_refuses_is_refused_by_the_schema_too() {
         assert!(!validator.is_valid(&spec), "{name} passed the schema");
     }
 }
+
+/// A value at each bound the loaders enforce, and one just past it: an editor with the schema
+/// flags exactly what `sortsim check` refuses.
+#[test]
+fn the_schemas_carry_the_ranges_the_loaders_enforce() {
+    use serde_json::{json, Value};
+    // (kind, bundled file, JSON pointer, a value at the bound, a value past it)
+    let cases: &[(&str, &str, &str, Value, Value)] = &[
+        (
+            "scene",
+            "scenes/spd-teapot.json",
+            "/shading/ambient",
+            json!(1.0),
+            json!(2),
+        ),
+        (
+            "scene",
+            "scenes/spd-teapot.json",
+            "/shading/diffuse",
+            json!(0.0),
+            json!(-0.1),
+        ),
+        (
+            "scene",
+            "scenes/spd-teapot.json",
+            "/camera/fov_deg",
+            json!(179.9),
+            json!(180),
+        ),
+        (
+            "scene",
+            "scenes/spd-teapot.json",
+            "/camera/fov_deg",
+            json!(0.1),
+            json!(0),
+        ),
+        (
+            "scene",
+            "scenes/spd-teapot.json",
+            "/camera/near",
+            json!(1e-6),
+            json!(0),
+        ),
+        (
+            "scene",
+            "scenes/spd-teapot.json",
+            "/resolution/0",
+            json!(16384),
+            json!(16385),
+        ),
+        (
+            "scene",
+            "scenes/spd-teapot.json",
+            "/resolution/1",
+            json!(1),
+            json!(0),
+        ),
+        (
+            "scene",
+            "scenes/spd-teapot.json",
+            "/geometry/0/color/2",
+            json!(1.0),
+            json!(1.5),
+        ),
+        (
+            "scene",
+            "scenes/spd-teapot.json",
+            "/geometry/0/generator/n",
+            json!(200),
+            json!(201),
+        ),
+        (
+            "machine",
+            "machines/snooping-bus.json",
+            "/nodes",
+            json!(1 << 20),
+            json!(1u64 << 40),
+        ),
+        (
+            "machine",
+            "machines/snooping-bus.json",
+            "/nodes",
+            json!(1),
+            json!(0),
+        ),
+    ];
+    for (kind, file, pointer, at_bound, past) in cases {
+        let schema: Value = serde_json::from_str(&schema_json(kind).unwrap()).unwrap();
+        let validator = jsonschema::validator_for(&schema).unwrap();
+        let base: Value =
+            serde_json::from_str(&std::fs::read_to_string(root().join(file)).unwrap()).unwrap();
+        for (value, accepted) in [(at_bound, true), (past, false)] {
+            let mut doc = base.clone();
+            *doc.pointer_mut(pointer).expect("the pointer names a field") = value.clone();
+            assert_eq!(
+                validator.is_valid(&doc),
+                accepted,
+                "{file} with {pointer} = {value}: the schema"
+            );
+            let dir = tempfile::tempdir().unwrap();
+            let edited = dir.path().join(Path::new(file).file_name().unwrap());
+            std::fs::write(&edited, serde_json::to_string(&doc).unwrap()).unwrap();
+            let loaded = match *kind {
+                "scene" => sortsim::spec::scene::load(&edited).map(|_| ()),
+                _ => sortsim::spec::machine::load_machine(&edited).map(|_| ()),
+            };
+            assert_eq!(
+                loaded.is_ok(),
+                accepted,
+                "{file} with {pointer} = {value}: the loader ({loaded:?})"
+            );
+        }
+    }
+}

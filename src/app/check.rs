@@ -39,9 +39,31 @@ fn check_file(ctx: &Context, file: &Path) -> Result<String, Failure> {
             trace.len()
         ));
     }
-    if SpecKind::detect(file)? == SpecKind::Calibration {
-        return crate::calibrate::check(file, &ctx.root.path)
-            .map_err(|e| Failure::BadInput(e.to_string()));
+    match SpecKind::detect(file)? {
+        SpecKind::Calibration => crate::calibrate::check(file, &ctx.root.path)
+            .map_err(|e| Failure::BadInput(e.to_string())),
+        SpecKind::Paper => paper_rows(ctx, file),
+        _ => Ok(check(file)?),
     }
-    Ok(check(file)?)
+}
+
+/// A paper's rows: the tally by role, as `sortsim paper` counts them.
+fn paper_rows(ctx: &Context, file: &Path) -> Result<String, Failure> {
+    use crate::paper::data::{load_file, Role};
+    let data =
+        load_file(&ctx.root.path, file, None).map_err(|e| Failure::BadInput(e.to_string()))?;
+    let roles: Vec<String> = Role::ALL
+        .iter()
+        .map(|&role| {
+            let n = data.rows.iter().filter(|r| r.role == role).count();
+            format!("{n} {}", role.label())
+        })
+        .collect();
+    Ok(format!(
+        "paper {} ({}): {} rows: {}",
+        data.paper,
+        data.title,
+        data.rows.len(),
+        roles.join(", ")
+    ))
 }

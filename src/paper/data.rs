@@ -179,6 +179,17 @@ impl Reference {
 /// Reads and checks `papers/NNN.json` under `root`.
 pub fn load(root: &Path, id: PaperId) -> Result<PaperData, PaperError> {
     let path = root.join("papers").join(format!("{}.json", id.id()));
+    load_file(root, &path, Some(id))
+}
+
+/// Reads and checks a paper file at `path` (the paper `expected`, when given), its fitted rows
+/// against the machines under `root`.
+pub fn load_file(
+    root: &Path,
+    path: &Path,
+    expected: Option<PaperId>,
+) -> Result<PaperData, PaperError> {
+    let path = path.to_path_buf();
     let fail = |message: String| PaperError::Data {
         path: path.clone(),
         message,
@@ -187,12 +198,22 @@ pub fn load(root: &Path, id: PaperId) -> Result<PaperData, PaperError> {
     let de = &mut serde_json::Deserializer::from_str(&text);
     let data: PaperData = serde_path_to_error::deserialize(de)
         .map_err(|e| fail(format!("at {}: {}", e.path(), e.inner())))?;
-    if data.paper != id.id() {
-        return Err(fail(format!(
-            "\"paper\" is {:?}, expected {:?}",
-            data.paper,
-            id.id()
-        )));
+    match expected {
+        Some(id) if data.paper != id.id() => {
+            return Err(fail(format!(
+                "\"paper\" is {:?}, expected {:?}",
+                data.paper,
+                id.id()
+            )))
+        }
+        None if PaperId::from_id(&data.paper).is_none() => {
+            return Err(fail(format!(
+                "\"paper\" is {:?}; valid: {}",
+                data.paper,
+                PaperId::ALL.map(|p| p.id()).join(", ")
+            )))
+        }
+        _ => {}
     }
     let mut ids: Vec<&str> = data.rows.iter().map(|r| r.id.as_str()).collect();
     ids.sort_unstable();

@@ -93,6 +93,12 @@ pub fn check(path: &Path) -> Result<String, CheckError> {
             "a calibration spec: `sortsim check` checks it through `calibrate::check`",
         )
         .into()),
+        SpecKind::Paper => Err(SpecError::invalid(
+            path,
+            "",
+            "a paper's rows: `sortsim check` checks them through `paper::data::load_file`",
+        )
+        .into()),
         SpecKind::Pattern => {
             let _: crate::net::pattern::Pattern = load_json(path)?;
             Ok("network pattern (run it with `sortsim netsim MACHINE PATTERN`)".into())

@@ -21,6 +21,7 @@ pub struct MachineSpec {
     pub schema: Option<String>,
     pub name: String,
     pub source: String,
+    #[schemars(range(min = 1, max = crate::limits::MAX_NODES))]
     pub nodes: u32,
     pub cpu: CpuSpec,
     pub memory: MemorySpec,

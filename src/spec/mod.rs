@@ -164,6 +164,8 @@ pub enum SpecKind {
     Pattern,
     /// A `sortsim calibrate` spec (`targets` and `parameters`), checked by `calibrate::check`.
     Calibration,
+    /// A paper's rows (`papers/NNN.json`: `paper` and `rows`), checked by `paper::data`.
+    Paper,
 }
 
 impl SpecKind {
@@ -173,6 +175,8 @@ impl SpecKind {
         let has = |key: &str| value.get(key).is_some();
         if has("targets") && has("parameters") {
             Ok(SpecKind::Calibration)
+        } else if has("paper") && has("rows") {
+            Ok(SpecKind::Paper)
         } else if has("network") || has("cpu") || has("memory") {
             Ok(SpecKind::Machine)
         } else if has("geometry") || has("resolution") {
@@ -192,7 +196,7 @@ impl SpecKind {
             Err(SpecError::invalid(
                 path,
                 "",
-                "cannot tell what kind of spec this is: a machine has `network`, a scene has `geometry`, a run has `algo`, a sweep has lists (`procs: [...]`, `vary`), a network pattern has `messages`, a calibration has `targets` and `parameters`; a trace starts with the bytes \"SORTTRC\\n\"",
+                "cannot tell what kind of spec this is: a machine has `network`, a scene has `geometry`, a run has `algo`, a sweep has lists (`procs: [...]`, `vary`), a network pattern has `messages`, a calibration has `targets` and `parameters`, a paper's rows have `paper` and `rows`; a trace starts with the bytes \"SORTTRC\\n\"",
             ))
         }
     }

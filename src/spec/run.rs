@@ -27,6 +27,7 @@ pub struct RunSpec {
     pub machine: PathBuf,
     pub scene: PathBuf,
     pub algo: String,
+    #[schemars(range(min = 1))]
     pub procs: u32,
     /// Frames: "A..B" (B excluded), "A..=B" (B included) or a single frame "A"; all frames
     /// when absent.

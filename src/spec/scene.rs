@@ -33,8 +33,10 @@ pub struct SceneSpec {
     #[serde(default)]
     pub description: String,
     /// Image size in pixels, [width, height].
+    #[schemars(inner(range(min = 1, max = 16384)))]
     pub resolution: [u32; 2],
     /// Number of frames of the animation (at least 1).
+    #[schemars(range(min = 1))]
     #[serde(default = "one")]
     pub frames: u32,
     /// Background colour, 8-bit RGB, each 0..=255.
@@ -73,8 +75,10 @@ pub enum CameraSpec {
         target: [f32; 3],
         #[serde(default = "y_up")]
         up: [f32; 3],
+        #[schemars(extend("exclusiveMinimum" = 0, "exclusiveMaximum" = 180))]
         /// Vertical field of view in degrees.
         fov_deg: f32,
+        #[schemars(extend("exclusiveMinimum" = 0))]
         near: f32,
         far: f32,
     },
@@ -123,8 +127,10 @@ pub enum ShadingSpec {
     /// diffuse * max(0, n . l)), with `light_dir` pointing from the surface towards the light.
     Gouraud {
         light_dir: [f32; 3],
+        #[schemars(range(min = 0.0, max = 1.0))]
         #[serde(default = "ambient")]
         ambient: f32,
+        #[schemars(range(min = 0.0, max = 1.0))]
         #[serde(default = "diffuse")]
         diffuse: f32,
     },
@@ -149,6 +155,7 @@ pub struct ObjectSpec {
     #[serde(default)]
     pub transform: TransformSpec,
     /// Linear RGB in 0..=1, used where the mesh has no vertex colours.
+    #[schemars(inner(range(min = 0.0, max = 1.0)))]
     #[serde(default = "grey")]
     pub color: [f32; 3],
     /// Exact triangle count wanted: the mesh is refined (largest triangles bisected first)
@@ -212,49 +219,87 @@ pub enum MotionSpec {
 #[serde(tag = "kind", rename_all = "kebab-case", deny_unknown_fields)]
 pub enum GeneratorSpec {
     /// SPD `tetra`: Sierpinski tetrahedron, 4^size_factor tetrahedra, 4^(size_factor+1) triangles.
-    SpdTetra { size_factor: u32 },
+    SpdTetra {
+        #[schemars(range(max = 9))]
+        size_factor: u32,
+    },
     /// SPD-style `gears`: a grid x grid array of meshing spur gears, 16 * teeth triangles each.
-    Gears { grid: u32, teeth: u32 },
+    Gears {
+        #[schemars(range(min = 1, max = 64))]
+        grid: u32,
+        #[schemars(range(min = 4, max = 1000))]
+        teeth: u32,
+    },
     /// SPD-style `mountain`: a square recursively subdivided `levels` times with random
     /// midpoint displacement, 2 * 4^levels triangles.
     Mountain {
+        #[schemars(range(max = 10))]
         levels: u32,
+        #[schemars(range(min = 0.0, max = 2.0))]
         roughness: f32,
         seed: u64,
     },
     /// Newell's teapot, 32 bicubic Bezier patches tessellated n x n (2 n^2 triangles per
     /// patch, minus those that collapse at the lid and bottom poles).
-    Teapot { n: u32 },
+    Teapot {
+        #[schemars(range(min = 1, max = 200))]
+        n: u32,
+    },
     /// A flat square in the xz plane, side 2, facing +y: 2 triangles (a floor or ground).
     Plane,
     /// One triangle in the xz plane covering the square of side 2, facing +y.
     BigTriangle,
     /// UV sphere of radius 1: 2 * segments * (rings - 1) triangles.
-    UvSphere { rings: u32, segments: u32 },
+    UvSphere {
+        #[schemars(range(min = 2, max = 4096))]
+        rings: u32,
+        #[schemars(range(min = 3, max = 4096))]
+        segments: u32,
+    },
     /// Torus around the y axis, tube centre at radius 1, tube radius `minor`: `rings` tube
     /// circles of `segments` vertices, 2 * rings * segments triangles.
     Torus {
+        #[schemars(range(min = 3, max = 4096))]
         rings: u32,
+        #[schemars(range(min = 3, max = 4096))]
         segments: u32,
+        #[schemars(range(min = 1e-6, max = 0.999))]
         minor: f32,
     },
     /// A count_x x count_y x count_z lattice of UV spheres of radius `radius` in the cube
     /// [-1, 1]^3.
     SphereLattice {
+        #[schemars(inner(range(min = 1, max = 256)))]
         count: [u32; 3],
+        #[schemars(range(min = 1e-6, max = 1.0))]
         radius: f32,
+        #[schemars(range(min = 2, max = 4096))]
         rings: u32,
+        #[schemars(range(min = 3, max = 4096))]
         segments: u32,
     },
     /// Letter "B" extruded: a stem, three bars and two bowls of `segments` steps each.
-    LetterB { segments: u32, depth: f32 },
+    LetterB {
+        #[schemars(range(min = 2, max = 10_000))]
+        segments: u32,
+        #[schemars(range(min = 1e-6, max = 100.0))]
+        depth: f32,
+    },
     /// `count` regular tetrahedra of edge `size` placed uniformly in the cube [-1, 1]^3 with
     /// random orientation; 4 triangles each.
-    RandomTetrahedra { count: u32, size: f32, seed: u64 },
+    RandomTetrahedra {
+        #[schemars(range(min = 1, max = 10_000_000))]
+        count: u32,
+        #[schemars(range(min = 1e-6, max = 2.0))]
+        size: f32,
+        seed: u64,
+    },
     /// A head-like closed surface (skull, nose, ears, chin by smooth displacement of a UV
     /// sphere): 2 * segments * (rings - 1) triangles.
     Head {
+        #[schemars(range(min = 8, max = 4096))]
         rings: u32,
+        #[schemars(range(min = 8, max = 4096))]
         segments: u32,
         seed: u64,
     },
@@ -263,18 +308,26 @@ pub enum GeneratorSpec {
     /// `layer_gap` smaller in radius than the one around it (a capsid's depth complexity
     /// without its atoms: 20 f^2 * layers triangles).
     IcosaShell {
+        #[schemars(range(min = 1, max = 2048))]
         frequency: u32,
+        #[schemars(range(min = 0.0, max = 0.5))]
         bump: f32,
         #[serde(default = "one_layer")]
+        #[schemars(range(min = 1, max = 64))]
         layers: u32,
+        /// At most 0.9 / (layers - 1), so the innermost layer keeps a positive radius.
         #[serde(default)]
+        #[schemars(range(min = 0.0, max = 0.9))]
         layer_gap: f32,
     },
     /// A fractal height field on cols x rows quads of the square [-1, 1]^2: 2 * cols * rows
     /// triangles.
     Terrain {
+        #[schemars(range(min = 1, max = 8192))]
         cols: u32,
+        #[schemars(range(min = 1, max = 8192))]
         rows: u32,
+        #[schemars(range(min = 0.0, max = 10.0))]
         relief: f32,
         seed: u64,
     },
@@ -283,12 +336,16 @@ pub enum GeneratorSpec {
     /// uniformly inside the screen at random depths; optionally a first large "background"
     /// quad covering `background_fraction` of the screen (paper 003's Zinnia).
     ScreenScatter {
+        #[schemars(range(min = 1, max = 50_000_000))]
         count: u32,
+        #[schemars(range(min = 0.01, max = 1e7))]
         mean_area_px: f64,
         #[serde(default = "sigma")]
+        #[schemars(range(min = 0.0, max = 3.0))]
         sigma: f64,
         seed: u64,
         #[serde(default)]
+        #[schemars(range(min = 0.0, max = 1.0))]
         background_fraction: f64,
     },
 }
