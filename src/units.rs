@@ -1,4 +1,5 @@
-//! Quantities with units: simulated time, byte counts and bandwidths.
+//! Quantities with units: simulated time, byte counts and bandwidths, and counts of things
+//! as people write them (`count`: "1 frame", "3 frames").
 //!
 //! Owns the one place where unit strings from specs ("17MB/s", "60us", "4KiB") become exact
 //! integers, and where bytes over a bandwidth become picoseconds (u128 rational arithmetic,
@@ -212,6 +213,17 @@ impl fmt::Display for Bandwidth {
 }
 
 /// ceil(num / den) for u128, saturating into u64.
+/// `n` things, the noun in the plural unless `n` is 1: `count(1, "frame")` is "1 frame",
+/// `count(3, "frame")` "3 frames". Every count a person reads is written through this.
+pub fn count(n: impl Into<u64>, noun: &str) -> String {
+    let n = n.into();
+    if n == 1 {
+        format!("1 {noun}")
+    } else {
+        format!("{n} {noun}s")
+    }
+}
+
 pub fn ceil_div(num: u128, den: u128) -> u64 {
     let q = num.div_ceil(den);
     u64::try_from(q).unwrap_or(u64::MAX)

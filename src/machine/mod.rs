@@ -58,12 +58,12 @@ impl MachineConfig {
             TopologyKind::Torus if self.reconfigurable => squarest_torus(nodes),
             TopologyKind::Torus => {
                 return Err(format!(
-                    "machine '{}' is a {:?} torus of {} nodes; its network is not reconfigurable and a torus cannot be partitioned, so ask for exactly {}",
-                    self.name, self.network.dims, self.nodes, self.nodes
+                    "machine '{}' is a {} torus of {} nodes; its network is not reconfigurable and a torus cannot be partitioned, so ask for exactly {}",
+                    self.name, crate::net::dims_text(&self.network.dims), self.nodes, self.nodes
                 ))
             }
             TopologyKind::Mesh => sub_mesh(&self.network.dims, nodes).ok_or_else(|| {
-                format!("no rectangular partition of {nodes} nodes fits machine '{}' (a {:?} mesh)", self.name, self.network.dims)
+                format!("no rectangular partition of {nodes} nodes fits machine '{}' (a {} mesh)", self.name, crate::net::dims_text(&self.network.dims))
             })?,
         };
         Ok(m)

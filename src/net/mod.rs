@@ -135,6 +135,27 @@ impl Fidelity {
     }
 }
 
+/// A network's extent per dimension as people write it: `16x32`.
+pub fn dims_text(dims: &[u32]) -> String {
+    dims.iter()
+        .map(u32::to_string)
+        .collect::<Vec<_>>()
+        .join("x")
+}
+
+/// Users read these enums by the names specs spell them with (`mesh`, `wormhole`, `flow`),
+/// never by their Rust names.
+macro_rules! display_by_name {
+    ($($kind:ty),*) => {$(
+        impl std::fmt::Display for $kind {
+            fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+                f.write_str(self.name())
+            }
+        }
+    )*};
+}
+display_by_name!(TopologyKind, Switching, Fidelity);
+
 /// The variant whose `name` is `wanted` (names come from each enum's exhaustive `name`).
 fn by_name<T: Copy>(
     all: &[T],

@@ -81,8 +81,12 @@ fn delta_rows(machine: &MachineConfig, root: &Path, m: &mut Measurements) -> Res
     m.put(
         "delta-mesh",
         Measured::shape(
-            format!("{:?}", net.topology) == "Mesh" && net.dims == [16, 32],
-            format!("machines/delta.json: {:?} {:?}", net.topology, net.dims),
+            net.topology == crate::net::TopologyKind::Mesh && net.dims == [16, 32],
+            format!(
+                "machines/delta.json: {} {}",
+                net.topology,
+                crate::net::dims_text(&net.dims)
+            ),
         ),
     );
     m.put(
@@ -499,7 +503,7 @@ fn figure_9_rows(
     };
     let polio = curve(POLIO, polio_frames);
     let plb = curve(PLB, plb_frames);
-    let fidelity = format!("{:?}", machine.network.fidelity).to_lowercase();
+    let fidelity = machine.network.fidelity.to_string();
     let note = |scene: &str, frames: &str| {
         format!(
             "sort-middle/ellsworth, granularity 8, {scene}, frames {frames}, fidelity {fidelity}"

@@ -59,7 +59,7 @@ pub fn slurm_lines(scripts: &Scripts, tasks: u32, submitted: Option<&Submitted>)
 /// point, and where the report went.
 pub fn closing_lines(outcome: &SweepOutcome, out: &Path, jobs: usize) -> String {
     let threads = if outcome.ran > 0 {
-        format!(" on {jobs} thread{}", if jobs == 1 { "" } else { "s" })
+        format!(" on {}", crate::units::count(jobs as u64, "thread"))
     } else {
         String::new()
     };

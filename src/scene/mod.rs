@@ -22,6 +22,7 @@ pub mod refine;
 pub mod stats;
 pub mod summary;
 
+use crate::units::count;
 use std::path::{Path, PathBuf};
 
 use glam::{Mat4, Quat, Vec3, Vec4};
@@ -67,7 +68,7 @@ pub enum SceneError {
         line: usize,
         message: String,
     },
-    #[error("{}: frame {frame} is out of range: the scene has {count} frame{} (valid 0..={})", file.display(), if *count == 1 { "" } else { "s" }, count.saturating_sub(1))]
+    #[error("{}: frame {frame} is out of range: the scene has {} (valid 0..={})", file.display(), crate::units::count(*count, "frame"), count.saturating_sub(1))]
     FrameOutOfRange {
         file: PathBuf,
         frame: u32,
@@ -161,13 +162,15 @@ impl Scene {
             CameraSpec::Screen => "screen",
         };
         format!(
-            "scene: {w}x{h}, {} frame{}, {} object{}, {} triangles per frame, {camera} camera, back-face culling {}",
-            self.spec.frames,
-            if self.spec.frames == 1 { "" } else { "s" },
-            self.objects.len(),
-            if self.objects.len() == 1 { "" } else { "s" },
-            self.triangle_count(),
-            if self.spec.cull_backfaces { "on" } else { "off" }
+            "scene: {w}x{h}, {}, {}, {} per frame, {camera} camera, back-face culling {}",
+            count(self.spec.frames, "frame"),
+            count(self.objects.len() as u64, "object"),
+            count(self.triangle_count() as u64, "triangle"),
+            if self.spec.cull_backfaces {
+                "on"
+            } else {
+                "off"
+            }
         )
     }
 

@@ -39,12 +39,7 @@ pub fn check(path: &Path) -> Result<String, CheckError> {
                 m.name,
                 m.nodes,
                 m.network.topology.name(),
-                m.network
-                    .dims
-                    .iter()
-                    .map(u32::to_string)
-                    .collect::<Vec<_>>()
-                    .join("x"),
+                crate::net::dims_text(&m.network.dims),
                 m.network.link_bandwidth,
                 m.network.hop_latency,
                 m.network.switching.name(),

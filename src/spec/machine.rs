@@ -236,7 +236,7 @@ fn network_config(path: &Path, nodes: u32, net: &NetworkSpec) -> Result<NetworkC
         (None, _) => {
             return Err(invalid(
                 "network.dims",
-                format!("a {topology:?} needs its extent per dimension, e.g. [4, 4]"),
+                format!("a {topology} needs its extent per dimension, e.g. [4, 4]"),
             ))
         }
     };
@@ -277,7 +277,7 @@ fn network_config(path: &Path, nodes: u32, net: &NetworkSpec) -> Result<NetworkC
         {
             return Err(invalid(
                 "network.dims",
-                format!("a {topology:?} has one dimension, [nodes]"),
+                format!("a {topology} has one dimension, [nodes]"),
             ))
         }
         TopologyKind::Hypercube if !nodes.is_power_of_two() => {
