@@ -51,8 +51,10 @@ document.getElementById('page').addEventListener('load', () => {
   const doc = document.getElementById('page').contentDocument;
   const images = Array.from(doc.images);
   const broken = images.filter(i => !(i.complete && i.naturalWidth > 0)).map(i => i.getAttribute('src'));
+  const shown = images.map(i => [i.getAttribute('src'), i.width / Math.max(i.naturalWidth, 1)]);
   document.getElementById('verdict').textContent =
-    'images=' + images.length + ' broken=' + JSON.stringify(broken) + ' h1=' + (doc.querySelector('h1') !== null);
+    'images=' + images.length + ' broken=' + JSON.stringify(broken) + ' h1=' + (doc.querySelector('h1') !== null)
+    + ' shown=' + JSON.stringify(shown);
 });
 </script></body></html>"#;
 
@@ -102,8 +104,36 @@ fn check_page(dir: &Path) -> usize {
         .and_then(|s| s.split(' ').next())
         .and_then(|n| n.parse().ok())
         .unwrap();
+    assert_plot_text_readable(dir, verdict);
     assert_not_blank(&page, work.path());
     images
+}
+
+/// Every chart's text is at least 16 px as the page shows it: the smallest font-size in the
+/// chart's SVG (the PNG is drawn from the same layout) times the scale the page draws it at.
+fn assert_plot_text_readable(dir: &Path, verdict: &str) {
+    let shown: Vec<(String, f64)> = verdict
+        .split(" shown=")
+        .nth(1)
+        .and_then(|json| serde_json::from_str(json).ok())
+        .unwrap_or_else(|| panic!("{}: no image scales in {verdict}", dir.display()));
+    for (src, scale) in shown {
+        let svg = dir.join(&src).with_extension("svg");
+        let Ok(text) = std::fs::read_to_string(&svg) else {
+            continue; // not a chart (a rendered frame)
+        };
+        let smallest = text
+            .split("font-size=\"")
+            .skip(1)
+            .filter_map(|s| s.split('"').next()?.parse::<f64>().ok())
+            .fold(f64::INFINITY, f64::min);
+        assert!(
+            smallest.is_finite() && smallest * scale >= 16.0,
+            "{}: {src} shows text at {:.1} px ({smallest:.1} px drawn, shown at {scale:.2} of its size)",
+            dir.display(),
+            smallest * scale
+        );
+    }
 }
 
 /// A screenshot of the page has ink: at least 1% of its pixels are not the background.
@@ -254,20 +284,23 @@ fn paper_pages_show_the_verdicts_and_plots() {
 }
 
 #[test]
-fn the_default_job_page_links_what_it_wrote() {
+fn the_default_job_page_shows_its_tables_as_tables() {
     let dir = tempfile::tempdir().unwrap();
-    let machines = vec![Path::new("machines/delta.json").to_path_buf()];
-    sortsim::report::default_job::write_page(
-        dir.path(),
-        &sortsim::report::default_job::DefaultJob {
-            machines: &machines,
-            sweep_table: "algo  procs\nstatic  1\n",
-            phold: "{}",
-            fidelity: "fidelity  time\n",
-        },
-    )
-    .unwrap();
-    let html = std::fs::read_to_string(dir.path().join("index.html")).unwrap();
+    let out = Command::new(env!("CARGO_BIN_EXE_sortsim"))
+        .current_dir(dir.path())
+        .env("SORTSIM_ROOT", env!("CARGO_MANIFEST_DIR"))
+        .output()
+        .expect("sortsim runs");
+    assert!(
+        out.status.success(),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    let page = dir.path().join("reports/default");
+    let html = std::fs::read_to_string(page.join("index.html")).unwrap();
     assert!(html.contains("href=\"phold/summary.json\""));
-    check_page(dir.path());
+    // The sweep, PHOLD and the fidelities as HTML tables, not monospace text.
+    assert!(html.matches("<table>").count() >= 3, "{html}");
+    assert!(!html.contains("<pre>"), "{html}");
+    check_page(&page);
 }

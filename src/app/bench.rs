@@ -110,7 +110,9 @@ fn bench_replay(
 }
 
 /// Runs PHOLD and prints its summary and cost as JSON; returns what it printed.
-pub(super) fn bench_phold(args: &PholdArgs) -> Result<String, Failure> {
+pub(super) fn bench_phold(
+    args: &PholdArgs,
+) -> Result<(crate::bench::PholdSummary, crate::bench::PholdCost), Failure> {
     let pending = u64::from(args.lps) * u64::from(args.events_per_lp);
     if pending > crate::limits::MAX_PENDING_EVENTS {
         return Err(Failure::BadInput(format!(
@@ -134,7 +136,6 @@ pub(super) fn bench_phold(args: &PholdArgs) -> Result<String, Failure> {
     if let Some(dir) = &args.out {
         crate::report::bench::write_phold(dir, &summary, &cost)?;
     }
-    let text = crate::report::bench::phold_text(&summary, &cost);
-    print!("{text}");
-    Ok(text)
+    print!("{}", crate::report::bench::phold_text(&summary, &cost));
+    Ok((summary, cost))
 }

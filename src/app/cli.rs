@@ -419,7 +419,7 @@ pub struct PaperArgs {
     /// Which paper: 000, 001, 002, 003 or all.
     #[arg(default_value = "all", value_parser = ["000", "001", "002", "003", "all"])]
     pub paper: String,
-    /// Fewer frames per run (all four papers in a few minutes).
+    /// Fewer frames per run (all four papers in about 30 s here).
     #[arg(long)]
     pub quick: bool,
     /// Report folder; each paper gets a folder NNN/ inside it.
@@ -501,7 +501,7 @@ pub enum BenchCommand {
         after_help = "Example:\n  sortsim bench scale --quick -o reports/bench-scale\n  sortsim bench scale --frames 110"
     )]
     Scale {
-        /// 3 frames, up to 16,384 messages and PHOLD up to 16,384 in flight (a few minutes)
+        /// 3 frames, up to 16,384 messages and PHOLD up to 16,384 in flight (about 20 s here)
         /// instead of 110 frames, 65,536 messages and a million in flight.
         #[arg(long, allow_negative_numbers = true)]
         quick: bool,

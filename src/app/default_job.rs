@@ -7,6 +7,7 @@ use super::{Context, Failure};
 use crate::net::fidelity::{fidelity_table, format_table};
 use crate::net::pattern::Pattern;
 use crate::spec::{load_json, machine::load_machine};
+use crate::sweep::table::Row;
 
 /// The main job on the built-in default: validate the bundled machines, run the default sweep
 /// (sweeps/default.json: both sort-middle algorithms on the Delta, 1 to 64 processors) with
@@ -22,7 +23,7 @@ pub(super) fn run(ctx: &Context) -> Result<(), Failure> {
     files.sort();
     super::check::run(ctx, &files)?;
     let out = PathBuf::from("reports/default");
-    let sweep_table = default_sweep(ctx, &out)?;
+    let sweep_rows = default_sweep(ctx, &out)?;
     println!("\nPHOLD on the engine against a bare binary-heap loop:");
     let phold = super::bench::bench_phold(&PholdArgs {
         lps: 1024,
@@ -47,8 +48,9 @@ pub(super) fn run(ctx: &Context) -> Result<(), Failure> {
         &out,
         &crate::report::default_job::DefaultJob {
             machines: &files,
-            sweep_table: &sweep_table,
+            sweep_rows: &sweep_rows,
             phold: &phold,
+            fidelity_rows: &rows,
             fidelity: &table,
         },
     )?;
@@ -58,7 +60,7 @@ pub(super) fn run(ctx: &Context) -> Result<(), Failure> {
 
 /// The default sweep, always simulated afresh (its points folder is cleared first, so a
 /// changed simulator or machine never shows an old result), and its table printed.
-fn default_sweep(ctx: &Context, out: &Path) -> Result<String, Failure> {
+fn default_sweep(ctx: &Context, out: &Path) -> Result<Vec<Row>, Failure> {
     let spec = ctx.root.join("sweeps/default.json");
     println!("\nThe default sweep ({}):", spec.display());
     match std::fs::remove_dir_all(out.join("points")) {

@@ -5,17 +5,18 @@ use std::path::Path;
 
 use super::cli::SweepArgs;
 use super::{jobs, out_dir, Context, Failure};
+use crate::sweep::table::Row;
 
 /// `sortsim sweep`: runs the points (all, or one shard's), or collects the shards' points, or
 /// writes and submits Slurm scripts; prints the table and any failed point; returns the table
 /// as printed. Bad input is refused before any point runs; a point that fails is a row with an
 /// error.
-pub(super) fn run(ctx: &Context, args: &SweepArgs) -> Result<String, Failure> {
+pub(super) fn run(ctx: &Context, args: &SweepArgs) -> Result<Vec<Row>, Failure> {
     use crate::sweep::{collect, run_shard, run_sweep, spec::load_sweep, SweepOptions};
     let spec = load_sweep(&ctx.input(&args.spec))?;
     let out = out_dir(&args.out, &args.spec, "reports/sweep-");
     if args.slurm {
-        return slurm(args, &spec, &out).map(|()| String::new());
+        return slurm(args, &spec, &out).map(|()| Vec::new());
     }
     // A folder that cannot be written is found before the first point is simulated.
     if out.exists() && !out.is_dir() {
@@ -35,7 +36,7 @@ pub(super) fn run(ctx: &Context, args: &SweepArgs) -> Result<String, Failure> {
             "{}",
             crate::report::sweep::shard_lines(&outcome, &out, jobs)
         );
-        return internal_point(&outcome.failures).map(|()| String::new());
+        return internal_point(&outcome.failures).map(|()| Vec::new());
     }
     let outcome = if args.collect {
         collect(&spec, &out)
@@ -49,7 +50,7 @@ pub(super) fn run(ctx: &Context, args: &SweepArgs) -> Result<String, Failure> {
         "{}",
         crate::report::sweep::closing_lines(&outcome, &out, jobs)
     );
-    internal_point(&outcome.failures).map(|()| table)
+    internal_point(&outcome.failures).map(|()| outcome.rows)
 }
 
 fn sweep_failure(e: crate::sweep::SweepError) -> Failure {

@@ -37,7 +37,8 @@ impl Page {
         self.section(markdown(text))
     }
 
-    /// Every PNG image in `dir` and `dir/plots`, by file name order, with its name as caption.
+    /// Every PNG image in `dir` and `dir/plots`, by file name order, each captioned with what
+    /// it shows (a chart's title, kept in its PNG) and its file name.
     pub fn images_of(self, dir: &Path) -> Page {
         let mut images = Vec::new();
         for sub in ["", "plots"] {
@@ -63,12 +64,16 @@ impl Page {
         if images.is_empty() {
             return self;
         }
+        let captions: Vec<String> = images
+            .iter()
+            .map(|src| super::plot::png_title(&dir.join(src)).unwrap_or_else(|| src.clone()))
+            .collect();
         self.section(html! {
             h2 { "Images" }
-            @for src in &images {
+            @for (src, caption) in images.iter().zip(&captions) {
                 figure {
-                    img src=(src) alt=(src);
-                    figcaption { (src) }
+                    img src=(src) alt=(caption);
+                    figcaption { (caption) " (" a href=(src) { (src) } ")" }
                 }
             }
         })
@@ -103,6 +108,20 @@ pub fn markdown(text: &str) -> Markup {
     let mut out = String::new();
     pulldown_cmark::html::push_html(&mut out, parser);
     PreEscaped(out)
+}
+
+/// A table: a header row and rows of cells, numbers right-aligned.
+pub fn table(title: &str, header: &[&str], rows: &[Vec<String>]) -> Markup {
+    let numeric = |c: &str| c.parse::<f64>().is_ok();
+    html! {
+        h2 { (title) }
+        table {
+            thead { tr { @for h in header { th { (h) } } } }
+            tbody { @for row in rows { tr { @for c in row {
+                @if numeric(c) { td.num { (c) } } @else { td { (c) } }
+            } } } }
+        }
+    }
 }
 
 /// A CSV text (as sortsim writes it: a header line, no quoted commas) as a table.
@@ -152,8 +171,11 @@ pre{background:#f8f8f8;padding:.8em;overflow-x:auto}\
 tr.exact td.verdict{background:#d9f2d9}tr.within td.verdict{background:#e8f5e0}\
 tr.shape td.verdict{background:#fff3c4}tr.differs td.verdict{background:#f8d0d0}\
 .detail{color:#666;font-size:.9em}.headline{font-size:1.15em;font-weight:600}\
-figure{display:inline-block;margin:.5em;max-width:47%;vertical-align:top}img{max-width:100%;border:1px solid #eee}\
+figure{display:block;margin:1em 0;max-width:100%}figcaption{color:#444;margin-top:.3em}img{max-width:100%;border:1px solid #eee}\
 .legend span{margin-right:1em;white-space:nowrap}.legend i{display:inline-block;width:.9em;height:.9em;margin-right:.3em;vertical-align:middle}\
-.bars{margin:.5em 0}.bar{display:flex;align-items:center;height:9px;margin:1px 0}\
-.bar .label{width:3em;font-size:8px;color:#888;text-align:right;padding-right:.4em}\
-.track{flex:1;display:flex;height:100%;background:#e6e6e6}.seg{height:100%}";
+.bars{margin:.5em 0}.bar{display:flex;align-items:center;height:16px;margin:1px 0}.bars.dense .bar{height:4px;margin:0}\
+.bar .label{width:4.5em;font-size:13px;color:#555;text-align:right;padding-right:.5em;white-space:nowrap}\
+.track{flex:1;display:flex;height:100%;background:#e6e6e6}.seg{height:100%}\
+.axis{display:flex;margin-left:5em;position:relative;height:2.2em;border-top:1px solid #888}\
+.axis span{position:absolute;transform:translateX(-50%);font-size:13px;color:#444;padding-top:.2em}\
+.axis span.first{transform:none}.axis span.last{transform:translateX(-100%)}";

@@ -129,7 +129,12 @@ impl LineChart<'_> {
             self.draw(&root)?;
             root.present().map_err(draw_error)?;
         }
-        encode_rgb_png(&rgb, w, h)
+        encode_rgb_png(&rgb, w, h, &self.caption())
+    }
+
+    /// What the chart shows, in words: its title, and which quantity against which.
+    pub fn caption(&self) -> String {
+        format!("{}: {} against {}", self.title, self.y_label, self.x_label)
     }
 
     /// Renders both images, then writes `STEM.svg` and `STEM.png`.
@@ -157,8 +162,8 @@ impl LineChart<'_> {
             .map(|s| legend_label(&s.label).chars().count())
             .max()
             .unwrap_or(0) as u32;
-        // ~7 px per character at 13 px DejaVu Sans, plus the swatch and margins.
-        (chars * 7 + 56).clamp(120, 520)
+        // ~11 px per character at 20 px DejaVu Sans, plus the swatch and margins.
+        (chars * 11 + 56).clamp(140, 540)
     }
 
     fn draw<DB: DrawingBackend>(&self, root: &DrawingArea<DB, Shift>) -> Result<(), PlotError> {
@@ -172,10 +177,10 @@ impl LineChart<'_> {
             self.x_label.to_string()
         };
         let mut chart = ChartBuilder::on(&plot)
-            .caption(self.title, (FONT_NAME, 20))
+            .caption(self.title, (FONT_NAME, 26))
             .margin(12)
-            .x_label_area_size(48)
-            .y_label_area_size(78)
+            .x_label_area_size(60)
+            .y_label_area_size(100)
             .build_cartesian_2d(xr.0..xr.1, yr.0..yr.1)
             .map_err(draw_error)?;
         let log_x = self.options.log_x;
@@ -194,8 +199,8 @@ impl LineChart<'_> {
             .y_labels(8)
             .x_label_formatter(&x_fmt)
             .y_label_formatter(&y_fmt)
-            .label_style((FONT_NAME, 13))
-            .axis_desc_style((FONT_NAME, 15))
+            .label_style((FONT_NAME, TEXT_PX))
+            .axis_desc_style((FONT_NAME, TEXT_PX))
             .max_light_lines(1)
             .light_line_style(RGBColor(242, 242, 242))
             .bold_line_style(RGBColor(215, 215, 215))
@@ -246,8 +251,8 @@ impl LineChart<'_> {
                 area.draw(&Circle::new((17, y), 3, colour.filled()))
                     .map_err(draw_error)?;
             }
-            let style = TextStyle::from((FONT_NAME, 13).into_font()).color(&BLACK);
-            area.draw(&Text::new(legend_label(&s.label), (38, y - 7), style))
+            let style = TextStyle::from((FONT_NAME, TEXT_PX).into_font()).color(&BLACK);
+            area.draw(&Text::new(legend_label(&s.label), (38, y - 9), style))
                 .map_err(draw_error)?;
         }
         Ok(())
@@ -296,11 +301,16 @@ impl LineChart<'_> {
 
 const FONT_NAME: &str = "sans-serif";
 const FONT_BYTES: &[u8] = include_bytes!("fonts/DejaVuSans.ttf");
-const PLOT_W: u32 = 720;
-const PLOT_H: u32 = 480;
-const LEGEND_TOP: i32 = 48;
-const LEGEND_ROW: i32 = 20;
-const LEGEND_MAX_CHARS: usize = 66;
+const PLOT_W: u32 = 700;
+const PLOT_H: u32 = 520;
+const LEGEND_TOP: i32 = 56;
+const LEGEND_ROW: i32 = 26;
+const LEGEND_MAX_CHARS: usize = 44;
+/// Tick labels, axis names and legend entries: readable on a slide at the image's own size
+/// (plotters writes 0.806 of this as the SVG's font-size, so 20 gives 16 px; a page shows a
+/// chart at its drawn size: the widest, 700 + 540 px, fits the page; `tests/pages.rs` checks
+/// both).
+pub const TEXT_PX: u32 = 20;
 
 /// plotters looks fonts up by family name in a process-wide table; register ours once.
 fn ensure_font() -> Result<(), PlotError> {
@@ -325,16 +335,39 @@ fn with_suffix(stem: &Path, ext: &str) -> PathBuf {
     PathBuf::from(name)
 }
 
-fn encode_rgb_png(rgb: &[u8], w: u32, h: u32) -> Result<Vec<u8>, PlotError> {
+/// The chart's caption goes into the PNG as its standard `Title` text, where a page (and any
+/// image viewer) finds it.
+fn encode_rgb_png(rgb: &[u8], w: u32, h: u32, title: &str) -> Result<Vec<u8>, PlotError> {
     let mut bytes = Vec::new();
     let mut enc = png::Encoder::new(&mut bytes, w, h);
     enc.set_color(png::ColorType::Rgb);
     enc.set_depth(png::BitDepth::Eight);
     let png_error = |e: png::EncodingError| PlotError::Draw(format!("PNG encoding: {e}"));
+    enc.add_itxt_chunk("Title".to_string(), title.to_string())
+        .map_err(png_error)?;
     let mut writer = enc.write_header().map_err(png_error)?;
     writer.write_image_data(rgb).map_err(png_error)?;
     writer.finish().map_err(png_error)?;
     Ok(bytes)
+}
+
+/// The `Title` text of the PNG at `path` (a chart's caption), if it has one.
+pub fn png_title(path: &Path) -> Option<String> {
+    let file = std::fs::File::open(path).ok()?;
+    let reader = png::Decoder::new(std::io::BufReader::new(file))
+        .read_info()
+        .ok()?;
+    let info = reader.info();
+    info.utf8_text
+        .iter()
+        .find(|t| t.keyword == "Title")
+        .and_then(|t| t.get_text().ok())
+        .or_else(|| {
+            info.uncompressed_latin1_text
+                .iter()
+                .find(|t| t.keyword == "Title")
+                .map(|t| t.text.clone())
+        })
 }
 
 /// Ten colours that stay distinguishable in print (the Tableau 10 hues); series past the

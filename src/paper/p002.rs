@@ -30,6 +30,8 @@ const PLB: &str = "plb-head-standin.json";
 const PROCS: [u32; 6] = [16, 32, 64, 128, 256, 512];
 const MODES: [&str; 2] = ["off", "on"];
 const AA: (&str, &str) = ("aa", "supersample:16");
+/// Where sortsim's anti-aliased polio curve is drawn beside the paper's anti-aliased peak.
+const AA_CURVE_PROCS: [u32; 4] = [64, 128, 256, 512];
 
 /// The frames of a run that stand for the paper's viewing sequences: all but the first, which
 /// deals regions r mod N and waits for no assignment. In the paper's averages over 80 and 110
@@ -475,6 +477,10 @@ fn figure_9_rows(
     for mode in MODES {
         jobs.push(ellsworth(POLIO, 256, mode, polio_frames).set(AA.0, AA.1));
     }
+    // Figure 9's anti-aliased curve around its peak (two-step on, the faster mode there).
+    for n in AA_CURVE_PROCS.into_iter().filter(|&n| n != 256) {
+        jobs.push(ellsworth(POLIO, n, "on", polio_frames).set(AA.0, AA.1));
+    }
     for n in [8, 256, 512] {
         jobs.push(ellsworth(PLB, n, "off", plb_frames));
         jobs.push(ellsworth(PLB, n, "off", plb_frames).set(AA.0, AA.1));
@@ -706,6 +712,16 @@ fn figure_9_rows(
             Series::marks(
                 "paper, point-sampled peak",
                 paper_point("peak-polio", 256.0),
+            ),
+            Series::new(
+                "sortsim, anti-aliased, two-step on",
+                AA_CURVE_PROCS
+                    .iter()
+                    .map(|&n| {
+                        let r = at(ellsworth(POLIO, n, "on", polio_frames).set(AA.0, AA.1));
+                        (n as f64, mtris(r))
+                    })
+                    .collect(),
             ),
             Series::marks(
                 "paper, anti-aliased peak",

@@ -57,12 +57,18 @@ pub fn write_report(
         "{} on {} ({} processors)",
         summary.run.algo, summary.run.machine, summary.run.procs
     );
+    // The bars first: where each node's time went is what a run page is opened for; then the
+    // frames and the per-node digest; every node's row last.
     let mut page = Page::new(title)
-        .markdown(&summary.markdown())
+        .markdown(&summary.headline())
         .section(phase_bars(
             &summary.machine_metrics.nodes,
             summary.machine_metrics.end_s,
-        ));
+        ))
+        .markdown(&summary.tables(false));
+    let mut every_node = String::new();
+    summary.node_table(&mut every_node);
+    page = page.markdown(&every_node);
     if timeline.is_some() {
         page = page.section(timeline_note());
     }
@@ -87,6 +93,11 @@ impl RunSummary {
     }
 
     fn markdown_with(&self, nodes_in_full: bool) -> String {
+        self.headline() + &self.tables(nodes_in_full)
+    }
+
+    /// The title, what ran and the means over frames.
+    fn headline(&self) -> String {
         let mut s = String::new();
         let run = &self.run;
         let _ = writeln!(
@@ -117,6 +128,12 @@ impl RunSummary {
                 run.machine
             );
         }
+        s
+    }
+
+    /// The frames table, anti-aliasing, the nodes (every row, or the digest) and the links.
+    fn tables(&self, nodes_in_full: bool) -> String {
+        let mut s = String::new();
         let _ = writeln!(s, "## Frames\n\n| frame | time (s) | triangles in view | triangles/s | load imbalance (%) | bytes | messages |");
         let _ = writeln!(s, "|---:|---:|---:|---:|---:|---:|---:|");
         for f in &self.per_frame {
@@ -356,19 +373,28 @@ pub fn phase_bars(nodes: &[NodeSummary], end_s: f64) -> Markup {
             0.0
         }
     };
+    // Up to 64 bars get a label each; more are drawn thin, with every k-th node labelled.
+    let dense = nodes.len() > 64;
+    let every = nodes.len().div_ceil(32).max(1);
+    let ticks: Vec<(f64, String)> = (0..=4)
+        .map(|i| {
+            let t = end_s * i as f64 / 4.0;
+            (25.0 * i as f64, seconds_label(t, end_s))
+        })
+        .collect();
     html! {
         h2 { "Time by phase, per node" }
-        p { "Each bar is one node from the start of the run to its end; grey is idle." }
+        p { "Each bar is one node from the start of the run to its end, on the time axis below; grey is idle." }
         div.legend {
             @for p in &phases {
                 span { i style={ "background:" (colour(p)) } {} (p) }
             }
             span { i style="background:#e6e6e6" {} "idle" }
         }
-        div.bars {
-            @for n in nodes {
+        div class=(if dense { "bars dense" } else { "bars" }) {
+            @for (k, n) in nodes.iter().enumerate() {
                 div.bar title={ "node " (n.node) } {
-                    span.label { (n.node) }
+                    span.label { @if !dense || k % every == 0 { "node " (n.node) } }
                     div.track {
                         @for (p, s) in &n.busy_by_phase_s {
                             div.seg style={ "width:" (format!("{:.3}", width(*s))) "%;background:" (colour(p)) }
@@ -378,6 +404,22 @@ pub fn phase_bars(nodes: &[NodeSummary], end_s: f64) -> Markup {
                 }
             }
         }
+        div.axis {
+            @for (i, (at, label)) in ticks.iter().enumerate() {
+                span class=(match i { 0 => "first", 4 => "last", _ => "" }) style={ "left:" (format!("{at:.0}")) "%" } { (label) }
+            }
+        }
+    }
+}
+
+/// A time on the bars' axis, in the unit that suits the run's length.
+fn seconds_label(t: f64, end_s: f64) -> String {
+    if end_s >= 1.0 {
+        format!("{t:.2} s")
+    } else if end_s >= 1e-3 {
+        format!("{:.1} ms", t * 1e3)
+    } else {
+        format!("{:.1} us", t * 1e6)
     }
 }
 

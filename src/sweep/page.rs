@@ -8,8 +8,8 @@ use std::path::Path;
 use maud::html;
 
 use super::spec::Sweep;
-use super::table::{format_rows, Row};
-use crate::output::page::{text_block, Page};
+use super::table::{shown_cells, Row, SHOWN_COLUMNS};
+use crate::output::page::{table, Page};
 use crate::output::plot::PlotError;
 
 pub fn write_page(dir: &Path, sweep: &Sweep, rows: &[Row]) -> Result<(), PlotError> {
@@ -23,8 +23,21 @@ pub fn write_page(dir: &Path, sweep: &Sweep, rows: &[Row]) -> Result<(), PlotErr
             p { (rows.len()) " points; speedup is triangles/s over the one-processor point's. "
                 "Each point's summary.json is under points/." }
         })
-        .section(text_block("Table", &format_rows(rows)))
+        .section(table_html(rows))
         .images_of(dir)
         .files(&["sweep.csv", "sweep.json", "cost.json"])
         .write(dir)
+}
+
+/// The sweep's table as the terminal prints it, as an HTML table (a failed point's error in a
+/// row of its own).
+pub fn table_html(rows: &[Row]) -> maud::Markup {
+    let mut cells = Vec::new();
+    for (row, error) in shown_cells(rows) {
+        cells.push(row);
+        if let Some(e) = error {
+            cells.push(vec![format!("failed: {e}")]);
+        }
+    }
+    table("Table", &SHOWN_COLUMNS, &cells)
 }

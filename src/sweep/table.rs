@@ -308,39 +308,58 @@ fn line(fields: &[String]) -> String {
     quoted.join(",") + "\n"
 }
 
-/// A table a person reads on the terminal: the point's values, then the main metrics.
-pub fn format_rows(rows: &[Row]) -> String {
+/// The columns a person reads, in order.
+pub const SHOWN_COLUMNS: [&str; 9] = [
+    "algo, scene, options",
+    "procs",
+    "triangles/s",
+    "frame ms",
+    "speedup",
+    "eff",
+    "bytes/frame",
+    "imbal %",
+    "link %",
+];
+
+/// Each row's cells under `SHOWN_COLUMNS` (a failed point's numbers are `-`), and its error.
+pub fn shown_cells(rows: &[Row]) -> Vec<(Vec<String>, Option<String>)> {
     let opt = |v: Option<f64>, prec: usize| v.map_or("-".to_string(), |x| format!("{x:.prec$}"));
-    let mut out = format!(
-        "{:<56} {:>5} {:>12} {:>10} {:>8} {:>6} {:>12} {:>8} {:>8}\n",
-        "algo, scene, options",
-        "procs",
-        "triangles/s",
-        "frame ms",
-        "speedup",
-        "eff",
-        "bytes/frame",
-        "imbal %",
-        "link %"
-    );
-    for r in rows {
-        let mut what = format!("{}, {}", r.algo, super::plots::stem(&r.scene));
-        for (k, v) in &r.options {
-            what.push_str(&format!(", {k}={v}"));
-        }
-        out.push_str(&format!(
+    rows.iter()
+        .map(|r| {
+            let mut what = format!("{}, {}", r.algo, super::plots::stem(&r.scene));
+            for (k, v) in &r.options {
+                what.push_str(&format!(", {k}={v}"));
+            }
+            let cells = vec![
+                what,
+                r.procs.to_string(),
+                opt(r.mean_triangles_per_s, 0),
+                opt(r.mean_frame_s.map(|s| s * 1e3), 3),
+                opt(r.speedup, 2),
+                opt(r.efficiency, 2),
+                opt(r.mean_bytes_per_frame, 0),
+                opt(r.mean_load_imbalance_pct, 1),
+                opt(r.busiest_link_utilization_pct, 1),
+            ];
+            (cells, r.error.clone())
+        })
+        .collect()
+}
+
+/// The table `sortsim sweep` prints: `SHOWN_COLUMNS`, one line per point, a failed point's
+/// error under it.
+pub fn format_rows(rows: &[Row]) -> String {
+    let line = |c: &[String]| {
+        format!(
             "{:<56} {:>5} {:>12} {:>10} {:>8} {:>6} {:>12} {:>8} {:>8}\n",
-            what,
-            r.procs,
-            opt(r.mean_triangles_per_s, 0),
-            opt(r.mean_frame_s.map(|s| s * 1e3), 3),
-            opt(r.speedup, 2),
-            opt(r.efficiency, 2),
-            opt(r.mean_bytes_per_frame, 0),
-            opt(r.mean_load_imbalance_pct, 1),
-            opt(r.busiest_link_utilization_pct, 1),
-        ));
-        if let Some(e) = &r.error {
+            c[0], c[1], c[2], c[3], c[4], c[5], c[6], c[7], c[8]
+        )
+    };
+    let header: Vec<String> = SHOWN_COLUMNS.iter().map(|h| h.to_string()).collect();
+    let mut out = line(&header);
+    for (cells, error) in shown_cells(rows) {
+        out.push_str(&line(&cells));
+        if let Some(e) = error {
             out.push_str(&format!("    failed: {e}\n"));
         }
     }
