@@ -106,6 +106,7 @@ pub enum Command {
         after_help = "Example:\n  sortsim schema machine > machine.schema.json\n\nIn VS Code, map the schemas to files with `json.schemas` in settings.json, e.g.\n  {\"fileMatch\": [\"machines/*.json\"], \"url\": \"./schemas/machine.schema.json\"}"
     )]
     Schema {
+        /// The spec kind whose schema to print.
         #[arg(value_parser = crate::spec::schema::KINDS)]
         kind: String,
     },
@@ -126,7 +127,9 @@ pub enum TraceCommand {
         after_help = "Example:\n  sortsim trace record scenes/p003-zinnia.json --frame 0 -o traces/p003-zinnia.trace"
     )]
     Record {
+        /// Scene spec (scenes/*.json).
         scene: PathBuf,
+        /// The frame to record (0 is the first).
         #[arg(long, default_value_t = 0, allow_negative_numbers = true)]
         frame: u32,
         /// Trace file to write.
@@ -143,6 +146,7 @@ pub enum TraceCommand {
 
 #[derive(Args, Debug)]
 pub struct TraceReplayArgs {
+    /// Trace file written by `sortsim trace record`.
     pub trace: PathBuf,
     /// Merging algorithms, comma-separated.
     #[arg(
@@ -166,6 +170,7 @@ pub struct TraceReplayArgs {
         allow_negative_numbers = true
     )]
     pub assign: AssignArg,
+    /// Seed of the run's random streams (ChaCha); the same seed gives the same bytes.
     #[arg(long, default_value_t = 1, allow_negative_numbers = true)]
     pub seed: u64,
     /// Direct send z-buffers each processor's fragments first and sends only active pixels.
@@ -254,6 +259,7 @@ pub struct RunArgs {
     /// key=value: an algorithm option (granularity=8) or a machine field (machine.network.fidelity=packet).
     #[arg(long = "set", value_name = "KEY=VALUE", allow_negative_numbers = true)]
     pub set: Vec<String>,
+    /// Seed of the run's random streams (ChaCha); the same seed gives the same bytes.
     #[arg(long, default_value_t = 1, allow_negative_numbers = true)]
     pub seed: u64,
     /// Skip timeline.json (recording it costs host memory on large runs).
@@ -306,6 +312,7 @@ pub struct AccuracyArgs {
     /// key=value: an algorithm option (granularity=8) or a machine field (machine.cpu.send_overhead=100us).
     #[arg(long = "set", value_name = "KEY=VALUE", allow_negative_numbers = true)]
     pub set: Vec<String>,
+    /// Seed of the run's random streams (ChaCha); the same seed gives the same bytes.
     #[arg(long, default_value_t = 1, allow_negative_numbers = true)]
     pub seed: u64,
     /// Samples per pixel side of the reference image (16: 16x16 samples per pixel).
@@ -474,20 +481,24 @@ pub enum BenchCommand {
         after_help = "Example:\n  sortsim bench overhead --scene scenes/polio-standin.json --procs 512 --fidelity hops"
     )]
     Overhead {
+        /// Machine spec.
         #[arg(
             long,
             default_value = "machines/delta.json",
             allow_negative_numbers = true
         )]
         machine: PathBuf,
+        /// Scene spec.
         #[arg(
             long,
             default_value = "scenes/polio-standin.json",
             allow_negative_numbers = true
         )]
         scene: PathBuf,
+        /// Processors the frame is simulated on.
         #[arg(long, default_value_t = 512, allow_negative_numbers = true)]
         procs: u32,
+        /// The frame simulated and drawn.
         #[arg(long, default_value_t = 1, allow_negative_numbers = true)]
         frame: u32,
         /// Network fidelities to measure (the machine's own when absent).
@@ -531,6 +542,7 @@ pub enum BenchCommand {
             allow_negative_numbers = true
         )]
         scene: PathBuf,
+        /// The frame recorded (0 is the first).
         #[arg(long, default_value_t = 0, allow_negative_numbers = true)]
         frame: u32,
         /// `all` (n = 1..=64) or `pow2` (1, 2, 4, ..., 64).
@@ -539,6 +551,7 @@ pub enum BenchCommand {
         /// Primitive assignment: scatter, random or background-last.
         #[arg(long, default_value = "scatter", value_parser = ["scatter", "random", "background-last"], allow_negative_numbers = true)]
         assign: String,
+        /// Seed of the run's random streams (ChaCha); the same seed gives the same bytes.
         #[arg(long, default_value_t = 1, allow_negative_numbers = true)]
         seed: u64,
     },
@@ -564,6 +577,7 @@ pub struct PholdArgs {
     /// Simulated end time.
     #[arg(long, default_value = "1ms", allow_negative_numbers = true)]
     pub end: crate::units::SimTime,
+    /// Seed of the run's random streams (ChaCha); the same seed gives the same bytes.
     #[arg(long, default_value_t = 1, allow_negative_numbers = true)]
     pub seed: u64,
     /// Also write DIR/summary.json (deterministic) and DIR/cost.json (wall times).
@@ -602,7 +616,9 @@ fn parse_aa(s: &str) -> Result<crate::raster::aa::AaMethod, String> {
 
 #[derive(Args, Debug)]
 pub struct RenderArgs {
+    /// Scene spec (scenes/*.json).
     pub scene: PathBuf,
+    /// The frame to draw (0 is the first).
     #[arg(long, default_value_t = 0, allow_negative_numbers = true)]
     pub frame: u32,
     /// Anti-aliasing: none, adaptive or supersample:N (N = 4, 9, 16, ... 256), the image
@@ -616,6 +632,7 @@ pub struct RenderArgs {
 
 #[derive(Args, Debug)]
 pub struct SceneStatsArgs {
+    /// Scene spec (scenes/*.json).
     pub scene: PathBuf,
     /// Frames: A..B (B excluded), A..=B (B included) or A; frame 0 when absent.
     #[arg(long, allow_negative_numbers = true)]
@@ -637,5 +654,32 @@ impl From<FidelityArg> for crate::net::Fidelity {
             FidelityArg::Flow => Fidelity::Flow,
             FidelityArg::Packet => Fidelity::Packet,
         }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use clap::CommandFactory;
+
+    /// Every flag and argument of every command says what it takes.
+    #[test]
+    fn every_flag_has_help() {
+        fn walk(cmd: &clap::Command, path: &str, missing: &mut Vec<String>) {
+            for arg in cmd.get_arguments() {
+                let id = arg.get_id().as_str();
+                if ["help", "version"].contains(&id) {
+                    continue;
+                }
+                if arg.get_help().is_none() && arg.get_long_help().is_none() {
+                    missing.push(format!("{path} {id}"));
+                }
+            }
+            for sub in cmd.get_subcommands() {
+                walk(sub, &format!("{path} {}", sub.get_name()), missing);
+            }
+        }
+        let mut missing = Vec::new();
+        walk(&super::Cli::command(), "sortsim", &mut missing);
+        assert!(missing.is_empty(), "flags without help: {missing:?}");
     }
 }
