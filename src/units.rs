@@ -202,13 +202,20 @@ impl Bandwidth {
     }
 }
 
+/// Exact and short: the largest SI prefix that divides the rate (`17MB/s`, `150kB/s`,
+/// `235439B/s`), so the text parses back to the same rate.
 impl fmt::Display for Bandwidth {
     fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
-        if self.bits_per_s % 8 == 0 {
-            write!(f, "{}B/s", self.bits_per_s / 8)
+        let (value, unit) = if self.bits_per_s % 8 == 0 {
+            (self.bits_per_s / 8, "B/s")
         } else {
-            write!(f, "{}bit/s", self.bits_per_s)
-        }
+            (self.bits_per_s, "bit/s")
+        };
+        let (scaled, prefix) = [(1_000_000_000, "G"), (1_000_000, "M"), (1_000, "k")]
+            .into_iter()
+            .find(|&(p, _)| value >= p && value % p == 0)
+            .map_or((value, ""), |(p, name)| (value / p, name));
+        write!(f, "{scaled}{prefix}{unit}")
     }
 }
 
@@ -494,9 +501,22 @@ mod tests {
     fn display_is_compact() {
         assert_eq!(SimTime::from_us(60).to_string(), "60us");
         assert_eq!(SimTime::from_ps(1_500_000_000).to_string(), "1.500000ms");
-        assert_eq!(
-            "17MB/s".parse::<Bandwidth>().unwrap().to_string(),
-            "17000000B/s"
-        );
+        for (given, shown) in [
+            ("17MB/s", "17MB/s"),
+            ("17000000B/s", "17MB/s"),
+            ("150000B/s", "150kB/s"),
+            ("235439B/s", "235439B/s"),
+            ("1.2GB/s", "1200MB/s"),
+            ("4.2GB/s", "4200MB/s"),
+            ("2GB/s", "2GB/s"),
+        ] {
+            let rate: Bandwidth = given.parse().unwrap();
+            assert_eq!(rate.to_string(), shown, "{given}");
+            assert_eq!(
+                shown.parse::<Bandwidth>().unwrap(),
+                rate,
+                "{shown} parses back"
+            );
+        }
     }
 }

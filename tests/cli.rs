@@ -46,7 +46,7 @@ fn every_bundled_machine_checks_ok() {
         "{stdout}"
     );
     assert!(
-        stdout.contains("machine 'delta': 512 nodes, mesh 16x32, links 17000000B/s with 80ns per hop, wormhole switching"),
+        stdout.contains("machine 'delta': 512 nodes, mesh 16x32, links 17MB/s with 80ns per hop, wormhole switching"),
         "{stdout}"
     );
 }

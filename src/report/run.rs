@@ -65,7 +65,7 @@ pub fn write_report(
             &summary.machine_metrics.nodes,
             summary.machine_metrics.end_s,
         ))
-        .markdown(&summary.tables(false));
+        .markdown(&summary.tables_with(false, "Every node's row is in the table below."));
     let mut every_node = String::new();
     summary.node_table(&mut every_node);
     page = page.markdown(&every_node);
@@ -131,8 +131,16 @@ impl RunSummary {
         s
     }
 
-    /// The frames table, anti-aliasing, the nodes (every row, or the digest) and the links.
+    /// The frames table, anti-aliasing, the nodes (every row, or the digest and where to find
+    /// every row) and the links.
     fn tables(&self, nodes_in_full: bool) -> String {
+        self.tables_with(
+            nodes_in_full,
+            "Every node's row: summary.md in the report folder, or --verbose.",
+        )
+    }
+
+    fn tables_with(&self, nodes_in_full: bool, rows_are: &str) -> String {
         let mut s = String::new();
         let _ = writeln!(s, "## Frames\n\n| frame | time (s) | triangles in view | triangles/s | load imbalance (%) | bytes | messages |");
         let _ = writeln!(s, "|---:|---:|---:|---:|---:|---:|---:|");
@@ -153,7 +161,7 @@ impl RunSummary {
         if nodes_in_full {
             self.node_table(&mut s);
         } else {
-            self.node_digest(&mut s);
+            self.node_digest(&mut s, rows_are);
         }
         let busiest = self
             .machine_metrics
@@ -221,7 +229,7 @@ impl RunSummary {
     }
 
     /// The per-node table in a few lines: each column's min, mean and max over the nodes.
-    fn node_digest(&self, s: &mut String) {
+    fn node_digest(&self, s: &mut String, rows_are: &str) {
         let nodes = &self.machine_metrics.nodes;
         if nodes.is_empty() {
             return;
@@ -262,10 +270,7 @@ impl RunSummary {
                 nodes[at].node
             );
         }
-        let _ = writeln!(
-            s,
-            "\nEvery node's row: summary.md in the report folder, or --verbose."
-        );
+        let _ = writeln!(s, "\n{rows_are}");
     }
 
     /// The anti-aliasing table of summary.md, when the run anti-aliased.
