@@ -220,6 +220,11 @@ fn every_bad_pattern_is_refused_and_writes_nothing() {
 fn bad_flags_are_refused_with_exit_code_2() {
     let cases: &[(&[&str], &str)] = &[
         (&["bench", "phold", "--remote", "1.5"], "not a probability"),
+        // A data root without machines/ is named, with what would be valid.
+        (
+            &["--root", "/nonexistent-sortsim-root", "check", "machines/delta.json"],
+            "/nonexistent-sortsim-root: not a sortsim data root (--root or SORTSIM_ROOT): it has no machines/ folder",
+        ),
         (
             &["bench", "phold", "--lps", "1048576", "--events-per-lp", "4294967295"],
             "events in flight; the engine holds at most 16777216",
@@ -1219,4 +1224,26 @@ fn a_pattern_past_the_packet_budget_is_refused_at_packet_fidelity_only() {
         "{}",
         String::from_utf8_lossy(&flow.stderr)
     );
+}
+
+/// Outside a checkout, with no data root given and a data folder that cannot be written, the
+/// bundled machines cannot be unpacked: one message saying so and how to give a root, exit 2,
+/// nothing written.
+#[test]
+fn an_unwritable_data_folder_is_refused_with_a_way_out() {
+    let work = tempfile::tempdir().unwrap();
+    let out = Command::new(env!("CARGO_BIN_EXE_sortsim"))
+        .args(["check", "machines/delta.json"])
+        .current_dir(work.path())
+        .env_remove("SORTSIM_ROOT")
+        .env("XDG_DATA_HOME", "/dev/null/not-a-folder")
+        .output()
+        .expect("sortsim runs");
+    common::assert_refused(
+        &out,
+        "unwritable data folder",
+        "cannot unpack sortsim's bundled machines and scenes",
+    );
+    assert!(String::from_utf8_lossy(&out.stderr).contains("--root DIR or SORTSIM_ROOT"));
+    assert_eq!(std::fs::read_dir(work.path()).unwrap().count(), 0);
 }

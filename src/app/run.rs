@@ -2,6 +2,7 @@
 //! fidelity) and its report. The run itself lives in `algo`, the report in `report`.
 
 use std::collections::BTreeMap;
+use std::path::Path;
 
 use super::cli::{AccuracyArgs, RunArgs};
 use super::{is_internal, out_dir, Context, Failure};
@@ -10,16 +11,12 @@ use crate::output::cost::Stopwatch;
 use crate::spec::run::RunSpec;
 
 pub(super) fn run(ctx: &Context, args: &RunArgs, verbose: bool) -> Result<(), Failure> {
-    let spec = RunSpec {
-        schema: None,
-        machine: ctx.input(&args.machine),
-        scene: ctx.input(&args.scene),
-        algo: args.algo.clone(),
-        procs: args.procs,
-        frames: args.frames.clone(),
-        seed: args.seed,
-        set: parse_set(&args.set)?,
-    };
+    let spec = run_spec(
+        ctx,
+        (&args.machine, &args.scene, &args.algo),
+        (args.procs, &args.frames, args.seed),
+        &args.set,
+    )?;
     let mut cfg = spec.resolve(None)?;
     cfg.timeline = !args.no_timeline;
     let clock = Stopwatch::start();
@@ -29,6 +26,26 @@ pub(super) fn run(ctx: &Context, args: &RunArgs, verbose: bool) -> Result<(), Fa
     print!("{}", summary.terminal(verbose));
     print!("\n{}", crate::report::run::closing_line(&args.out, &cost));
     Ok(())
+}
+
+/// The run spec that `run`'s and `accuracy`'s flags spell: (machine, scene, algo), (procs,
+/// frames, seed) and the `--set` pairs, files found by the data-root rule.
+fn run_spec(
+    ctx: &Context,
+    (machine, scene, algo): (&Path, &Path, &str),
+    (procs, frames, seed): (u32, &Option<String>, u64),
+    set: &[String],
+) -> Result<RunSpec, Failure> {
+    Ok(RunSpec {
+        schema: None,
+        machine: ctx.input(machine),
+        scene: ctx.input(scene),
+        algo: algo.to_string(),
+        procs,
+        frames: frames.clone(),
+        seed,
+        set: parse_set(set)?,
+    })
 }
 
 /// `--set KEY=VALUE` flags as a run spec's `set` map.
@@ -58,16 +75,12 @@ pub(super) fn accuracy(ctx: &Context, args: &AccuracyArgs) -> Result<(), Failure
         }
     }
     let cfg = StudyConfig {
-        run: RunSpec {
-            schema: None,
-            machine: ctx.input(&args.machine),
-            scene: ctx.input(&args.scene),
-            algo: args.algo.clone(),
-            procs: args.procs,
-            frames: args.frames.clone(),
-            seed: args.seed,
-            set: parse_set(&args.set)?,
-        },
+        run: run_spec(
+            ctx,
+            (&args.machine, &args.scene, &args.algo),
+            (args.procs, &args.frames, args.seed),
+            &args.set,
+        )?,
         modes,
         fidelities,
         reference_scale: args.reference_scale,

@@ -37,8 +37,7 @@ pub fn write_page(dir: &Path, job: &DefaultJob) -> Result<(), PlotError> {
             h2 { "Machines checked" }
             ul { @for m in job.machines { li { (m.file_name().map_or_else(String::new, |n| n.to_string_lossy().into_owned())) } } }
         })
-        .section(html! { h2 { "The default sweep" } })
-        .section(table_html(job.sweep_rows))
+        .section(table_html("The default sweep", job.sweep_rows))
         .images_of(dir)
         .section(html! {
             h2 { "PHOLD" }

@@ -23,7 +23,7 @@ pub fn write_page(dir: &Path, sweep: &Sweep, rows: &[Row]) -> Result<(), PlotErr
             p { (rows.len()) " points; speedup is triangles/s over the one-processor point's. "
                 "Each point's summary.json is under points/." }
         })
-        .section(table_html(rows))
+        .section(table_html("Table", rows))
         .images_of(dir)
         .files(&["sweep.csv", "sweep.json", "cost.json"])
         .write(dir)
@@ -31,7 +31,7 @@ pub fn write_page(dir: &Path, sweep: &Sweep, rows: &[Row]) -> Result<(), PlotErr
 
 /// The sweep's table as the terminal prints it, as an HTML table (a failed point's error in a
 /// row of its own).
-pub fn table_html(rows: &[Row]) -> maud::Markup {
+pub fn table_html(title: &str, rows: &[Row]) -> maud::Markup {
     let mut cells = Vec::new();
     for (row, error) in shown_cells(rows) {
         cells.push(row);
@@ -39,5 +39,5 @@ pub fn table_html(rows: &[Row]) -> maud::Markup {
             cells.push(vec![format!("failed: {e}")]);
         }
     }
-    table("Table", &SHOWN_COLUMNS, &cells)
+    table(title, &SHOWN_COLUMNS, &cells)
 }
