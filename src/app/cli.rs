@@ -32,8 +32,9 @@ pub struct Cli {
 
 #[derive(Subcommand, Debug)]
 pub enum Command {
-    /// Validate machine, scene, run and sweep specs (the kind is detected).
-    #[command(after_help = "Example:\n  sortsim check machines/*.json")]
+    /// Validate machine, scene, run and sweep specs, network patterns, calibration specs,
+    /// paper files and traces (the kind is detected).
+    #[command(after_help = check_help())]
     Check {
         /// Spec files to validate.
         #[arg(required = true)]
@@ -370,6 +371,18 @@ pub struct SweepArgs {
     pub submit: bool,
 }
 
+/// `sortsim check --help`: the example, then the machine kinds from their registries.
+fn check_help() -> String {
+    let names = |all: &[&str]| all.join(", ");
+    format!(
+        "Example:\n  sortsim check machines/*.json\n\nA machine's network.topology is one of {}; \
+         its network.switching {}; its network.fidelity {}.",
+        names(&crate::net::TopologyKind::ALL.map(|t| t.name())),
+        names(&crate::net::Switching::ALL.map(|t| t.name())),
+        names(&crate::net::Fidelity::ALL.map(|t| t.name())),
+    )
+}
+
 /// `sortsim run --help`: the example, then every algorithm's options from their structs.
 fn run_long_help() -> String {
     format!(
@@ -681,5 +694,14 @@ mod tests {
         let mut missing = Vec::new();
         walk(&super::Cli::command(), "sortsim", &mut missing);
         assert!(missing.is_empty(), "flags without help: {missing:?}");
+    }
+
+    /// `check --help` lists every topology, from the registry the loader reads.
+    #[test]
+    fn check_help_names_every_topology() {
+        let help = super::check_help();
+        for t in crate::net::TopologyKind::ALL {
+            assert!(help.contains(t.name()), "{} missing from: {help}", t.name());
+        }
     }
 }

@@ -28,11 +28,18 @@ pub fn write_phold(dir: &Path, summary: &PholdSummary, cost: &PholdCost) -> Resu
 /// What `bench phold` prints: the workload, both loops' event rates and their ratio, and
 /// whether they processed the same events (summary.json and cost.json hold every number).
 pub fn phold_text(summary: &PholdSummary, cost: &PholdCost) -> String {
+    let row = |who: &str, wall: f64, rate: f64| {
+        format!(
+            "{who:<10} {:>12} {:>10.3} {:>12.2}\n",
+            summary.events,
+            wall,
+            rate / 1e6
+        )
+    };
     format!(
         "PHOLD: {} logical processes x {} events = {} in flight, {:.0}% remote, mean delay {:.3} us, \
          lookahead {:.3} us, simulated to {:.3} us (seed {})\n\
-         engine:    {} events in {:.3} s wall, {:.2} M events/s\n\
-         bare heap: {} in {:.3} s wall, {:.2} M events/s\n\
+         {:<10} {:>12} {:>10} {:>12}\n{}{}\
          engine / bare heap: {:.2}x; same events in the same order: {} (trace {})\n",
         summary.lps,
         summary.events_per_lp,
@@ -42,12 +49,12 @@ pub fn phold_text(summary: &PholdSummary, cost: &PholdCost) -> String {
         summary.lookahead_s * 1e6,
         summary.simulated_end_s * 1e6,
         summary.seed,
-        summary.events,
-        cost.engine_wall_s,
-        cost.engine_events_per_s / 1e6,
-        if summary.baseline_agrees { "the same" } else { "different" },
-        cost.baseline_wall_s,
-        cost.baseline_events_per_s / 1e6,
+        "loop",
+        "events",
+        "wall (s)",
+        "M events/s",
+        row("engine", cost.engine_wall_s, cost.engine_events_per_s),
+        row("bare heap", cost.baseline_wall_s, cost.baseline_events_per_s),
         cost.ratio_to_baseline,
         if summary.baseline_agrees { "yes" } else { "NO" },
         summary.trace_hash
