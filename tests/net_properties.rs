@@ -10,13 +10,15 @@ use sortsim::net::pattern::{drive, ParsedMessage};
 use sortsim::net::{Dest, Fidelity, Network, NetworkConfig, Switching, TopologyKind};
 use sortsim::units::{Bytes, SimTime};
 
-const SHAPES: [(TopologyKind, &[u32]); 6] = [
+const SHAPES: [(TopologyKind, &[u32]); 8] = [
     (TopologyKind::Ring, &[6]),
     (TopologyKind::Torus, &[3, 3]),
     (TopologyKind::Mesh, &[3, 2]),
     (TopologyKind::Hypercube, &[8]),
     (TopologyKind::Bus, &[4]),
     (TopologyKind::Crossbar, &[4]),
+    (TopologyKind::FatTree, &[3, 2, 1, 2, 2, 1]),
+    (TopologyKind::Dragonfly, &[2, 2, 2, 1]),
 ];
 
 fn config(shape: usize, packet: bool, wormhole: bool) -> NetworkConfig {

@@ -23,14 +23,14 @@ fn check(net: &Network, src: u32, dst: u32, expected: &[&str], hops: u32) {
     let route = net.route(src, dst).expect("routable");
     let names: Vec<String> = route
         .iter()
-        .map(|&l| net.links()[l as usize].name())
+        .map(|&l| net.links()[l as usize].name(net.nodes()))
         .collect();
     assert_eq!(names, expected, "route {src} -> {dst}");
     assert_eq!(net.hops(src, dst), hops, "hops {src} -> {dst}");
 }
 
 fn link_names(net: &Network) -> Vec<String> {
-    net.links().iter().map(|l| l.name()).collect()
+    net.links().iter().map(|l| l.name(net.nodes())).collect()
 }
 
 #[test]
@@ -207,9 +207,11 @@ fn names_round_trip_and_unknown_names_list_the_valid_ones() {
     for s in Switching::ALL {
         assert_eq!(Switching::from_name(s.name()), Ok(s));
     }
-    let e = TopologyKind::from_name("fat-tree").unwrap_err().to_string();
+    let e = TopologyKind::from_name("butterfly")
+        .unwrap_err()
+        .to_string();
     assert!(
-        e.contains("ring, pipeline, torus, mesh, hypercube, bus, crossbar"),
+        e.contains("ring, pipeline, torus, mesh, hypercube, bus, crossbar, fat-tree, dragonfly"),
         "{e}"
     );
     let e = Switching::from_name("cut-through").unwrap_err().to_string();
@@ -297,10 +299,52 @@ fn grid_routes_follow_dimension_order_hop_by_hop() {
                     .route(src, dst)
                     .expect("routable")
                     .iter()
-                    .map(|&l| n.links()[l as usize].name())
+                    .map(|&l| n.links()[l as usize].name(n.nodes()))
                     .collect();
                 assert_eq!(route, expected, "{kind:?} {dims:?}: {src} -> {dst}");
             }
         }
     }
+}
+
+#[test]
+fn fat_tree_goes_up_by_destination_mod_k_and_down_to_the_destination() {
+    // Two levels: 4 leaves of 4 hosts, 2 spines (s4, s5), one cable per pair.
+    let n = net(TopologyKind::FatTree, &[4, 4, 1, 2, 1, 1]);
+    assert_eq!(n.nodes(), 16);
+    check(&n, 0, 3, &["0->s0", "s0->3"], 2);
+    // Host 9 is odd: spine s5; host 8 even: spine s4.
+    check(&n, 5, 9, &["5->s1", "s1->s5", "s5->s2", "s2->9"], 4);
+    check(&n, 5, 8, &["5->s1", "s1->s4", "s4->s2", "s2->8"], 4);
+    assert_eq!(n.bisection_width(), 4);
+}
+
+#[test]
+fn dragonfly_routes_minimally_through_the_one_global_link() {
+    // 3 groups of 1 chassis of 3 routers (s0..s8), 2 hosts each.
+    let n = net(TopologyKind::Dragonfly, &[3, 1, 3, 2]);
+    assert_eq!(n.nodes(), 18);
+    check(
+        &n,
+        0,
+        17,
+        &["0->s0", "s0->s2", "s2->s6", "s6->s8", "s8->17"],
+        5,
+    );
+    // The global link from group 1 to group 0 sits on router 0 of group 1 (s3): no green hop
+    // at the source; then router 1 of group 0 (s1) is where it lands.
+    check(&n, 6, 2, &["6->s3", "s3->s1", "s1->2"], 3);
+    assert_eq!(n.bisection_width(), 2);
+    // Two chassis: green within the chassis the message is in, then black; the global link
+    // from group 0 to group 1 sits on router 1 of chassis 0 (s1).
+    let n = net(TopologyKind::Dragonfly, &[2, 2, 2, 1]);
+    check(&n, 3, 4, &["3->s3", "s3->s1", "s1->s4", "s4->4"], 4);
+    check(
+        &n,
+        2,
+        5,
+        &["2->s2", "s2->s3", "s3->s1", "s1->s4", "s4->s5", "s5->5"],
+        6,
+    );
+    check(&n, 2, 1, &["2->s2", "s2->s3", "s3->s1", "s1->1"], 4);
 }

@@ -40,7 +40,7 @@ fn run(cfg: &NetworkConfig, messages: &[ParsedMessage]) -> Vec<SimTime> {
 }
 
 /// (topology, dims, a far pair) covering every topology.
-const SHAPES: [(TopologyKind, &[u32], u32, u32); 8] = [
+const SHAPES: [(TopologyKind, &[u32], u32, u32); 11] = [
     (TopologyKind::Ring, &[8], 6, 2),
     (TopologyKind::Pipeline, &[5], 0, 4),
     (TopologyKind::Torus, &[4, 4], 15, 5),
@@ -49,6 +49,9 @@ const SHAPES: [(TopologyKind, &[u32], u32, u32); 8] = [
     (TopologyKind::Hypercube, &[16], 3, 12),
     (TopologyKind::Bus, &[4], 3, 0),
     (TopologyKind::Crossbar, &[4], 2, 1),
+    (TopologyKind::Torus, &[2, 3, 2, 3, 2], 0, 71),
+    (TopologyKind::FatTree, &[4, 4, 2, 1, 2, 2, 1, 2, 1], 1, 30),
+    (TopologyKind::Dragonfly, &[3, 2, 3, 2], 0, 35),
 ];
 
 const SIZES: [u64; 7] = [

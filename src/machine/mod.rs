@@ -54,6 +54,9 @@ impl MachineConfig {
             TopologyKind::Hypercube => {
                 return Err(format!("a hypercube partition has a power-of-two node count; {nodes} is not"))
             }
+            // A switched network is used whole: the run's processes sit on its first hosts,
+            // as a batch system hands out the first nodes of a partition.
+            TopologyKind::FatTree | TopologyKind::Dragonfly => self.network.dims.clone(),
             TopologyKind::Torus if nodes == self.nodes => self.network.dims.clone(),
             TopologyKind::Torus if self.reconfigurable => squarest_torus(nodes),
             TopologyKind::Torus => {

@@ -57,10 +57,12 @@ pub enum TopologyKind {
     Hypercube,
     Bus,
     Crossbar,
+    FatTree,
+    Dragonfly,
 }
 
 impl TopologyKind {
-    pub const ALL: [TopologyKind; 7] = [
+    pub const ALL: [TopologyKind; 9] = [
         TopologyKind::Ring,
         TopologyKind::Pipeline,
         TopologyKind::Torus,
@@ -68,6 +70,8 @@ impl TopologyKind {
         TopologyKind::Hypercube,
         TopologyKind::Bus,
         TopologyKind::Crossbar,
+        TopologyKind::FatTree,
+        TopologyKind::Dragonfly,
     ];
     pub fn name(self) -> &'static str {
         match self {
@@ -78,6 +82,8 @@ impl TopologyKind {
             TopologyKind::Hypercube => "hypercube",
             TopologyKind::Bus => "bus",
             TopologyKind::Crossbar => "crossbar",
+            TopologyKind::FatTree => "fat-tree",
+            TopologyKind::Dragonfly => "dragonfly",
         }
     }
     /// The kind called `name` in specs (`ring`, `torus`, ...), or an error listing them.
@@ -143,6 +149,27 @@ pub fn dims_text(dims: &[u32]) -> String {
         .join("x")
 }
 
+/// A network's shape as people write it: `16x32` for a grid, the levels of a fat-tree, the
+/// parts of a dragonfly (`dims` as [`NetworkConfig::dims`] holds them).
+pub fn shape_text(topology: TopologyKind, dims: &[u32]) -> String {
+    let list = |d: &[u32]| d.iter().map(u32::to_string).collect::<Vec<_>>().join(",");
+    match (topology, dims) {
+        (TopologyKind::FatTree, _) => {
+            let h = dims.len() / 3;
+            format!(
+                "down [{}] up [{}] parallel [{}]",
+                list(&dims[..h]),
+                list(&dims[h..2 * h]),
+                list(&dims[2 * h..])
+            )
+        }
+        (TopologyKind::Dragonfly, &[g, c, r, n]) => {
+            format!("{g} groups x {c} chassis x {r} routers x {n} hosts")
+        }
+        _ => dims_text(dims),
+    }
+}
+
 /// Users read these enums by the names specs spell them with (`mesh`, `wormhole`, `flow`),
 /// never by their Rust names.
 macro_rules! display_by_name {
@@ -180,7 +207,8 @@ fn by_name<T: Copy>(
 pub struct NetworkConfig {
     pub topology: TopologyKind,
     /// Extent per dimension (torus, mesh); `[nodes]` for the one-dimensional topologies and
-    /// the hypercube.
+    /// the hypercube; a fat-tree's `down ++ up ++ parallel` (one entry each per level,
+    /// SimGrid's parameters); a dragonfly's `[groups, chassis, routers, nodes per router]`.
     pub dims: Vec<u32>,
     pub link_bandwidth: Bandwidth,
     pub hop_latency: SimTime,
@@ -215,7 +243,8 @@ pub struct Delivered {
 pub struct LinkStats {
     pub from: NodeId,
     pub to: NodeId,
-    /// Human name: `3->4` for a wire, `bus`, `out3` / `in3` for crossbar ports.
+    /// Human name: `3->4` for a wire (`3->s0` to a switch), `bus`, `out3` / `in3` for crossbar
+    /// ports.
     pub name: String,
     pub bytes: Bytes,
     pub messages: u64,
@@ -494,7 +523,7 @@ impl Network {
                 LinkStats {
                     from: link.from,
                     to: link.to,
-                    name: link.name(),
+                    name: link.name(self.topology.nodes()),
                     bytes: self.carried[i].0,
                     messages: self.carried[i].1,
                     busy: usage.busy,

@@ -39,7 +39,7 @@ pub fn check(path: &Path) -> Result<String, CheckError> {
                 m.name,
                 m.nodes,
                 m.network.topology.name(),
-                crate::net::dims_text(&m.network.dims),
+                crate::net::shape_text(m.network.topology, &m.network.dims),
                 m.network.link_bandwidth,
                 m.network.hop_latency,
                 m.network.switching.name(),

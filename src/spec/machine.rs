@@ -91,6 +91,43 @@ pub struct NetworkSpec {
     /// for; a fixed torus must be used whole.
     #[serde(default)]
     pub reconfigurable: bool,
+    /// The levels of a `fat-tree` (required for one, refused for any other topology).
+    #[serde(default)]
+    pub fat_tree: Option<FatTreeSpec>,
+    /// The parts of a `dragonfly` (required for one, refused for any other topology).
+    #[serde(default)]
+    pub dragonfly: Option<DragonflySpec>,
+}
+
+/// A generalized fat-tree, level by level from the hosts up, in SimGrid's terms: `down[l]`
+/// children per switch of level `l + 1`, `up[l]` parents per node of level `l`, and
+/// `parallel[l]` cables between each such pair. Hosts: the product of `down`.
+#[derive(Deserialize, Debug, Clone, schemars::JsonSchema)]
+#[serde(deny_unknown_fields)]
+pub struct FatTreeSpec {
+    #[schemars(length(min = 1), inner(range(min = 1)))]
+    pub down: Vec<u32>,
+    #[schemars(length(min = 1), inner(range(min = 1)))]
+    pub up: Vec<u32>,
+    #[schemars(length(min = 1), inner(range(min = 1)))]
+    pub parallel: Vec<u32>,
+}
+
+/// A dragonfly (Cray Cascade layout, as SimGrid's zone): groups of chassis of routers, each
+/// router serving `nodes_per_router` hosts; one global link between every two groups.
+#[derive(Deserialize, Debug, Clone, schemars::JsonSchema)]
+#[serde(deny_unknown_fields)]
+pub struct DragonflySpec {
+    /// At most `routers` (the global link to group g sits on router g of chassis 0).
+    #[schemars(range(min = 1))]
+    pub groups: u32,
+    #[schemars(range(min = 1))]
+    pub chassis: u32,
+    /// Routers per chassis.
+    #[schemars(range(min = 1))]
+    pub routers: u32,
+    #[schemars(range(min = 1))]
+    pub nodes_per_router: u32,
 }
 
 #[derive(Deserialize, Debug, Clone, Copy, schemars::JsonSchema)]
@@ -103,6 +140,8 @@ pub enum TopologySpec {
     Hypercube,
     Bus,
     Crossbar,
+    FatTree,
+    Dragonfly,
 }
 
 #[derive(Deserialize, Debug, Clone, Copy, schemars::JsonSchema)]
@@ -142,6 +181,8 @@ impl From<TopologySpec> for TopologyKind {
             TopologySpec::Hypercube => TopologyKind::Hypercube,
             TopologySpec::Bus => TopologyKind::Bus,
             TopologySpec::Crossbar => TopologyKind::Crossbar,
+            TopologySpec::FatTree => TopologyKind::FatTree,
+            TopologySpec::Dragonfly => TopologyKind::Dragonfly,
         }
     }
 }
@@ -218,10 +259,107 @@ pub fn validate(path: &Path, spec: MachineSpec) -> Result<MachineConfig, SpecErr
     })
 }
 
+/// The dims of a fat-tree (`down ++ up ++ parallel`) or dragonfly (`[groups, chassis,
+/// routers, nodes]`) from its typed description; `None` for the other topologies, which may
+/// not carry one.
+fn switched_dims(
+    path: &Path,
+    topology: TopologyKind,
+    net: &NetworkSpec,
+) -> Result<Option<Vec<u32>>, SpecError> {
+    let invalid = |field: &str, msg: String| SpecError::invalid(path, field, msg);
+    let refuse = |field: &str| {
+        Err(invalid(
+            field,
+            format!(
+                "only a {} takes `{field}`; this network is a {topology}",
+                field.trim_start_matches("network.").replace('_', "-")
+            ),
+        ))
+    };
+    match topology {
+        TopologyKind::FatTree => {
+            let Some(t) = &net.fat_tree else {
+                return Err(invalid(
+                    "network.fat_tree",
+                    "a fat-tree needs its levels: {\"down\": [4, 4], \"up\": [1, 2], \"parallel\": [1, 1]}".into(),
+                ));
+            };
+            if net.dragonfly.is_some() {
+                return refuse("network.dragonfly");
+            }
+            for (field, list) in [("down", &t.down), ("up", &t.up), ("parallel", &t.parallel)] {
+                if list.len() != t.down.len() || list.is_empty() {
+                    return Err(invalid(
+                        &format!("network.fat_tree.{field}"),
+                        format!(
+                            "one entry per level: `down` has {}, `{field}` has {}",
+                            t.down.len(),
+                            list.len()
+                        ),
+                    ));
+                }
+                if let Some(i) = list.iter().position(|&v| v == 0) {
+                    return Err(invalid(
+                        &format!("network.fat_tree.{field}[{i}]"),
+                        "must be at least 1".into(),
+                    ));
+                }
+            }
+            Ok(Some([&t.down[..], &t.up, &t.parallel].concat()))
+        }
+        TopologyKind::Dragonfly => {
+            let Some(d) = &net.dragonfly else {
+                return Err(invalid(
+                    "network.dragonfly",
+                    "a dragonfly needs its parts: {\"groups\": 4, \"chassis\": 2, \"routers\": 4, \"nodes_per_router\": 2}".into(),
+                ));
+            };
+            if net.fat_tree.is_some() {
+                return refuse("network.fat_tree");
+            }
+            let parts = [d.groups, d.chassis, d.routers, d.nodes_per_router];
+            let names = ["groups", "chassis", "routers", "nodes_per_router"];
+            if let Some(i) = parts.iter().position(|&v| v == 0) {
+                return Err(invalid(
+                    &format!("network.dragonfly.{}", names[i]),
+                    "must be at least 1".into(),
+                ));
+            }
+            if d.groups > d.routers {
+                return Err(invalid(
+                    "network.dragonfly.groups",
+                    format!(
+                        "at most `routers` ({}): the global link to group g sits on router g of chassis 0",
+                        d.routers
+                    ),
+                ));
+            }
+            Ok(Some(parts.to_vec()))
+        }
+        _ if net.fat_tree.is_some() => refuse("network.fat_tree"),
+        _ if net.dragonfly.is_some() => refuse("network.dragonfly"),
+        _ => Ok(None),
+    }
+}
+
 fn network_config(path: &Path, nodes: u32, net: &NetworkSpec) -> Result<NetworkConfig, SpecError> {
     let invalid = |field: &str, msg: String| SpecError::invalid(path, field, msg);
     let topology = TopologyKind::from(net.topology);
+    let switched = switched_dims(path, topology, net)?;
     let dims = match (&net.dims, topology) {
+        (Some(_), TopologyKind::FatTree | TopologyKind::Dragonfly) => {
+            return Err(invalid(
+                "network.dims",
+                format!(
+                    "a {topology} is described by `network.{}`; remove `dims`",
+                    topology.name().replace('-', "_")
+                ),
+            ))
+        }
+        (None, TopologyKind::FatTree | TopologyKind::Dragonfly) => {
+            switched.clone().expect("switched_dims requires the shape")
+        }
         (Some(d), _) => d.clone(),
         (
             None,
@@ -252,7 +390,11 @@ fn network_config(path: &Path, nodes: u32, net: &NetworkSpec) -> Result<NetworkC
             "a dimension must be at least 1".into(),
         ));
     }
-    let product: u64 = dims.iter().map(|&d| d as u64).product();
+    let hosts = match topology {
+        TopologyKind::FatTree => &dims[..dims.len() / 3],
+        _ => &dims[..],
+    };
+    let product: u64 = hosts.iter().map(|&d| d as u64).product();
     if product != nodes as u64 {
         return Err(invalid(
             "network.dims",

@@ -4,6 +4,9 @@
 //! and the exhaustive selection from [`TopologyKind`]. Routing is deterministic and fixed per
 //! pair (no adaptive routing): ties always go the "increasing id" way.
 //!
+//! Vertices: nodes (hosts) are `0..nodes`; a switched network (fat-tree, dragonfly) numbers
+//! its switches from `nodes` on, so a link's ends may be switches.
+//!
 //! Bisection width convention, shared by every topology: the number of links that cross
 //! the best balanced cut, counted in ONE direction (a bidirectional pair counts once, a
 //! one-way link counts once). A ring has 2, a k-ary n-cube `2 * N / k` for the cut across its
@@ -13,6 +16,8 @@
 
 mod bus;
 mod crossbar;
+mod dragonfly;
+mod fat_tree;
 mod grid;
 mod hypercube;
 mod mesh;
@@ -51,10 +56,18 @@ impl Link {
         }
     }
 
-    /// `3->4`, `bus`, `out3`, `in3`.
-    pub fn name(&self) -> String {
+    /// `3->4`, `3->s0` (to the first switch of a network of `nodes` hosts), `bus`, `out3`,
+    /// `in3`.
+    pub fn name(&self, nodes: u32) -> String {
+        let vertex = |v: NodeId| {
+            if v < nodes {
+                v.to_string()
+            } else {
+                format!("s{}", v - nodes)
+            }
+        };
         match self.kind {
-            LinkKind::Wire => format!("{}->{}", self.from, self.to),
+            LinkKind::Wire => format!("{}->{}", vertex(self.from), vertex(self.to)),
             LinkKind::Bus => "bus".to_string(),
             LinkKind::Out => format!("out{}", self.from),
             LinkKind::In => format!("in{}", self.to),
@@ -100,6 +113,8 @@ pub fn build(kind: TopologyKind, dims: &[u32]) -> Result<Box<dyn Topology>, NetE
         TopologyKind::Hypercube => Box::new(hypercube::Hypercube::new(nodes)),
         TopologyKind::Bus => Box::new(bus::Bus::new(nodes)),
         TopologyKind::Crossbar => Box::new(crossbar::Crossbar::new(nodes)),
+        TopologyKind::FatTree => Box::new(fat_tree::FatTree::new(dims)),
+        TopologyKind::Dragonfly => Box::new(dragonfly::Dragonfly::new(dims)),
     })
 }
 
@@ -113,7 +128,19 @@ fn validate_dims(kind: TopologyKind, dims: &[u32]) -> Result<u32, NetError> {
     if dims.contains(&0) {
         return err("every dimension must be at least 1".to_string());
     }
-    let Some(nodes) = dims.iter().try_fold(1u32, |acc, &d| acc.checked_mul(d)) else {
+    let extents = match kind {
+        TopologyKind::FatTree if dims.len() % 3 != 0 => {
+            return err(
+                "a fat-tree takes down ++ up ++ parallel, one entry each per level, e.g. \
+                 [4, 4, 1, 2, 1, 1] for two levels"
+                    .to_string(),
+            )
+        }
+        // The hosts are the product of the children per switch.
+        TopologyKind::FatTree => &dims[..dims.len() / 3],
+        _ => dims,
+    };
+    let Some(nodes) = extents.iter().try_fold(1u32, |acc, &d| acc.checked_mul(d)) else {
         return err(format!(
             "the node count (product of dims) must fit in {} nodes",
             u32::MAX
@@ -139,8 +166,49 @@ fn validate_dims(kind: TopologyKind, dims: &[u32]) -> Result<u32, NetError> {
         TopologyKind::Mesh if !(2..=3).contains(&dims.len()) => {
             err("a mesh is 2D or 3D: dims [x, y] or [x, y, z], e.g. [16, 32]".to_string())
         }
+        TopologyKind::FatTree => {
+            let vertices = fat_tree_vertices(dims);
+            if vertices > u32::MAX as u64 {
+                return err(format!(
+                    "the tree's hosts and switches ({vertices}) must fit in {} vertices",
+                    u32::MAX
+                ));
+            }
+            Ok(nodes)
+        }
+        TopologyKind::Dragonfly if dims.len() != 4 => err(
+            "a dragonfly takes [groups, chassis, routers, nodes per router], e.g. [4, 2, 4, 2]"
+                .to_string(),
+        ),
+        TopologyKind::Dragonfly if dims[0] > dims[2] => err(format!(
+            "{} groups need at least as many routers per chassis ({}): the global link to \
+             group g sits on router g of chassis 0",
+            dims[0], dims[2]
+        )),
+        TopologyKind::Dragonfly => {
+            let routers = nodes as u64 / dims[3] as u64;
+            if nodes as u64 + routers > u32::MAX as u64 {
+                return err(format!(
+                    "hosts and routers must fit in {} vertices",
+                    u32::MAX
+                ));
+            }
+            Ok(nodes)
+        }
         _ => Ok(nodes),
     }
+}
+
+/// Hosts plus switches of a fat-tree with `dims = down ++ up ++ parallel`.
+fn fat_tree_vertices(dims: &[u32]) -> u64 {
+    let h = dims.len() / 3;
+    (0..=h)
+        .map(|l| {
+            (0..h)
+                .map(|i| if i < l { dims[h + i] } else { dims[i] } as u64)
+                .product::<u64>()
+        })
+        .sum()
 }
 
 #[cfg(test)]
@@ -164,6 +232,23 @@ mod tests {
         rejects(TopologyKind::Mesh, &[16], "2D or 3D");
         rejects(TopologyKind::Mesh, &[2, 2, 2, 2], "2D or 3D");
         rejects(TopologyKind::Torus, &[65536, 65536], "must fit");
+        rejects(
+            TopologyKind::FatTree,
+            &[4, 4, 1, 2],
+            "down ++ up ++ parallel",
+        );
+        rejects(
+            TopologyKind::Dragonfly,
+            &[4, 2, 4],
+            "[groups, chassis, routers",
+        );
+        rejects(
+            TopologyKind::Dragonfly,
+            &[5, 2, 4, 2],
+            "at least as many routers",
+        );
+        assert!(build(TopologyKind::FatTree, &[4, 4, 1, 2, 1, 1]).is_ok());
+        assert!(build(TopologyKind::Dragonfly, &[4, 2, 4, 2]).is_ok());
         assert!(build(TopologyKind::Torus, &[3, 3, 3, 3]).is_ok());
         assert!(build(TopologyKind::Hypercube, &[1]).is_ok());
     }
