@@ -40,7 +40,7 @@ fn flow_agrees_with_simgrid_on_every_message() {
     );
     let v = report(&out, "network.json");
     let cases = v["cases"].as_array().unwrap();
-    assert_eq!(cases.len(), 9, "the full set of patterns ran");
+    assert_eq!(cases.len(), 14, "the full set of patterns ran");
     for c in cases {
         // Issue 15, part 1: every message's transfer time within 0.1% of SimGrid's (f64
         // max-min against sortsim's whole bits per second and picoseconds).
@@ -58,9 +58,36 @@ fn flow_agrees_with_simgrid_on_every_message() {
             c["name"]
         );
     }
+    // Issue 32: fat-trees and dragonflies are built by SimGrid's own cluster zones, and every
+    // ordered pair's route of SimGrid's rule is sortsim's, link for link, except where
+    // SimGrid's is not a path (a dragonfly's route inside a group from a chassis other than
+    // 0: 144 of the 3x2x3x2 dragonfly's 1,260 pairs, each counted, none on the other shapes).
+    let switched: Vec<&Value> = cases
+        .iter()
+        .filter(|c| c["topology"] == "fat-tree" || c["topology"] == "dragonfly")
+        .collect();
+    assert_eq!(switched.len(), 5);
+    for c in &switched {
+        let n = c["dims"].as_array().unwrap();
+        let hosts: u64 = match c["topology"].as_str().unwrap() {
+            "fat-tree" => n[..n.len() / 3]
+                .iter()
+                .map(|d| d.as_u64().unwrap())
+                .product(),
+            _ => n.iter().map(|d| d.as_u64().unwrap()).product(),
+        };
+        assert_eq!(c["routes_compared"], hosts * (hosts - 1), "{}", c["name"]);
+        assert_eq!(c["routes_differing"], 0, "{}", c["name"]);
+        let not_paths = c["simgrid_routes_not_paths"].as_u64().unwrap();
+        match c["name"].as_str().unwrap() {
+            "all-to-all-dragonfly-3x2x3x2" => assert_eq!(not_paths, 144),
+            name => assert_eq!(not_paths, 0, "{name}"),
+        }
+    }
+    assert_eq!(v["routes_differing"], 0);
     assert_eq!(v["pass"], true);
     let costs = report(&out, "cost.json");
-    assert_eq!(costs["network"].as_array().unwrap().len(), 9);
+    assert_eq!(costs["network"].as_array().unwrap().len(), 14);
     let md = std::fs::read_to_string(out.join("validate.md")).unwrap();
     assert!(
         md.contains("transpose-mesh-16x16") && md.contains("agrees"),

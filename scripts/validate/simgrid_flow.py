@@ -2,7 +2,11 @@
 
 Reads the JSON that `sortsim validate network` writes (nodes, link bandwidth in bytes/s,
 link count, one explicit route per (src, dst) pair, messages as [src, dst, bytes,
-start_s]) and prints {"completion_s": [...], "wall_s": ...} as JSON on stdout. Model CM02
+start_s]) and prints {"completion_s": [...], "wall_s": ...} as JSON on stdout. With a
+"native" zone (a fat-tree or a dragonfly), SimGrid builds that cluster zone itself, routes
+by its own rules, and the answer also carries "routes": SimGrid's route for each pair of
+"routes", its links numbered as sortsim numbers them (both build the same cables in the same
+order, one up/down pair each: sortsim link 2u is SimGrid's "..._u_UP", 2u + 1 "..._u_DOWN"). Model CM02
 with every refinement off: no cross-traffic, no TCP window bound, latency and bandwidth
 factors 1, weight-S 0, zero latency, so the bandwidth a message gets is plain max-min fair
 sharing of its links. Exits with 3 and names the module when SimGrid is not installed.
@@ -13,7 +17,8 @@ import sys
 import time
 
 try:
-    from simgrid import Actor, Comm, Engine, LinkInRoute, NetZone, this_actor
+    from simgrid import (Actor, ClusterCallbacks, Comm, DragonflyParams, Engine, FatTreeParams,
+                         Link, LinkInRoute, NetZone, this_actor)
 except ImportError as missing:
     print(f"missing-module: {missing.name}", file=sys.stderr)
     sys.exit(3)
@@ -32,14 +37,11 @@ def main(path):
                      "--cfg=maxmin/precision:1e-9",
                      "--cfg=surf/precision:1e-12",
                      "--log=root.thres:critical"])
-    zone = NetZone.create_full_zone("network")
-    hosts = [zone.create_host(f"n{i}", 1e9) for i in range(spec["nodes"])]
-    links = [zone.create_link(f"l{j}", spec["bandwidth_bps"]).seal()
-             for j in range(spec["links"])]
-    for src, dst, route in spec["routes"]:
-        zone.add_route(hosts[src].netpoint, hosts[dst].netpoint, None, None,
-                       [LinkInRoute(links[k]) for k in route], False)
-    zone.seal()
+    native = spec.get("native")
+    if native:
+        hosts = native_zone(native, spec["nodes"], spec["bandwidth_bps"])
+    else:
+        hosts = explicit_zone(spec)
 
     completion = [None] * len(spec["messages"])
 
@@ -53,7 +55,55 @@ def main(path):
     began = time.perf_counter()
     engine.run()
     wall = time.perf_counter() - began
-    json.dump({"completion_s": completion, "wall_s": wall}, sys.stdout)
+    answer = {"completion_s": completion, "wall_s": wall}
+    if native:
+        answer["routes"] = [[src, dst, [sortsim_link(link.name)
+                                        for link in hosts[src].route_to(hosts[dst])[0]]]
+                            for src, dst, _ in spec["routes"]]
+    json.dump(answer, sys.stdout)
+
+
+def explicit_zone(spec):
+    zone = NetZone.create_full_zone("network")
+    hosts = [zone.create_host(f"n{i}", 1e9) for i in range(spec["nodes"])]
+    links = [zone.create_link(f"l{j}", spec["bandwidth_bps"]).seal()
+             for j in range(spec["links"])]
+    for src, dst, route in spec["routes"]:
+        zone.add_route(hosts[src].netpoint, hosts[dst].netpoint, None, None,
+                       [LinkInRoute(links[k]) for k in route], False)
+    zone.seal()
+    return hosts
+
+
+def native_zone(native, nodes, bandwidth):
+    """SimGrid's own cluster zone, split-duplex links, zero latency; hosts by rank."""
+    hosts = [None] * nodes
+
+    def host(zone, coord, rank):
+        hosts[rank] = zone.create_host(f"n{rank}", 1e9).seal()
+        return hosts[rank].netpoint, None
+
+    callbacks = ClusterCallbacks(host, None, None)
+    duplex = Link.SharingPolicy.SPLITDUPLEX
+    if native["kind"] == "fat-tree":
+        params = FatTreeParams(len(native["down"]), native["down"], native["up"],
+                               native["parallel"])
+        zone = NetZone.create_fatTree_zone("network", None, params, callbacks, bandwidth, 0,
+                                           duplex)
+    else:
+        params = DragonflyParams([native["groups"], 1], [native["chassis"], 1],
+                                 [native["routers"], 1], native["nodes_per_router"])
+        zone = NetZone.create_dragonfly_zone("network", None, params, callbacks, bandwidth, 0,
+                                             duplex)
+    zone.seal()
+    return hosts
+
+
+def sortsim_link(name):
+    """`..._<u>_UP` is sortsim's link 2u, `..._<u>_DOWN` its link 2u + 1."""
+    rest, direction = name.rsplit("_", 1)
+    pair = int(rest.rsplit("_", 1)[1])
+    return 2 * pair + (1 if direction == "DOWN" else 0)
 
 
 if __name__ == "__main__":

@@ -390,16 +390,17 @@ fn network_config(path: &Path, nodes: u32, net: &NetworkSpec) -> Result<NetworkC
             "a dimension must be at least 1".into(),
         ));
     }
-    let hosts = match topology {
-        TopologyKind::FatTree => &dims[..dims.len() / 3],
-        _ => &dims[..],
+    let (field, hosts) = match topology {
+        TopologyKind::FatTree => ("network.fat_tree.down", &dims[..dims.len() / 3]),
+        TopologyKind::Dragonfly => ("network.dragonfly", &dims[..]),
+        _ => ("network.dims", &dims[..]),
     };
     let product: u64 = hosts.iter().map(|&d| d as u64).product();
     if product != nodes as u64 {
         return Err(invalid(
-            "network.dims",
+            field,
             format!(
-                "the product of {dims:?} is {product}, but `nodes` is {nodes}; they must be equal"
+                "the product of {hosts:?} is {product}, but `nodes` is {nodes}; they must be equal"
             ),
         ));
     }
