@@ -7,7 +7,9 @@
 
 use proptest::prelude::*;
 use sortsim::net::pattern::{drive, ParsedMessage};
-use sortsim::net::{Dest, Fidelity, Network, NetworkConfig, Switching, TopologyKind};
+use sortsim::net::{
+    Dest, Fidelity, Network, NetworkConfig, NodeConfig, NodeLinks, Switching, TopologyKind,
+};
 use sortsim::units::{Bytes, SimTime};
 
 const SHAPES: [(TopologyKind, &[u32]); 8] = [
@@ -40,6 +42,7 @@ fn config(shape: usize, packet: bool, wormhole: bool) -> NetworkConfig {
         } else {
             Fidelity::Flow
         },
+        node: None,
     }
 }
 
@@ -89,5 +92,27 @@ proptest! {
         raw in prop::collection::vec((0u32..64, 0u32..64, 1u64..1_000_000, 0u64..6), 1000..2500),
     ) {
         check(&config(shape, packet, wormhole), &raw);
+    }
+
+    /// Nodes of 3 processors and 2 NICs on a 10x faster switch, at flow (packet takes one
+    /// kind of link), the NICs on a ring, a fat-tree or a dragonfly.
+    #[test]
+    fn messages_between_nodes_of_several_processors_are_all_delivered_never_early(
+        shape in prop_oneof![Just(0usize), Just(6), Just(7)],
+        wormhole in any::<bool>(),
+        raw in prop::collection::vec((0u32..64, 0u32..64, 1u64..1_000_000, 0u64..6), 1000..2500),
+    ) {
+        let cfg = NetworkConfig {
+            node: Some(NodeConfig {
+                processors: 3,
+                nics: 2,
+                links: NodeLinks {
+                    bandwidth: "170MB/s".parse().unwrap(),
+                    hop_latency: SimTime::from_ns(100),
+                },
+            }),
+            ..config(shape, false, wormhole)
+        };
+        check(&cfg, &raw);
     }
 }

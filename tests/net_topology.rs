@@ -13,6 +13,7 @@ fn net(topology: TopologyKind, dims: &[u32]) -> Network {
         switching: Switching::Wormhole,
         packet_size: Bytes::new(1024),
         fidelity: Fidelity::Hops,
+        node: None,
     })
     .unwrap()
 }
@@ -26,7 +27,7 @@ fn check(net: &Network, src: u32, dst: u32, expected: &[&str], hops: u32) {
         .map(|&l| net.links()[l as usize].name(net.nodes()))
         .collect();
     assert_eq!(names, expected, "route {src} -> {dst}");
-    assert_eq!(net.hops(src, dst), hops, "hops {src} -> {dst}");
+    assert_eq!(net.hops(src, dst).total(), hops, "hops {src} -> {dst}");
 }
 
 fn link_names(net: &Network) -> Vec<String> {
@@ -98,7 +99,7 @@ fn mesh_routes_x_then_y_then_z_without_wrap() {
     let delta = net(TopologyKind::Mesh, &[16, 32]);
     assert_eq!(delta.nodes(), 512);
     assert_eq!(delta.link_count(), 2 * (15 * 32 + 16 * 31));
-    assert_eq!(delta.hops(0, 511), 15 + 31);
+    assert_eq!(delta.hops(0, 511).total(), 15 + 31);
     assert_eq!(delta.bisection_width(), 16);
 }
 
@@ -144,6 +145,7 @@ fn invalid_configs_are_rejected_with_what_is_valid() {
         switching: Switching::Wormhole,
         packet_size: Bytes::new(1024),
         fidelity: Fidelity::Flow,
+        node: None,
     };
     let reject = |cfg: NetworkConfig, needle: &str| {
         let e = Network::new(&cfg).err().expect("rejected").to_string();

@@ -3,7 +3,9 @@
 //! split it exactly, and the pathological cases (0 bytes, self, broadcast) behave.
 
 use sortsim::net::pattern::{drive, ParsedMessage};
-use sortsim::net::{Dest, Fidelity, Network, NetworkConfig, Switching, TopologyKind};
+use sortsim::net::{
+    Dest, Fidelity, Network, NetworkConfig, NodeConfig, NodeLinks, Switching, TopologyKind,
+};
 use sortsim::units::{Bandwidth, Bytes, SimTime};
 
 const PACKET: u64 = 1024;
@@ -23,6 +25,7 @@ fn cfg(
         switching,
         packet_size: Bytes::new(PACKET),
         fidelity,
+        node: None,
     }
 }
 
@@ -114,7 +117,7 @@ fn messages_that_share_no_link_do_not_see_each_other() {
             let Dest::Node(d) = m.dest else {
                 unreachable!()
             };
-            let h = net.hops(m.src, d) as u64;
+            let h = net.hops(m.src, d).total() as u64;
             let saf = match switching {
                 Switching::Wormhole => SimTime::ZERO,
                 Switching::StoreAndForward => timing
@@ -294,4 +297,147 @@ fn advancing_between_simultaneous_injections_changes_nothing() {
             assert_eq!(done, batched, "{fidelity:?} {switching:?}");
         }
     }
+}
+
+/// Nodes of 4 processors on a 170 MB/s switch (10x the network's 17 MB/s, 300 ns a hop),
+/// 2 NICs each, the NICs on a fat-tree of 8 hosts or a ring of 8.
+fn nodes_cfg(
+    topology: TopologyKind,
+    dims: &[u32],
+    fidelity: Fidelity,
+    switching: Switching,
+    node_rate: &str,
+) -> NetworkConfig {
+    NetworkConfig {
+        node: Some(NodeConfig {
+            processors: 4,
+            nics: 2,
+            links: NodeLinks {
+                bandwidth: node_rate.parse().unwrap(),
+                hop_latency: SimTime::from_ns(300),
+            },
+        }),
+        ..cfg(topology, dims, fidelity, switching)
+    }
+}
+
+/// Issue 32: a message between processors of different nodes crosses node links at the
+/// node's rate and latency and the network's links at theirs; alone, it takes the slowest
+/// link's serialization plus every hop's latency (wormhole), plus under store-and-forward
+/// the first packet's time on every link but one of the slowest. Each level that takes two
+/// rates (ideal, hops, flow) agrees with that, worked out here by hand.
+#[test]
+fn a_lone_message_across_nodes_takes_the_slowest_link_and_every_hops_latency() {
+    let rate = |s: &str| s.parse::<Bandwidth>().unwrap();
+    for (topology, dims) in [
+        (TopologyKind::FatTree, &[4, 2, 1, 2, 1, 1][..]),
+        (TopologyKind::Ring, &[8][..]),
+    ] {
+        for switching in [Switching::Wormhole, Switching::StoreAndForward] {
+            for node_rate in ["170MB/s", "1.7MB/s"] {
+                for fidelity in [Fidelity::Ideal, Fidelity::Hops, Fidelity::Flow] {
+                    let c = nodes_cfg(topology, dims, fidelity, switching, node_rate);
+                    let net = Network::new(&c).unwrap();
+                    assert_eq!(net.nodes(), 16);
+                    // Processor 1 (node 0, NIC 1) to processor 14 (node 3, NIC 6).
+                    let hops = net.hops(1, 14);
+                    assert_eq!(hops.node, 4);
+                    let (fast, slow) = if node_rate == "170MB/s" {
+                        (rate(node_rate), rate("17MB/s"))
+                    } else {
+                        (rate("17MB/s"), rate(node_rate))
+                    };
+                    for bytes in SIZES {
+                        let b = Bytes::new(bytes);
+                        let latency = SimTime::from_ns(1_500).times(hops.network as u64)
+                            + SimTime::from_ns(300).times(4);
+                        let first = b.min(Bytes::new(PACKET));
+                        let (n_fast, n_slow) = if node_rate == "170MB/s" {
+                            (4, hops.network)
+                        } else {
+                            (hops.network, 4)
+                        };
+                        let pipeline = fast.transfer_time(first).times(n_fast as u64)
+                            + slow.transfer_time(first).times(n_slow as u64 - 1);
+                        let want = match (fidelity, switching) {
+                            (Fidelity::Ideal, _) | (_, Switching::Wormhole) => {
+                                slow.transfer_time(b) + latency
+                            }
+                            _ => slow.transfer_time(b) + latency + pipeline,
+                        };
+                        let got = run(&c, &[msg(1, 14, bytes, 777)])[0];
+                        assert_eq!(
+                            got.ps() - 777,
+                            want.ps(),
+                            "{topology:?} {switching:?} {node_rate} {fidelity:?} {bytes} B"
+                        );
+                    }
+                    // Inside a node only node links: their rate and latency.
+                    let b = Bytes::new(5000);
+                    let inside = run(&c, &[msg(1, 3, 5000, 0)])[0];
+                    let want = match (fidelity, switching) {
+                        (Fidelity::Ideal, _) | (_, Switching::Wormhole) => {
+                            rate(node_rate).transfer_time(b) + SimTime::from_ns(600)
+                        }
+                        _ => {
+                            rate(node_rate).transfer_time(b)
+                                + SimTime::from_ns(600)
+                                + rate(node_rate).transfer_time(Bytes::new(PACKET))
+                        }
+                    };
+                    assert_eq!(inside, want, "{topology:?} {switching:?} {fidelity:?}");
+                }
+            }
+        }
+    }
+}
+
+/// Two processors of one node sending to two of another through the same NIC pair share the
+/// network links (17 MB/s each half) but not their own node links.
+#[test]
+fn flows_share_the_network_links_between_nodes_at_the_network_rate() {
+    let c = nodes_cfg(
+        TopologyKind::Ring,
+        &[8],
+        Fidelity::Flow,
+        Switching::Wormhole,
+        "170MB/s",
+    );
+    // Processors 0 and 2 both use NIC 0 of node 0; 4 and 6 NIC 2 (node 1).
+    let got = run(&c, &[msg(0, 4, 17_000, 0), msg(2, 6, 17_000, 0)]);
+    // 17,000 B at 8.5 MB/s each = 2 ms, plus 4 node hops and 2 ring hops of latency.
+    let want = SimTime::from_us(2000) + SimTime::from_ns(4 * 300 + 2 * 1_500);
+    assert_eq!(got, [want, want]);
+}
+
+#[test]
+fn packet_fidelity_refuses_two_link_rates_and_says_what_to_use() {
+    let c = nodes_cfg(
+        TopologyKind::Ring,
+        &[8],
+        Fidelity::Packet,
+        Switching::Wormhole,
+        "170MB/s",
+    );
+    let e = Network::new(&c).err().expect("refused").to_string();
+    assert!(
+        e.contains("packet fidelity takes one kind of link") && e.contains("use flow"),
+        "{e}"
+    );
+    // One rate and latency inside and between nodes: packet runs, and agrees with the formula.
+    let mut c = nodes_cfg(
+        TopologyKind::Ring,
+        &[8],
+        Fidelity::Packet,
+        Switching::Wormhole,
+        "17MB/s",
+    );
+    c.node.as_mut().unwrap().links.hop_latency = c.hop_latency;
+    let net = Network::new(&c).unwrap();
+    let got = run(&c, &[msg(1, 14, 4000, 0)])[0];
+    assert_eq!(
+        got,
+        net.timing()
+            .contention_free(net.hops(1, 14), Bytes::new(4000))
+    );
 }

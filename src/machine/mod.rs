@@ -48,6 +48,11 @@ impl MachineConfig {
         }
         let mut m = self.clone();
         m.nodes = nodes;
+        if self.network.node.is_some() {
+            // Nodes of several processors are used whole: the run's processes sit on the
+            // first processors, node by node.
+            return Ok(m);
+        }
         m.network.dims = match self.network.topology {
             TopologyKind::Ring | TopologyKind::Pipeline | TopologyKind::Bus | TopologyKind::Crossbar => vec![nodes],
             TopologyKind::Hypercube if nodes.is_power_of_two() => vec![nodes],

@@ -35,7 +35,8 @@ pub mod topology;
 pub mod transport;
 
 use crate::units::{Bandwidth, Bytes, SimTime};
-use timing::Timing;
+pub use timing::NodeLinks;
+use timing::{Hops, Timing};
 use topology::{Link, Topology};
 use transport::Transport;
 
@@ -215,6 +216,18 @@ pub struct NetworkConfig {
     pub switching: Switching,
     pub packet_size: Bytes,
     pub fidelity: Fidelity,
+    /// Nodes of several processors: each node's processors and NICs on a switch of their
+    /// own, the NICs being the hosts of the topology above (`None`: one processor a host).
+    pub node: Option<NodeConfig>,
+}
+
+/// A node of several processors (GPUs, cores): `processors` on one switch with `nics`
+/// network interfaces, every link inside the node at `links`' rate and latency.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct NodeConfig {
+    pub processors: u32,
+    pub nics: u32,
+    pub links: NodeLinks,
 }
 
 /// Where a message goes.
@@ -280,6 +293,7 @@ pub enum NetError {
 ///     switching: Switching::Wormhole,
 ///     packet_size: Bytes::new(1024),
 ///     fidelity: Fidelity::Flow,
+///     node: None,
 /// };
 /// let mut net = Network::new(&cfg).unwrap();
 /// // Two messages from 0 and 4 to 8 at once share the link 4->8 ...
@@ -308,6 +322,16 @@ pub struct Network {
 
 pub use occupancy::LinkSpan;
 
+/// A route's hops by kind of link.
+fn hops_of(topology: &dyn Topology, timing: Timing, route: &[LinkId]) -> Hops {
+    let node = match timing.node_links {
+        Some(_) => route.iter().filter(|&&l| topology.is_node_link(l)).count() as u32,
+        None => 0,
+    };
+    let network = (route.len() as u32 - node) / topology.links_per_hop();
+    Hops { network, node }
+}
+
 impl Network {
     /// Builds the network, validating the configuration (dimensions and packet size).
     pub fn new(cfg: &NetworkConfig) -> Result<Network, NetError> {
@@ -316,16 +340,39 @@ impl Network {
                 "packet_size must be at least 1 byte".to_string(),
             ));
         }
-        let topology = topology::build(cfg.topology, &cfg.dims)?;
+        let mut topology = topology::build(cfg.topology, &cfg.dims)?;
+        if let Some(node) = cfg.node {
+            let same = node.links.bandwidth == cfg.link_bandwidth
+                && node.links.hop_latency == cfg.hop_latency;
+            if cfg.fidelity == Fidelity::Packet && !same {
+                return Err(NetError::Config(format!(
+                    "packet fidelity takes one kind of link; this network's nodes have {} and {} \
+                     a hop, its links {} and {}: use flow (or give both the same rate and \
+                     latency)",
+                    node.links.bandwidth,
+                    node.links.hop_latency,
+                    cfg.link_bandwidth,
+                    cfg.hop_latency
+                )));
+            }
+            topology = topology::in_nodes(topology, node.processors, node.nics)?;
+        }
         let nodes = topology.nodes();
         let timing = Timing {
             bandwidth: cfg.link_bandwidth,
             hop_latency: cfg.hop_latency,
             switching: cfg.switching,
             packet_size: cfg.packet_size,
+            node_links: cfg.node.map(|n| n.links),
         };
         let links = topology.links().len();
-        let transport = transport::build(cfg.fidelity, timing, links);
+        let node_link: Vec<bool> = match cfg.node {
+            Some(_) => (0..links as LinkId)
+                .map(|l| topology.is_node_link(l))
+                .collect(),
+            None => Vec::new(),
+        };
+        let transport = transport::build(cfg.fidelity, timing, links, &node_link);
         Ok(Network {
             topology,
             transport,
@@ -376,14 +423,19 @@ impl Network {
     }
 
     /// Switch traversals from `src` to `dst`: the `h` of the latency formula (the number of
-    /// links, except on a crossbar where both ports count as one hop).
+    /// links, except on a crossbar where both ports count as one hop), over node links and
+    /// the network's.
     ///
     /// Panics when the pair cannot be routed (check [`Network::can_route`] first).
-    pub fn hops(&self, src: NodeId, dst: NodeId) -> u32 {
+    pub fn hops(&self, src: NodeId, dst: NodeId) -> Hops {
         let route = self
             .route(src, dst)
             .unwrap_or_else(|| panic!("no route from node {src} to node {dst}"));
-        route.len() as u32 / self.topology.links_per_hop()
+        self.hops_of(&route)
+    }
+
+    fn hops_of(&self, route: &[LinkId]) -> Hops {
+        hops_of(self.topology.as_ref(), self.timing, route)
     }
 
     /// Links cut by the best balanced bisection, counted in one direction (a bidirectional
@@ -475,7 +527,7 @@ impl Network {
             carried.0 += bytes;
             carried.1 += 1;
         }
-        let hops = route.len() as u32 / self.topology.links_per_hop();
+        let hops = hops_of(self.topology.as_ref(), self.timing, route);
         let arrival = self.transport.inject(now, msg, route, hops, bytes);
         if let Some(o) = &mut self.occupancy {
             o.injected(msg, now, route, arrival);

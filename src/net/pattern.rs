@@ -147,7 +147,7 @@ fn check_packet_budget(net: &Network, messages: &[ParsedMessage]) -> Result<(), 
     let packet = net.timing().packet_size.get().max(1);
     let work = |m: &ParsedMessage| {
         let hops = match m.dest {
-            Dest::Node(d) => u64::from(net.hops(m.src, d).max(1)),
+            Dest::Node(d) => u64::from(net.hops(m.src, d).total().max(1)),
             Dest::Broadcast => 1,
         };
         m.bytes.get().div_ceil(packet).max(1).saturating_mul(hops)

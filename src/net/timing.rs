@@ -8,13 +8,44 @@
 use super::Switching;
 use crate::units::{Bandwidth, Bytes, SimTime};
 
+/// The links of a second kind a network may have: those inside a node of several processors
+/// (its switch, NVLink- or PCIe-like), at their own rate and latency.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct NodeLinks {
+    pub bandwidth: Bandwidth,
+    pub hop_latency: SimTime,
+}
+
+/// A route's hops by kind: over the network's links and over node links. Converts from a
+/// plain hop count (a network with one kind of link).
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub struct Hops {
+    pub network: u32,
+    pub node: u32,
+}
+
+impl From<u32> for Hops {
+    fn from(network: u32) -> Hops {
+        Hops { network, node: 0 }
+    }
+}
+
+impl Hops {
+    pub fn total(self) -> u32 {
+        self.network + self.node
+    }
+}
+
 /// The link parameters shared by every transport level.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub struct Timing {
+    /// The network's links.
     pub bandwidth: Bandwidth,
     pub hop_latency: SimTime,
     pub switching: Switching,
     pub packet_size: Bytes,
+    /// Links inside nodes, when the network has nodes of several processors.
+    pub node_links: Option<NodeLinks>,
 }
 
 impl Timing {
@@ -22,30 +53,76 @@ impl Timing {
     /// - wormhole: `h*L + T(bytes)`;
     /// - store-and-forward: `h*L + T(bytes) + (h-1)*T(min(bytes, packet_size))`, the packets
     ///   pipelined so that only the first one pays the serialization at every extra hop.
-    pub fn contention_free(&self, hops: u32, bytes: Bytes) -> SimTime {
-        self.serialization(bytes) + self.fixed_part(hops, bytes)
+    ///
+    /// With node links, `h*L` is each hop's own latency, `T` the slowest link's on the route
+    /// (the stream's pace), and the pipeline term the first packet's time on every other link.
+    pub fn contention_free(&self, hops: impl Into<Hops>, bytes: Bytes) -> SimTime {
+        let hops = hops.into();
+        self.serialization_on(hops, bytes) + self.fixed_part(hops, bytes)
     }
 
     /// What `ideal` charges: `h*L + T(bytes)`, whatever the switching.
-    pub fn ideal(&self, hops: u32, bytes: Bytes) -> SimTime {
-        self.serialization(bytes) + self.hop_latency.times(hops as u64)
+    pub fn ideal(&self, hops: impl Into<Hops>, bytes: Bytes) -> SimTime {
+        let hops = hops.into();
+        self.serialization_on(hops, bytes) + self.latency(hops)
     }
 
-    /// `T(bytes)`: the time to push `bytes` through one link.
+    /// `T(bytes)`: the time to push `bytes` through one of the network's links.
     pub fn serialization(&self, bytes: Bytes) -> SimTime {
         self.bandwidth.transfer_time(bytes)
+    }
+
+    /// `T(bytes)` on the slowest link of a route of `hops`.
+    pub fn serialization_on(&self, hops: Hops, bytes: Bytes) -> SimTime {
+        self.bottleneck(hops).transfer_time(bytes)
+    }
+
+    /// The slowest link rate on a route of `hops` (the network's rate for an empty route).
+    pub fn bottleneck(&self, hops: Hops) -> Bandwidth {
+        match self.node_links {
+            Some(node)
+                if hops.node > 0 && (hops.network == 0 || node.bandwidth < self.bandwidth) =>
+            {
+                node.bandwidth
+            }
+            _ => self.bandwidth,
+        }
+    }
+
+    /// The slowest link rate of the whole network.
+    pub fn slowest(&self) -> Bandwidth {
+        match self.node_links {
+            Some(node) if node.bandwidth < self.bandwidth => node.bandwidth,
+            _ => self.bandwidth,
+        }
+    }
+
+    /// Every hop's latency along a route of `hops`.
+    pub fn latency(&self, hops: Hops) -> SimTime {
+        let node = self.node_links.map_or(SimTime::ZERO, |n| n.hop_latency);
+        self.hop_latency.times(hops.network as u64) + node.times(hops.node as u64)
     }
 
     /// The part of [`Timing::contention_free`] that does not occupy a link for the whole
     /// message: route latency plus, under store-and-forward, the pipeline fill. The flow
     /// model adds it after a flow's fluid transfer ends.
-    pub fn fixed_part(&self, hops: u32, bytes: Bytes) -> SimTime {
-        let latency = self.hop_latency.times(hops as u64);
+    pub fn fixed_part(&self, hops: impl Into<Hops>, bytes: Bytes) -> SimTime {
+        let hops = hops.into();
+        let latency = self.latency(hops);
         match self.switching {
             Switching::Wormhole => latency,
             Switching::StoreAndForward => {
-                let first = self.serialization(self.first_packet(bytes));
-                latency + first.times(hops.saturating_sub(1) as u64)
+                let first = self.first_packet(bytes);
+                let on = |b: Bandwidth, n: u32| b.transfer_time(first).times(n as u64);
+                let node = self.node_links.map_or(self.bandwidth, |n| n.bandwidth);
+                // Every link but one of the slowest pays the first packet once more.
+                let every = on(self.bandwidth, hops.network) + on(node, hops.node);
+                let one_slowest = if hops.total() == 0 {
+                    SimTime::ZERO
+                } else {
+                    self.bottleneck(hops).transfer_time(first)
+                };
+                latency + every.saturating_sub(one_slowest)
             }
         }
     }
@@ -72,6 +149,7 @@ mod tests {
             hop_latency: SimTime::from_us(1),
             switching,
             packet_size: Bytes::new(100),
+            node_links: None,
         }
     }
 

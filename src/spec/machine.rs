@@ -97,6 +97,30 @@ pub struct NetworkSpec {
     /// The parts of a `dragonfly` (required for one, refused for any other topology).
     #[serde(default)]
     pub dragonfly: Option<DragonflySpec>,
+    /// Nodes of several processors: the topology above joins their NICs. Omitted: each
+    /// processor is a host of the topology.
+    #[serde(default)]
+    pub node: Option<NodeSpec>,
+}
+
+/// A node of several processors (GPUs, cores) on a switch of its own, with its NICs: the
+/// topology's hosts are the NICs (`nics` per node), and `nodes` counts processors.
+#[derive(Deserialize, Debug, Clone, schemars::JsonSchema)]
+#[serde(deny_unknown_fields)]
+pub struct NodeSpec {
+    #[schemars(range(min = 1))]
+    pub processors: u32,
+    /// NICs per node (processor i uses NIC i mod nics); default 1.
+    #[serde(default = "one")]
+    #[schemars(range(min = 1))]
+    pub nics: u32,
+    /// Rate of every link inside the node (processor or NIC to the node's switch).
+    pub link_bandwidth: Bandwidth,
+    pub hop_latency: SimTime,
+}
+
+fn one() -> u32 {
+    1
 }
 
 /// A generalized fat-tree, level by level from the hosts up, in SimGrid's terms: `down[l]`
@@ -396,13 +420,38 @@ fn network_config(path: &Path, nodes: u32, net: &NetworkSpec) -> Result<NetworkC
         _ => ("network.dims", &dims[..]),
     };
     let product: u64 = hosts.iter().map(|&d| d as u64).product();
-    if product != nodes as u64 {
-        return Err(invalid(
-            field,
-            format!(
-                "the product of {hosts:?} is {product}, but `nodes` is {nodes}; they must be equal"
-            ),
-        ));
+    let node = node_config(path, net)?;
+    match node {
+        None if product != nodes as u64 => {
+            return Err(invalid(
+                field,
+                format!(
+                    "the product of {hosts:?} is {product}, but `nodes` is {nodes}; they must be equal"
+                ),
+            ))
+        }
+        Some(n) if product % n.nics as u64 != 0 => {
+            return Err(invalid(
+                "network.node.nics",
+                format!(
+                    "the topology's {product} hosts are NICs, {} per node: {product} is not a multiple of {}",
+                    n.nics, n.nics
+                ),
+            ))
+        }
+        Some(n) if product / n.nics as u64 * n.processors as u64 != nodes as u64 => {
+            return Err(invalid(
+                "nodes",
+                format!(
+                    "{} nodes ({product} NICs, {} each) of {} processors are {} processors, but `nodes` is {nodes}; they must be equal",
+                    product / n.nics as u64,
+                    n.nics,
+                    n.processors,
+                    product / n.nics as u64 * n.processors as u64
+                ),
+            ))
+        }
+        _ => {}
     }
     match topology {
         TopologyKind::Mesh if !(2..=3).contains(&dims.len()) => {
@@ -445,5 +494,37 @@ fn network_config(path: &Path, nodes: u32, net: &NetworkSpec) -> Result<NetworkC
         },
         packet_size: net.packet_size,
         fidelity: net.fidelity.into(),
+        node,
     })
+}
+
+/// The node of several processors a network spec describes, checked.
+fn node_config(
+    path: &Path,
+    net: &NetworkSpec,
+) -> Result<Option<crate::net::NodeConfig>, SpecError> {
+    let Some(n) = &net.node else {
+        return Ok(None);
+    };
+    let invalid = |field: &str, msg: &str| Err(SpecError::invalid(path, field, msg.to_string()));
+    if n.processors == 0 {
+        return invalid("network.node.processors", "must be at least 1");
+    }
+    if n.nics == 0 {
+        return invalid("network.node.nics", "must be at least 1");
+    }
+    if matches!(net.topology, TopologySpec::Crossbar | TopologySpec::Bus) {
+        return invalid(
+            "network.node",
+            "the network between nodes must be point-to-point (not a crossbar or a bus)",
+        );
+    }
+    Ok(Some(crate::net::NodeConfig {
+        processors: n.processors,
+        nics: n.nics,
+        links: crate::net::NodeLinks {
+            bandwidth: n.link_bandwidth,
+            hop_latency: n.hop_latency,
+        },
+    }))
 }

@@ -436,7 +436,7 @@ fn requirements(cfg: &RunConfig, settings: &Settings) -> Result<(), RunError> {
     let m = &cfg.machine;
     let net = super::routes::network(cfg)?;
     if variant.needs_pipeline() {
-        if let Some(i) = (0..m.nodes.saturating_sub(1)).find(|&i| net.hops(i, i + 1) != 1) {
+        if let Some(i) = (0..m.nodes.saturating_sub(1)).find(|&i| net.hops(i, i + 1).total() != 1) {
             return Err(RunError::Unsupported(format!(
                 "{} streams frames from node i to node i+1, but machine '{}' ({}) has no \
                  direct link from node {i} to node {}; use a machine whose topology is a \

@@ -21,6 +21,7 @@ mod fat_tree;
 mod grid;
 mod hypercube;
 mod mesh;
+mod nodes;
 mod pipeline;
 mod ring;
 mod torus;
@@ -100,6 +101,20 @@ pub trait Topology: Send + Sync {
     fn broadcast_link(&self) -> Option<LinkId> {
         None
     }
+    /// Whether `link` lies inside a node of several processors (and runs at the node's rate).
+    fn is_node_link(&self, _link: LinkId) -> bool {
+        false
+    }
+}
+
+/// `network` with each of its hosts taken as a NIC of a node of `processors` processors and
+/// `nics` NICs (see `nodes.rs`).
+pub fn in_nodes(
+    network: Box<dyn Topology>,
+    processors: u32,
+    nics: u32,
+) -> Result<Box<dyn Topology>, NetError> {
+    Ok(Box::new(nodes::Nodes::new(network, processors, nics)?))
 }
 
 /// Builds the topology `kind` with extents `dims`, or says what `dims` would be valid.

@@ -5,35 +5,51 @@
 //!   the pipeline term `(h-1)*T(first packet)`.
 //! - `hops`: the switching-aware formula (`Timing::contention_free`).
 //!
-//! Link busy time: every message charges its serialization time to every link it crosses.
+//! Link busy time: every message charges its serialization time on each link to that link.
 //! Must never model contention.
 
 use super::{Transport, Usage};
-use crate::net::timing::Timing;
+use crate::net::timing::{Hops, Timing};
 use crate::net::{Delivered, LinkId, MsgId};
+use crate::units::Bandwidth;
 use crate::units::{Bytes, SimTime};
 
 pub struct ContentionFree {
     timing: Timing,
     /// The level's formula: time from injection to delivery for `hops` hops and `bytes`.
-    delay: fn(&Timing, u32, Bytes) -> SimTime,
+    delay: fn(&Timing, Hops, Bytes) -> SimTime,
     busy: Vec<SimTime>,
+    /// Each link's rate, when they differ (empty when every link runs at `timing.bandwidth`).
+    rates: Vec<Bandwidth>,
 }
 
 impl ContentionFree {
-    pub fn ideal(timing: Timing, links: usize) -> ContentionFree {
-        ContentionFree {
-            timing,
-            delay: Timing::ideal,
-            busy: vec![SimTime::ZERO; links],
-        }
+    pub fn ideal(
+        timing: Timing,
+        links: usize,
+        rate: impl Fn(usize) -> Bandwidth,
+    ) -> ContentionFree {
+        Self::new(timing, links, rate, |t, h, b| t.ideal(h, b))
     }
 
-    pub fn hops(timing: Timing, links: usize) -> ContentionFree {
+    pub fn hops(timing: Timing, links: usize, rate: impl Fn(usize) -> Bandwidth) -> ContentionFree {
+        Self::new(timing, links, rate, |t, h, b| t.contention_free(h, b))
+    }
+
+    fn new(
+        timing: Timing,
+        links: usize,
+        rate: impl Fn(usize) -> Bandwidth,
+        delay: fn(&Timing, Hops, Bytes) -> SimTime,
+    ) -> ContentionFree {
         ContentionFree {
             timing,
-            delay: Timing::contention_free,
+            delay,
             busy: vec![SimTime::ZERO; links],
+            rates: match timing.node_links {
+                Some(_) => (0..links).map(rate).collect(),
+                None => Vec::new(),
+            },
         }
     }
 }
@@ -44,12 +60,18 @@ impl Transport for ContentionFree {
         now: SimTime,
         _msg: MsgId,
         route: &[LinkId],
-        hops: u32,
+        hops: Hops,
         bytes: Bytes,
     ) -> Option<SimTime> {
-        let t = self.timing.serialization(bytes);
-        for &l in route {
-            self.busy[l as usize] += t;
+        if self.rates.is_empty() {
+            let t = self.timing.serialization(bytes);
+            for &l in route {
+                self.busy[l as usize] += t;
+            }
+        } else {
+            for &l in route {
+                self.busy[l as usize] += self.rates[l as usize].transfer_time(bytes);
+            }
         }
         Some(now + (self.delay)(&self.timing, hops, bytes))
     }

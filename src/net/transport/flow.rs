@@ -23,9 +23,9 @@ use std::cmp::Reverse;
 use std::collections::BinaryHeap;
 
 use super::completions::Completions;
-use super::maxmin::MaxMin;
+use super::maxmin::{Capacities, MaxMin};
 use super::{Transport, Usage};
-use crate::net::timing::Timing;
+use crate::net::timing::{Hops, Timing};
 use crate::net::{Delivered, LinkId, MsgId};
 use crate::units::{ceil_div, Bandwidth, Bytes, SimTime};
 
@@ -68,9 +68,9 @@ struct LinkState {
 }
 
 impl Flow {
-    pub fn new(timing: Timing, links: usize) -> Flow {
+    pub fn new(timing: Timing, links: usize, capacities: Capacities) -> Flow {
         Flow {
-            shares: MaxMin::new(timing.bandwidth.bits_per_s(), links),
+            shares: MaxMin::new(capacities, links),
             timing,
             clock: SimTime::ZERO,
             seq: 0,
@@ -197,7 +197,7 @@ impl Transport for Flow {
         now: SimTime,
         msg: MsgId,
         route: &[LinkId],
-        hops: u32,
+        hops: Hops,
         bytes: Bytes,
     ) -> Option<SimTime> {
         debug_assert!(now >= self.clock, "inject in the past");
@@ -267,6 +267,7 @@ mod tests {
             hop_latency: SimTime::from_ns(300),
             switching: Switching::Wormhole,
             packet_size: Bytes::new(1024),
+            node_links: None,
         }
     }
 
@@ -275,7 +276,11 @@ mod tests {
     /// every delivery in order.
     fn run(from_scratch: bool, seed: u64, grain: u64) -> Vec<Delivered> {
         let mut rng = rand_chacha::ChaCha8Rng::seed_from_u64(seed);
-        let mut flow = Flow::new(timing(), 12);
+        let mut flow = Flow::new(
+            timing(),
+            12,
+            Capacities::Uniform(timing().bandwidth.bits_per_s()),
+        );
         flow.from_scratch = from_scratch;
         let mut starts: Vec<(SimTime, Vec<LinkId>, Bytes)> = (0..300)
             .map(|_| {
@@ -296,7 +301,13 @@ mod tests {
             };
             while next < starts.len() && starts[next].0 == now {
                 let (at, route, bytes) = &starts[next];
-                flow.inject(*at, next as MsgId, route, route.len() as u32, *bytes);
+                flow.inject(
+                    *at,
+                    next as MsgId,
+                    route,
+                    (route.len() as u32).into(),
+                    *bytes,
+                );
                 next += 1;
             }
             if flow.next_event_time() == Some(now) {

@@ -43,7 +43,7 @@
 //! bottlenecked on.
 //!
 //! Must never use floating point, never iterate a hash map, and never depend on anything but
-//! the flows' routes and the link capacity (not on the order flows were added).
+//! the flows' routes and the links' capacities (not on the order flows were added).
 
 use std::cmp::Reverse;
 
@@ -69,10 +69,26 @@ fn link_of(key: Key) -> LinkId {
     key as LinkId
 }
 
-/// Flows sharing links of one capacity, and their max-min fair rates as of the last
-/// [`MaxMin::solve`].
+/// Each link's capacity in bits per second: one for every link, or one per link (a network
+/// whose links differ, such as nodes of several processors on a faster switch).
+#[derive(Clone, Debug, PartialEq, Eq)]
+pub enum Capacities {
+    Uniform(u64),
+    PerLink(Vec<u64>),
+}
+
+impl Capacities {
+    pub fn of(&self, link: LinkId) -> u64 {
+        match self {
+            Capacities::Uniform(c) => *c,
+            Capacities::PerLink(c) => c[link as usize],
+        }
+    }
+}
+
+/// Flows sharing links, and their max-min fair rates as of the last [`MaxMin::solve`].
 pub struct MaxMin {
-    capacity: u64,
+    capacity: Capacities,
     links: Vec<Link>,
     /// Each link's key in the last solve (`NONE` if it fixed nothing); apart from `links`,
     /// whose flow lists most visits never read.
@@ -234,8 +250,8 @@ impl Sweep {
 }
 
 impl MaxMin {
-    /// `links` links of `capacity` bits per second each.
-    pub fn new(capacity: u64, links: usize) -> MaxMin {
+    /// `links` links of the given capacities.
+    pub fn new(capacity: Capacities, links: usize) -> MaxMin {
         MaxMin {
             capacity,
             links: (0..links).map(|_| Link::default()).collect(),
@@ -355,7 +371,10 @@ impl MaxMin {
             if self.keys[l as usize] != NONE {
                 return None;
             }
-            let room = self.capacity.saturating_sub(self.links[l as usize].load);
+            let room = self
+                .capacity
+                .of(l)
+                .saturating_sub(self.links[l as usize].load);
             fixer = fixer.min(key(room, l));
         }
         let b = link_of(fixer);
@@ -395,7 +414,7 @@ impl MaxMin {
             let f = &self.flows[s as usize];
             (f.key, f.rate)
         }));
-        let alone = share_stays_above(self.capacity, b, &mut ahead, 1);
+        let alone = share_stays_above(self.capacity.of(b), b, &mut ahead, 1);
         self.sweep.ahead = ahead;
         alone
     }
@@ -407,7 +426,9 @@ impl MaxMin {
     fn stays_out_with_added(&mut self, l: LinkId, slot: u32, at: Key) -> bool {
         let rate = share_of(at).max(1);
         let link = &self.links[l as usize];
-        if link.flows.len() == 1 || link.load + rate + link.flows.len() as u64 <= self.capacity {
+        if link.flows.len() == 1
+            || link.load + rate + link.flows.len() as u64 <= self.capacity.of(l)
+        {
             return true;
         }
         let mut ahead = std::mem::take(&mut self.sweep.ahead);
@@ -416,7 +437,7 @@ impl MaxMin {
             true => (at, rate),
             false => (self.flows[s as usize].key, self.flows[s as usize].rate),
         }));
-        let out = share_stays_above(self.capacity, l, &mut ahead, 0);
+        let out = share_stays_above(self.capacity.of(l), l, &mut ahead, 0);
         self.sweep.ahead = ahead;
         out
     }
@@ -625,8 +646,9 @@ impl MaxMin {
         let mut tightest = None;
         for &l in &f.route {
             let link = &self.links[l as usize];
-            let share = self.capacity / link.flows.len() as u64;
-            let room = self.capacity.saturating_sub(link.load).max(share);
+            let capacity = self.capacity.of(l);
+            let share = capacity / link.flows.len() as u64;
+            let room = capacity.saturating_sub(link.load).max(share);
             if room < guess {
                 guess = room;
                 tightest = Some(l);
@@ -638,7 +660,7 @@ impl MaxMin {
             let link = &self.links[l as usize];
             if self.keys[l as usize] != NONE {
                 fixer = None;
-            } else if link.load + guess + link.flows.len() as u64 > self.capacity {
+            } else if link.load + guess + link.flows.len() as u64 > self.capacity.of(l) {
                 self.mark_dirty(l);
                 fixer = None;
             }
@@ -669,7 +691,7 @@ impl MaxMin {
     fn stays_out(&mut self, link: LinkId) -> bool {
         let l = &self.links[link as usize];
         let load = l.load as i128 + self.sweep.links[link as usize].delta as i128;
-        if load + l.flows.len() as i128 <= self.capacity as i128 {
+        if load + l.flows.len() as i128 <= self.capacity.of(link) as i128 {
             return true;
         }
         let mut ahead = std::mem::take(&mut self.sweep.ahead);
@@ -683,7 +705,7 @@ impl MaxMin {
                 }
             }
         }
-        let out = share_stays_above(self.capacity, link, &mut ahead, 0);
+        let out = share_stays_above(self.capacity.of(link), link, &mut ahead, 0);
         self.sweep.ahead = ahead;
         out
     }
@@ -802,7 +824,7 @@ impl MaxMin {
         let now = self.sweep.now;
         let mut ahead = std::mem::take(&mut self.sweep.ahead);
         ahead.clear();
-        let mut left = self.capacity;
+        let mut left = self.capacity.of(link);
         let mut unfixed = 0u64;
         let (mut ahead_rates, mut ahead_share) = (0u64, 0u64);
         for &slot in &self.links[link as usize].flows {
@@ -1063,7 +1085,7 @@ impl MaxMin {
             .iter()
             .map(|&s| self.flows[s as usize].route.clone())
             .collect();
-        let rates = reference_rates(self.capacity, self.links.len(), &routes);
+        let rates = reference_rates(&self.capacity, self.links.len(), &routes);
         for (&slot, rate) in live.iter().zip(rates) {
             let f = &mut self.flows[slot as usize];
             if f.rate != rate {
@@ -1137,14 +1159,14 @@ fn share_stays_above(capacity: u64, link: LinkId, ahead: &mut [(Key, u64)], extr
 #[cfg(test)]
 /// Progressive filling from scratch over every link: the plain procedure [`MaxMin`] must
 /// agree with. `routes[i]` is flow i's route; returns its rate.
-pub fn reference_rates(capacity: u64, links: usize, routes: &[Vec<LinkId>]) -> Vec<u64> {
+pub fn reference_rates(capacity: &Capacities, links: usize, routes: &[Vec<LinkId>]) -> Vec<u64> {
     let mut on_link: Vec<Vec<usize>> = vec![Vec::new(); links];
     for (i, route) in routes.iter().enumerate() {
         for &l in route {
             on_link[l as usize].push(i);
         }
     }
-    let mut left = vec![capacity; links];
+    let mut left: Vec<u64> = (0..links as LinkId).map(|l| capacity.of(l)).collect();
     let mut unfixed: Vec<u64> = on_link.iter().map(|f| f.len() as u64).collect();
     let mut rate: Vec<Option<u64>> = vec![None; routes.len()];
     while let Some((share, l)) = (0..links)
@@ -1204,17 +1226,17 @@ mod tests {
     /// Applies `steps` to a `MaxMin` and checks every flow's rate against the reference
     /// after every solve, and that `changed` lists exactly the flows whose rate moved.
     fn check(capacity: u64, links: u32, steps: &[Step]) -> Result<(), TestCaseError> {
-        check_counting(capacity, links, steps).map(|_| ())
+        check_counting(Capacities::Uniform(capacity), links, steps).map(|_| ())
     }
 
     /// [`check`], returning how many groups were fixed again whole, how many flows were
     /// settled one by one, and how many were removed and added without a sweep.
     fn check_counting(
-        capacity: u64,
+        capacity: Capacities,
         links: u32,
         steps: &[Step],
     ) -> Result<(u64, u64, u64, u64), TestCaseError> {
-        let mut mm = MaxMin::new(capacity, links as usize);
+        let mut mm = MaxMin::new(capacity.clone(), links as usize);
         let mut live: Vec<(u32, Vec<LinkId>)> = Vec::new();
         let mut free: Vec<u32> = Vec::new();
         let mut next = 0u32;
@@ -1240,7 +1262,7 @@ mod tests {
             let mut changed = Vec::new();
             mm.solve(&mut changed);
             let routes: Vec<Vec<LinkId>> = live.iter().map(|(_, r)| r.clone()).collect();
-            let expected = reference_rates(capacity, links as usize, &routes);
+            let expected = reference_rates(&capacity, links as usize, &routes);
             before.resize(next as usize, 0);
             for ((slot, _), want) in live.iter().zip(&expected) {
                 prop_assert_eq!(mm.rate(*slot), *want, "flow in slot {}", slot);
@@ -1302,6 +1324,19 @@ mod tests {
         ) {
             check(capacity, 10, &s)?;
         }
+
+        /// Links of different capacities (a node's fast switch beside slower network links):
+        /// small ones for ties and floors, and two rates ten apart.
+        #[test]
+        fn equals_progressive_filling_with_a_capacity_per_link(
+            small in proptest::collection::vec(1u64..40, 10),
+            two_rates in proptest::collection::vec(prop_oneof![Just(17_000_000u64), Just(170_000_000u64)], 10),
+            use_small in any::<bool>(),
+            s in steps(10)
+        ) {
+            let capacity = Capacities::PerLink(if use_small { small } else { two_rates });
+            check_counting(capacity, 10, &s)?;
+        }
     }
 
     /// A link that fixed nothing must fix a flow after a change elsewhere: its suspect check
@@ -1312,7 +1347,7 @@ mod tests {
     #[test]
     fn a_link_that_fixed_nothing_and_must_now_is_put_back() {
         let (x, w, z) = (0, 1, 2);
-        let mut mm = MaxMin::new(12, 3);
+        let mut mm = MaxMin::new(Capacities::Uniform(12), 3);
         let routes: Vec<Vec<LinkId>> = vec![
             vec![x, z], // a
             vec![x],    // b
@@ -1340,7 +1375,7 @@ mod tests {
         assert_eq!(mm.reruns, reruns + 1, "Z's check failed once");
         assert_eq!(mm.rate(3), 8, "e is fixed by Z");
         assert_eq!(
-            reference_rates(12, 3, &routes[..4]),
+            reference_rates(&Capacities::Uniform(12), 3, &routes[..4]),
             (0..4).map(|s| mm.rate(s)).collect::<Vec<_>>()
         );
         assert!(mm.loads_add_up());
@@ -1381,7 +1416,8 @@ mod tests {
             let add = rng.gen_bool(0.5);
             one_change(add, &mut rng)
         }));
-        let (whole, one_by_one, removed, added) = check_counting(1_000_003, links, &steps).unwrap();
+        let (whole, one_by_one, removed, added) =
+            check_counting(Capacities::Uniform(1_000_003), links, &steps).unwrap();
         // Both ways of settling ran, and removals and adds that need no sweep were taken, so
         // the agreement covers each.
         assert!(whole > 100, "groups fixed again whole: {whole}");

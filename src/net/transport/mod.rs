@@ -12,7 +12,7 @@ mod flow;
 mod maxmin;
 mod packet;
 
-use super::timing::Timing;
+use super::timing::{Hops, Timing};
 use super::{Delivered, Fidelity, LinkId, MsgId};
 use crate::units::{Bytes, SimTime};
 
@@ -26,14 +26,14 @@ pub struct Usage {
 /// One fidelity level's state machine (see the contract in `net/mod.rs`); `Send` so a
 /// network can move to a sweep's worker thread.
 pub trait Transport: Send {
-    /// Starts `msg` on `route` (non-empty; `hops` switch traversals). `Some(t)` when the
-    /// arrival is already known; then it never comes out of `advance`.
+    /// Starts `msg` on `route` (non-empty; `hops` switch traversals, by kind of link).
+    /// `Some(t)` when the arrival is already known; then it never comes out of `advance`.
     fn inject(
         &mut self,
         now: SimTime,
         msg: MsgId,
         route: &[LinkId],
-        hops: u32,
+        hops: Hops,
         bytes: Bytes,
     ) -> Option<SimTime>;
     fn next_event_time(&self) -> Option<SimTime>;
@@ -41,11 +41,31 @@ pub trait Transport: Send {
     fn usage(&self, link: LinkId) -> Usage;
 }
 
-pub fn build(fidelity: Fidelity, timing: Timing, links: usize) -> Box<dyn Transport> {
+/// The level `fidelity` for `links` links; `node_link[l]` says link `l` is a node link
+/// (empty when the network has none). `packet` takes one kind of link only.
+pub fn build(
+    fidelity: Fidelity,
+    timing: Timing,
+    links: usize,
+    node_link: &[bool],
+) -> Box<dyn Transport> {
+    let rate = |l: usize| match timing.node_links {
+        Some(node) if node_link.get(l) == Some(&true) => node.bandwidth,
+        _ => timing.bandwidth,
+    };
     match fidelity {
-        Fidelity::Ideal => Box::new(contention_free::ContentionFree::ideal(timing, links)),
-        Fidelity::Hops => Box::new(contention_free::ContentionFree::hops(timing, links)),
-        Fidelity::Flow => Box::new(flow::Flow::new(timing, links)),
+        Fidelity::Ideal => Box::new(contention_free::ContentionFree::ideal(timing, links, rate)),
+        Fidelity::Hops => Box::new(contention_free::ContentionFree::hops(timing, links, rate)),
+        Fidelity::Flow => {
+            let capacities = if node_link.is_empty() {
+                maxmin::Capacities::Uniform(timing.bandwidth.bits_per_s())
+            } else {
+                maxmin::Capacities::PerLink((0..links).map(|l| rate(l).bits_per_s()).collect())
+            };
+            Box::new(flow::Flow::new(timing, links, capacities))
+        }
+        // Network::new lets node links through to packet only at the network's own rate
+        // and latency, so one timing serves every link.
         Fidelity::Packet => Box::new(packet::Packet::new(timing, links)),
     }
 }

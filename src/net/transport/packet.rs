@@ -34,7 +34,7 @@ use std::cmp::Reverse;
 use std::collections::{BinaryHeap, VecDeque};
 
 use super::{Transport, Usage};
-use crate::net::timing::Timing;
+use crate::net::timing::{Hops, Timing};
 use crate::net::{Delivered, LinkId, MsgId, Switching};
 use crate::units::{Bytes, SimTime};
 
@@ -310,10 +310,10 @@ impl Transport for Packet {
         now: SimTime,
         msg: MsgId,
         route: &[LinkId],
-        hops: u32,
+        hops: Hops,
         bytes: Bytes,
     ) -> Option<SimTime> {
-        let message = self.new_message(msg, route, hops, bytes);
+        let message = self.new_message(msg, route, hops.total(), bytes);
         self.offer_next_packet(now, message);
         self.drain_offers(now);
         None
