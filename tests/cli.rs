@@ -26,27 +26,34 @@ fn temp_dir(name: &str) -> common::Scratch {
 
 #[test]
 fn every_bundled_machine_checks_ok() {
-    let machines: Vec<String> = [
-        "delta",
-        "multicluster-torus",
-        "multicluster-pipeline",
-        "power-challenge",
-        "snooping-bus",
-    ]
-    .iter()
-    .map(|m| format!("machines/{m}.json"))
-    .collect();
+    let mut machines: Vec<String> = std::fs::read_dir("machines")
+        .unwrap()
+        .map(|e| e.unwrap().path())
+        .filter(|p| p.extension().is_some_and(|e| e == "json"))
+        .map(|p| p.to_string_lossy().into_owned())
+        .collect();
+    machines.sort();
+    assert!(machines.len() >= 9, "{machines:?}");
     let args: Vec<&str> = std::iter::once("check")
         .chain(machines.iter().map(String::as_str))
         .collect();
     let stdout = String::from_utf8(sortsim(&args).stdout).unwrap();
     assert_eq!(
         stdout.lines().filter(|l| l.starts_with("OK ")).count(),
-        5,
+        machines.len(),
         "{stdout}"
     );
     assert!(
         stdout.contains("machine 'delta': 512 nodes, mesh 16x32, links 17MB/s with 80ns per hop, wormhole switching"),
+        "{stdout}"
+    );
+    // Issue 32: today's machines, with nodes of several processors.
+    assert!(
+        stdout.contains("machine 'bgp-intrepid-8k': 32768 processors in nodes of 4 with 1 NIC on 3400MB/s links with 100ns per hop, joined by a torus 16x16x32, links 425MB/s"),
+        "{stdout}"
+    );
+    assert!(
+        stdout.contains("machine 'gpu-cluster-a100': 256 processors in nodes of 8 with 8 NICs on 300GB/s links with 500ns per hop, joined by a fat-tree down [16,16] up [1,16] parallel [1,1], links 25GB/s"),
         "{stdout}"
     );
 }

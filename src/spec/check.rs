@@ -34,10 +34,20 @@ pub fn check(path: &Path) -> Result<String, CheckError> {
                 .filter(|&&op| !m.cpu.costs.is_priced(op))
                 .map(|op| op.name())
                 .collect();
+            let nodes = match m.network.node {
+                Some(n) => format!(
+                    "{} processors in nodes of {} with {} on {} links with {} per hop, joined by a",
+                    m.nodes,
+                    n.processors,
+                    crate::units::count(n.nics, "NIC"),
+                    n.links.bandwidth,
+                    n.links.hop_latency
+                ),
+                None => format!("{} nodes,", m.nodes),
+            };
             Ok(format!(
-                "machine '{}': {} nodes, {} {}, links {} with {} per hop, {} switching, fidelity {}{}",
+                "machine '{}': {nodes} {} {}, links {} with {} per hop, {} switching, fidelity {}{}",
                 m.name,
-                m.nodes,
                 m.network.topology.name(),
                 crate::net::shape_text(m.network.topology, &m.network.dims),
                 m.network.link_bandwidth,
