@@ -8,7 +8,7 @@ use std::path::Path;
 use maud::html;
 
 use super::spec::Sweep;
-use super::table::{shown_cells, Row, SHOWN_COLUMNS};
+use super::table::{shown_cells, shown_columns, Row};
 use crate::output::page::{table, Page};
 use crate::output::plot::PlotError;
 
@@ -39,5 +39,5 @@ pub fn table_html(title: &str, rows: &[Row]) -> maud::Markup {
             cells.push(vec![format!("failed: {e}")]);
         }
     }
-    table(title, &SHOWN_COLUMNS, &cells)
+    table(title, &shown_columns(rows), &cells)
 }

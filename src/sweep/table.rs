@@ -308,7 +308,8 @@ fn line(fields: &[String]) -> String {
     quoted.join(",") + "\n"
 }
 
-/// The columns a person reads, in order.
+/// The columns a person reads, in order (the first names the machine too when a sweep has
+/// several: [`shown_columns`]).
 pub const SHOWN_COLUMNS: [&str; 9] = [
     "algo, scene, options",
     "procs",
@@ -321,12 +322,31 @@ pub const SHOWN_COLUMNS: [&str; 9] = [
     "link %",
 ];
 
-/// Each row's cells under `SHOWN_COLUMNS` (a failed point's numbers are `-`), and its error.
+/// Whether the rows come from more than one machine.
+fn several_machines(rows: &[Row]) -> bool {
+    rows.iter().any(|r| r.machine != rows[0].machine)
+}
+
+/// The headers of [`shown_cells`]' columns.
+pub fn shown_columns(rows: &[Row]) -> Vec<&'static str> {
+    let mut columns = SHOWN_COLUMNS.to_vec();
+    if several_machines(rows) {
+        columns[0] = "machine, algo, scene, options";
+    }
+    columns
+}
+
+/// Each row's cells under [`shown_columns`] (a failed point's numbers are `-`), and its
+/// error.
 pub fn shown_cells(rows: &[Row]) -> Vec<(Vec<String>, Option<String>)> {
     let opt = |v: Option<f64>, prec: usize| v.map_or("-".to_string(), |x| format!("{x:.prec$}"));
+    let machine = several_machines(rows);
     rows.iter()
         .map(|r| {
             let mut what = format!("{}, {}", r.algo, super::plots::stem(&r.scene));
+            if machine {
+                what = format!("{}, {what}", super::plots::stem(&r.machine));
+            }
             for (k, v) in &r.options {
                 what.push_str(&format!(", {k}={v}"));
             }
@@ -346,16 +366,17 @@ pub fn shown_cells(rows: &[Row]) -> Vec<(Vec<String>, Option<String>)> {
         .collect()
 }
 
-/// The table `sortsim sweep` prints: `SHOWN_COLUMNS`, one line per point, a failed point's
+/// The table `sortsim sweep` prints: [`shown_columns`], one line per point, a failed point's
 /// error under it.
 pub fn format_rows(rows: &[Row]) -> String {
+    let width = if several_machines(rows) { 72 } else { 56 };
     let line = |c: &[String]| {
         format!(
-            "{:<56} {:>5} {:>12} {:>10} {:>8} {:>6} {:>12} {:>8} {:>8}\n",
+            "{:<width$} {:>5} {:>12} {:>10} {:>8} {:>6} {:>12} {:>8} {:>8}\n",
             c[0], c[1], c[2], c[3], c[4], c[5], c[6], c[7], c[8]
         )
     };
-    let header: Vec<String> = SHOWN_COLUMNS.iter().map(|h| h.to_string()).collect();
+    let header: Vec<String> = shown_columns(rows).iter().map(|h| h.to_string()).collect();
     let mut out = line(&header);
     for (cells, error) in shown_cells(rows) {
         out.push_str(&line(&cells));
