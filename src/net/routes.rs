@@ -1,9 +1,13 @@
 //! Routes computed once per (source, destination) pair: the first message between two nodes
 //! asks the topology, every later one reads the stored list of links.
 //!
-//! Owns the store only (rows per source, allocated when that source first sends, and one
-//! arena of links). Must never decide a route itself (that is the topology's), and never
-//! hand out a route different from what `Topology::route_into` gives for the pair.
+//! Owns the store only (rows per source, begun when that source first sends, and one arena
+//! of links). A row starts as a short sorted list of the destinations the source has sent
+//! to and becomes a table over every destination once the source has talked to many: a
+//! compositing round talks to a few partners, an all-to-all to everyone, and a table per
+//! source would take `nodes^2` entries (8.6 GB at 32,768 nodes). Must never decide a route
+//! itself (that is the topology's), and never hand out a route different from what
+//! `Topology::route_into` gives for the pair.
 
 use super::topology::Topology;
 use super::{LinkId, NodeId};
@@ -13,12 +17,23 @@ const UNKNOWN: (u32, u32) = (u32::MAX, 0);
 /// The topology has no route (a pipeline run backwards).
 const NO_ROUTE: (u32, u32) = (u32::MAX, 1);
 
-/// Per destination: `(start, len)` in `Routes::links`, or a marker above.
-type Row = Box<[(u32, u32)]>;
+/// A source's routes: `(start, len)` in `Routes::links`, or a marker above.
+enum Row {
+    /// The destinations asked so far, sorted, each with its entry.
+    Few(Vec<(NodeId, (u32, u32))>),
+    /// Every destination's entry.
+    All(Box<[(u32, u32)]>),
+}
+
+/// Destinations a row lists before it becomes a table: a table costs 8 bytes per node, a
+/// listed destination 12, and a lookup in a list a binary search.
+fn table_after(nodes: usize) -> usize {
+    (nodes / 16).max(64)
+}
 
 #[derive(Default)]
 pub struct Routes {
-    /// Per source, allocated when it first sends.
+    /// Per source, begun when it first sends.
     rows: Vec<Option<Row>>,
     links: Vec<LinkId>,
 }
@@ -35,18 +50,40 @@ impl Routes {
     /// no route.
     pub fn get(&mut self, topology: &dyn Topology, src: NodeId, dst: NodeId) -> Option<&[LinkId]> {
         let nodes = self.rows.len();
-        let row = self.rows[src as usize].get_or_insert_with(|| vec![UNKNOWN; nodes].into());
-        let mut entry = row[dst as usize];
-        if entry == UNKNOWN {
+        let row = self.rows[src as usize].get_or_insert_with(|| Row::Few(Vec::new()));
+        let known = match row {
+            Row::All(all) => all[dst as usize],
+            Row::Few(few) => match few.binary_search_by_key(&dst, |e| e.0) {
+                Ok(i) => few[i].1,
+                Err(_) => UNKNOWN,
+            },
+        };
+        let entry = if known != UNKNOWN {
+            known
+        } else {
             let start = self.links.len();
-            entry = if topology.route_into(src, dst, &mut self.links) {
+            let entry = if topology.route_into(src, dst, &mut self.links) {
                 (start as u32, (self.links.len() - start) as u32)
             } else {
                 self.links.truncate(start);
                 NO_ROUTE
             };
-            row[dst as usize] = entry;
-        }
+            match row {
+                Row::All(all) => all[dst as usize] = entry,
+                Row::Few(few) => {
+                    let at = few.partition_point(|e| e.0 < dst);
+                    few.insert(at, (dst, entry));
+                    if few.len() > table_after(nodes) {
+                        let mut all = vec![UNKNOWN; nodes].into_boxed_slice();
+                        for &(d, e) in few.iter() {
+                            all[d as usize] = e;
+                        }
+                        *row = Row::All(all);
+                    }
+                }
+            }
+            entry
+        };
         (entry != NO_ROUTE).then(|| &self.links[entry.0 as usize..(entry.0 + entry.1) as usize])
     }
 }
@@ -65,6 +102,8 @@ mod tests {
             (TopologyKind::Pipeline, vec![6]),
             (TopologyKind::Ring, vec![5]),
             (TopologyKind::Crossbar, vec![4]),
+            // Enough destinations per source for its list to become a table midway.
+            (TopologyKind::Torus, vec![12, 12]),
         ] {
             let topology = build(kind, &dims).unwrap();
             let n = topology.nodes();

@@ -372,12 +372,15 @@ pub const ACTIVE_PIXEL_BYTES: u64 = 2 + 2 + 4 + 3;
 /// Stores only the pixels fragments reached (sort-last sparse), in first-touch order, and
 /// optionally every fragment before the depth test (pixel traces, paper 003).
 ///
-/// The simulated memory is `active().len() * ACTIVE_PIXEL_BYTES`; the dense index that finds
-/// a pixel's entry is a host-side lookup structure, not part of the modelled memory.
+/// The simulated memory is `active().len() * ACTIVE_PIXEL_BYTES`; the index that finds a
+/// pixel's entry is a host-side lookup structure, not part of the modelled memory. It holds
+/// a row only once a fragment falls in it: a node of a 32,768-process run draws into a few
+/// rows of a 64-megapixel screen, and a whole-screen index would be 256 MB to clear.
 #[derive(Clone, Debug, PartialEq, Eq)]
 pub struct SparseBuffer {
     rects: [ScreenRect; 1],
-    index: Vec<u32>,
+    /// Per row, once touched: each pixel's entry in `active`, or `u32::MAX`.
+    index: Vec<Option<Box<[u32]>>>,
     active: Vec<ActivePixel>,
     record: Option<Vec<FragmentRecord>>,
 }
@@ -386,7 +389,7 @@ impl SparseBuffer {
     pub fn new(viewport: Viewport) -> SparseBuffer {
         SparseBuffer {
             rects: [viewport.rect()],
-            index: vec![u32::MAX; viewport.pixels()],
+            index: vec![None; viewport.height() as usize],
             active: Vec::new(),
             record: None,
         }
@@ -425,7 +428,7 @@ impl Target for SparseBuffer {
     fn span(&mut self, _rect: usize, span: &Span<'_>, counters: &mut Counters) {
         let w = self.rects[0].width() as usize;
         let y = span.y();
-        let row = y as usize * w;
+        let row = self.index[y as usize].get_or_insert_with(|| vec![u32::MAX; w].into());
         let mut written = 0;
         for f in span.fragments() {
             if let Some(rec) = &mut self.record {
@@ -437,7 +440,7 @@ impl Target for SparseBuffer {
                     prim: span.prim(),
                 });
             }
-            let slot = &mut self.index[row + f.x as usize];
+            let slot = &mut row[f.x as usize];
             if *slot == u32::MAX {
                 *slot = self.active.len() as u32;
                 self.active.push(ActivePixel {
