@@ -2,8 +2,9 @@
 
 use super::cli::NetsimArgs;
 use super::{Context, Failure};
-use crate::net::fidelity::{fidelity_table, format_table};
+use crate::net::fidelity::{fidelity_table, format_table, levels_refused};
 use crate::net::pattern::{run_pattern, Pattern};
+use crate::net::Network;
 use crate::output::{cost::Stopwatch, to_json};
 use crate::spec::{load_json, machine::load_machine};
 
@@ -20,10 +21,20 @@ pub(super) fn run(ctx: &Context, args: &NetsimArgs) -> Result<(), Failure> {
             crate::report::netsim::write_comparison(dir, &rows)?;
         }
         print!("{}", format_table(&rows));
+        for (fidelity, why) in levels_refused(&network) {
+            println!("{fidelity}: not run on this network: {why}");
+        }
         return Ok(());
     }
     if let Some(f) = args.fidelity {
         network.fidelity = f.into();
+        Network::new(&network).map_err(|e| {
+            Failure::BadInput(format!(
+                "--fidelity {}: {}: {e}",
+                network.fidelity,
+                ctx.input(&args.machine).display()
+            ))
+        })?;
     }
     let clock = Stopwatch::start();
     let report = run_pattern(&network, &pattern).map_err(in_pattern)?;

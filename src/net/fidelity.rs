@@ -23,7 +23,24 @@ pub struct FidelityRow {
     pub wall: Duration,
 }
 
-/// Runs `pattern` at every level of [`Fidelity::ALL`] on `cfg` (its own fidelity ignored).
+/// The levels of [`Fidelity::ALL`] that cannot model `cfg`'s network (`packet` on a network
+/// with node links of their own rate), each with the reason.
+pub fn levels_refused(cfg: &NetworkConfig) -> Vec<(Fidelity, NetError)> {
+    Fidelity::ALL
+        .iter()
+        .filter_map(|&fidelity| {
+            Network::new(&NetworkConfig {
+                fidelity,
+                ..cfg.clone()
+            })
+            .err()
+            .map(|e| (fidelity, e))
+        })
+        .collect()
+}
+
+/// Runs `pattern` at every level of [`Fidelity::ALL`] on `cfg` (its own fidelity ignored),
+/// leaving out the [`levels_refused`].
 pub fn fidelity_table(
     cfg: &NetworkConfig,
     pattern: &Pattern,
@@ -34,8 +51,10 @@ pub fn fidelity_table(
         .map(|m| m.start)
         .min()
         .unwrap_or(SimTime::ZERO);
+    let refused = levels_refused(cfg);
     Fidelity::ALL
         .iter()
+        .filter(|&&f| refused.iter().all(|(r, _)| *r != f))
         .map(|&fidelity| {
             let cfg = NetworkConfig {
                 fidelity,
