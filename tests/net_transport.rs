@@ -43,7 +43,7 @@ fn run(cfg: &NetworkConfig, messages: &[ParsedMessage]) -> Vec<SimTime> {
 }
 
 /// (topology, dims, a far pair) covering every topology.
-const SHAPES: [(TopologyKind, &[u32], u32, u32); 11] = [
+const SHAPES: [(TopologyKind, &[u32], u32, u32); 12] = [
     (TopologyKind::Ring, &[8], 6, 2),
     (TopologyKind::Pipeline, &[5], 0, 4),
     (TopologyKind::Torus, &[4, 4], 15, 5),
@@ -55,6 +55,7 @@ const SHAPES: [(TopologyKind, &[u32], u32, u32); 11] = [
     (TopologyKind::Torus, &[2, 3, 2, 3, 2], 0, 71),
     (TopologyKind::FatTree, &[4, 4, 2, 1, 2, 2, 1, 2, 1], 1, 30),
     (TopologyKind::Dragonfly, &[3, 2, 3, 2], 0, 35),
+    (TopologyKind::Dragonfly, &[4, 2, 4, 1, 1], 7, 30),
 ];
 
 const SIZES: [u64; 7] = [

@@ -167,6 +167,9 @@ pub fn shape_text(topology: TopologyKind, dims: &[u32]) -> String {
         (TopologyKind::Dragonfly, &[g, c, r, n]) => {
             format!("{g} groups x {c} chassis x {r} routers x {n} hosts")
         }
+        (TopologyKind::Dragonfly, &[g, c, r, n, _]) => {
+            format!("{g} groups x {c} chassis x {r} routers x {n} hosts, Valiant routing")
+        }
         _ => dims_text(dims),
     }
 }
@@ -209,7 +212,8 @@ pub struct NetworkConfig {
     pub topology: TopologyKind,
     /// Extent per dimension (torus, mesh); `[nodes]` for the one-dimensional topologies and
     /// the hypercube; a fat-tree's `down ++ up ++ parallel` (one entry each per level,
-    /// SimGrid's parameters); a dragonfly's `[groups, chassis, routers, nodes per router]`.
+    /// SimGrid's parameters); a dragonfly's `[groups, chassis, routers, nodes per router]`,
+    /// with a fifth entry 1 for Valiant routing.
     pub dims: Vec<u32>,
     pub link_bandwidth: Bandwidth,
     pub hop_latency: SimTime,

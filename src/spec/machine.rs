@@ -152,6 +152,18 @@ pub struct DragonflySpec {
     pub routers: u32,
     #[schemars(range(min = 1))]
     pub nodes_per_router: u32,
+    /// `minimal` (SimGrid's rule, the default) or `valiant` (through an intermediate group
+    /// fixed per source and destination).
+    #[serde(default)]
+    pub routing: DragonflyRouting,
+}
+
+#[derive(Deserialize, Debug, Clone, Copy, Default, PartialEq, Eq, schemars::JsonSchema)]
+#[serde(rename_all = "kebab-case")]
+pub enum DragonflyRouting {
+    #[default]
+    Minimal,
+    Valiant,
 }
 
 #[derive(Deserialize, Debug, Clone, Copy, schemars::JsonSchema)]
@@ -359,7 +371,11 @@ fn switched_dims(
                     ),
                 ));
             }
-            Ok(Some(parts.to_vec()))
+            let mut dims = parts.to_vec();
+            if d.routing == DragonflyRouting::Valiant {
+                dims.push(1);
+            }
+            Ok(Some(dims))
         }
         _ if net.fat_tree.is_some() => refuse("network.fat_tree"),
         _ if net.dragonfly.is_some() => refuse("network.dragonfly"),
@@ -416,7 +432,7 @@ fn network_config(path: &Path, nodes: u32, net: &NetworkSpec) -> Result<NetworkC
     }
     let (field, hosts) = match topology {
         TopologyKind::FatTree => ("network.fat_tree.down", &dims[..dims.len() / 3]),
-        TopologyKind::Dragonfly => ("network.dragonfly", &dims[..]),
+        TopologyKind::Dragonfly => ("network.dragonfly", &dims[..4]),
         _ => ("network.dims", &dims[..]),
     };
     let product: u64 = hosts.iter().map(|&d| d as u64).product();

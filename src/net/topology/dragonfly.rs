@@ -20,6 +20,13 @@
 //! Blue links sit on chassis 0, so `groups` may not exceed `routers` (the same bound as
 //! SimGrid's).
 //!
+//! Valiant routing (dims `[groups, chassis, routers, nodes, 1]`), an option SimGrid's zone
+//! does not have: a message between groups first goes minimally to an intermediate group
+//! other than its two ends, then minimally on, spreading traffic over the global links. The
+//! intermediate group is a fixed function of the pair (a SplitMix64 hash of source and
+//! destination), so every run routes the same way; with fewer than three groups, or inside
+//! a group, the route is minimal.
+//!
 //! Must never route a pair over a path that is not connected.
 
 use super::{Link, Topology};
@@ -30,6 +37,7 @@ pub struct Dragonfly {
     chassis: u32,
     routers: u32,
     per_router: u32,
+    valiant: bool,
     links: Vec<Link>,
     /// Per router (index from 0): the up link of each host slot, then down.
     host_up: Vec<LinkId>,
@@ -50,16 +58,18 @@ struct Place {
 }
 
 impl Dragonfly {
-    /// `dims = [groups, chassis, routers, nodes]`, each at least 1 and `groups <= routers`
-    /// (checked by the caller).
+    /// `dims = [groups, chassis, routers, nodes]`, each at least 1 and `groups <= routers`,
+    /// and a fifth entry 1 for Valiant routing (checked by the caller).
     pub fn new(dims: &[u32]) -> Dragonfly {
         let [groups, chassis, routers, per_router] = [dims[0], dims[1], dims[2], dims[3]];
+        let valiant = dims.get(4) == Some(&1);
         let count = (groups * chassis * routers) as usize;
         let mut d = Dragonfly {
             groups,
             chassis,
             routers,
             per_router,
+            valiant,
             links: Vec::new(),
             host_up: Vec::with_capacity(count * per_router as usize),
             green: vec![vec![NONE; routers as usize]; count],
@@ -174,6 +184,33 @@ impl Dragonfly {
         }
     }
 
+    /// Moves `at` across the blue link to `group`, from the router of its group that holds it.
+    fn to_group(&self, at: &mut Place, group: u32, out: &mut Vec<LinkId>) {
+        let exit = self.blue_router(at.group, group);
+        self.within_group(at, exit.router, exit.chassis, out);
+        out.push(self.blue[self.index(*at) as usize]);
+        *at = self.blue_router(group, at.group);
+    }
+
+    /// Valiant's intermediate group for `src -> dst`: a group other than `from` and `to`,
+    /// picked by a SplitMix64 hash of the pair.
+    fn intermediate(&self, src: NodeId, dst: NodeId, from: u32, to: u32) -> u32 {
+        let mut z = ((src as u64) << 32 | dst as u64).wrapping_add(0x9e37_79b9_7f4a_7c15);
+        z = (z ^ (z >> 30)).wrapping_mul(0xbf58_476d_1ce4_e5b9);
+        z = (z ^ (z >> 27)).wrapping_mul(0x94d0_49bb_1331_11eb);
+        z ^= z >> 31;
+        let (lo, hi) = (from.min(to), from.max(to));
+        let mut g = (z % (self.groups as u64 - 2)) as u32;
+        // Skip the two ends, in order.
+        if g >= lo {
+            g += 1;
+        }
+        if g >= hi {
+            g += 1;
+        }
+        g
+    }
+
     /// Moves `at` to `router` within its chassis, then to `chassis` within its group.
     fn within_group(&self, at: &mut Place, router: u32, chassis: u32, out: &mut Vec<LinkId>) {
         if at.router != router {
@@ -205,10 +242,11 @@ impl Topology for Dragonfly {
         let mut at = self.place_of_host(src);
         out.push(self.host_up[src as usize]);
         if at.group != target.group {
-            let exit = self.blue_router(at.group, target.group);
-            self.within_group(&mut at, exit.router, exit.chassis, out);
-            out.push(self.blue[self.index(at) as usize]);
-            at = self.blue_router(target.group, at.group);
+            if self.valiant && self.groups >= 3 {
+                let via = self.intermediate(src, dst, at.group, target.group);
+                self.to_group(&mut at, via, out);
+            }
+            self.to_group(&mut at, target.group, out);
         }
         self.within_group(&mut at, target.router, target.chassis, out);
         out.push(self.host_up[dst as usize] + 1);
@@ -260,6 +298,38 @@ mod tests {
         // Same router.
         assert_eq!(route(&t, 0, 1), [(0, 18), (18, 1)]);
         assert_eq!(t.bisection_width(), 2);
+    }
+
+    #[test]
+    fn valiant_routes_cross_two_global_links_through_a_third_group() {
+        let minimal = Dragonfly::new(&[5, 2, 5, 2]);
+        let t = Dragonfly::new(&[5, 2, 5, 2, 1]);
+        let blue = |t: &Dragonfly, l: LinkId| t.blue.contains(&l);
+        let mut vias = std::collections::BTreeSet::new();
+        for s in 0..t.nodes() {
+            for d in 0..t.nodes() {
+                let hops = route(&t, s, d);
+                if s == d {
+                    continue;
+                }
+                assert_eq!(hops[0].0, s);
+                assert_eq!(hops.last().unwrap().1, d);
+                assert!(hops.windows(2).all(|w| w[0].1 == w[1].0), "{s}->{d}");
+                let mut out = Vec::new();
+                t.route_into(s, d, &mut out);
+                let (gs, gd) = (t.place_of_host(s).group, t.place_of_host(d).group);
+                let blues = out.iter().filter(|&&l| blue(&t, l)).count();
+                if gs == gd {
+                    assert_eq!(hops, route(&minimal, s, d), "inside a group: minimal");
+                } else {
+                    assert_eq!(blues, 2, "{s}->{d}");
+                    let via = t.intermediate(s, d, gs, gd);
+                    assert!(via != gs && via != gd && via < 5);
+                    vias.insert(via);
+                }
+            }
+        }
+        assert_eq!(vias.len(), 5, "every group serves as an intermediate");
     }
 
     #[test]

@@ -153,6 +153,8 @@ fn validate_dims(kind: TopologyKind, dims: &[u32]) -> Result<u32, NetError> {
         }
         // The hosts are the product of the children per switch.
         TopologyKind::FatTree => &dims[..dims.len() / 3],
+        // A fifth entry is the routing rule, not an extent.
+        TopologyKind::Dragonfly => &dims[..dims.len().min(4)],
         _ => dims,
     };
     let Some(nodes) = extents.iter().try_fold(1u32, |acc, &d| acc.checked_mul(d)) else {
@@ -191,17 +193,22 @@ fn validate_dims(kind: TopologyKind, dims: &[u32]) -> Result<u32, NetError> {
             }
             Ok(nodes)
         }
-        TopologyKind::Dragonfly if dims.len() != 4 => err(
-            "a dragonfly takes [groups, chassis, routers, nodes per router], e.g. [4, 2, 4, 2]"
+        TopologyKind::Dragonfly if !(4..=5).contains(&dims.len()) => err(
+            "a dragonfly takes [groups, chassis, routers, nodes per router], e.g. [4, 2, 4, 2], \
+             and a fifth entry 1 for Valiant routing"
                 .to_string(),
         ),
+        TopologyKind::Dragonfly if dims.len() == 5 && dims[4] != 1 => err(format!(
+            "a dragonfly's fifth entry, when present, is 1 (Valiant routing); got {}",
+            dims[4]
+        )),
         TopologyKind::Dragonfly if dims[0] > dims[2] => err(format!(
             "{} groups need at least as many routers per chassis ({}): the global link to \
              group g sits on router g of chassis 0",
             dims[0], dims[2]
         )),
         TopologyKind::Dragonfly => {
-            let routers = nodes as u64 / dims[3] as u64;
+            let routers = (nodes / dims[3]) as u64;
             if nodes as u64 + routers > u32::MAX as u64 {
                 return err(format!(
                     "hosts and routers must fit in {} vertices",
