@@ -333,3 +333,53 @@ fn netsim_leaves_packet_out_on_a_network_of_two_link_kinds() {
         "--fidelity packet: machines/gpu-cluster-a100.json: invalid network: packet fidelity takes one kind of link",
     );
 }
+
+/// A sweep over several machines names the machine in its table and draws each machine's
+/// curves on charts of their own besides the shared ones (their values can lie orders of
+/// magnitude apart).
+#[test]
+fn a_sweep_over_two_machines_charts_each_machine_apart() {
+    let dir = temp_dir("two-machine-sweep");
+    std::fs::create_dir_all(&dir).unwrap();
+    let root = env!("CARGO_MANIFEST_DIR");
+    let spec = dir.join("two.json");
+    std::fs::write(
+        &spec,
+        format!(
+            r#"{{"machines": ["{root}/machines/delta.json", "{root}/machines/gpu-cluster-a100.json"],
+                "scene": "{root}/scenes/spd-tetra.json", "algo": "sort-last/binary-swap",
+                "procs": [2, 4], "frames": "0..1"}}"#
+        ),
+    )
+    .unwrap();
+    let out = dir.join("report");
+    let run = sortsim(&["sweep", spec.to_str().unwrap(), "-o", out.to_str().unwrap()]);
+    let stdout = String::from_utf8(run.stdout).unwrap();
+    assert!(
+        stdout.starts_with("machine, algo, scene, options"),
+        "{stdout}"
+    );
+    assert!(
+        stdout.contains("gpu-cluster-a100, sort-last/binary-swap, spd-tetra"),
+        "{stdout}"
+    );
+    for chart in [
+        "triangles-per-s.svg",
+        "triangles-per-s-delta.svg",
+        "triangles-per-s-gpu-cluster-a100.png",
+    ] {
+        assert!(out.join("plots").join(chart).is_file(), "{chart}");
+    }
+    // Legend labels are text lines of their own in the SVG.
+    let legend = |chart: &str| -> Vec<String> {
+        std::fs::read_to_string(out.join("plots").join(chart))
+            .unwrap()
+            .lines()
+            .map(|l| l.trim().to_string())
+            .filter(|l| l == "delta" || l == "gpu-cluster-a100")
+            .collect()
+    };
+    assert_eq!(legend("speedup.svg"), ["delta", "gpu-cluster-a100"]);
+    assert_eq!(legend("speedup-delta.svg"), ["delta"]);
+    assert_eq!(legend("speedup-gpu-cluster-a100.svg"), ["gpu-cluster-a100"]);
+}

@@ -58,7 +58,9 @@ const METRICS: [Metric; 6] = [
     },
 ];
 
-/// Writes `DIR/<metric>.svg` and `.png` for every metric.
+/// Writes `DIR/<metric>.svg` and `.png` for every metric; a sweep over several machines also
+/// gets `DIR/<metric>-<machine>.svg|png` per machine, whose values can lie orders of
+/// magnitude apart from the others' on one axis.
 pub fn write_plots(sweep: &Sweep, rows: &[Row], dir: &Path) -> Result<(), PlotError> {
     let groups = groups(sweep, rows);
     let procs: Vec<u32> = rows.iter().map(|r| r.procs).collect();
@@ -71,27 +73,52 @@ pub fn write_plots(sweep: &Sweep, rows: &[Row], dir: &Path) -> Result<(), PlotEr
         log_x: log_axis(&procs),
         y_from_zero: true,
     };
-    for m in &METRICS {
-        let series: Vec<Series> = groups
-            .iter()
-            .map(|(label, members)| {
-                let mut points: Vec<(f64, f64)> = members
-                    .iter()
-                    .filter_map(|r| Some((f64::from(r.procs), (m.get)(r)?)))
-                    .collect();
-                points.sort_by(|a, b| a.0.total_cmp(&b.0));
-                Series::new(label.clone(), points)
-            })
-            .collect();
-        let title = format!("{} ({name})", m.title);
-        line_chart(
-            &dir.join(m.stem),
-            &title,
-            "processors",
-            m.y_label,
-            &series,
-            options,
-        )?;
+    let mut machines: Vec<&str> = Vec::new();
+    for r in rows {
+        if !machines.contains(&r.machine.as_str()) {
+            machines.push(&r.machine);
+        }
+    }
+    let mut charts = vec![(
+        String::new(),
+        name.clone(),
+        groups.iter().collect::<Vec<_>>(),
+    )];
+    if machines.len() > 1 {
+        for m in &machines {
+            let mine = groups
+                .iter()
+                .filter(|(_, members)| members[0].machine == *m);
+            charts.push((
+                format!("-{}", stem(m)),
+                format!("{name}, {}", stem(m)),
+                mine.collect(),
+            ));
+        }
+    }
+    for (suffix, context, groups) in charts {
+        for m in &METRICS {
+            let series: Vec<Series> = groups
+                .iter()
+                .map(|(label, members)| {
+                    let mut points: Vec<(f64, f64)> = members
+                        .iter()
+                        .filter_map(|r| Some((f64::from(r.procs), (m.get)(r)?)))
+                        .collect();
+                    points.sort_by(|a, b| a.0.total_cmp(&b.0));
+                    Series::new(label.clone(), points)
+                })
+                .collect();
+            let title = format!("{} ({context})", m.title);
+            line_chart(
+                &dir.join(format!("{}{suffix}", m.stem)),
+                &title,
+                "processors",
+                m.y_label,
+                &series,
+                options,
+            )?;
+        }
     }
     Ok(())
 }
