@@ -304,26 +304,35 @@ fn switched_dims(
     net: &NetworkSpec,
 ) -> Result<Option<Vec<u32>>, SpecError> {
     let invalid = |field: &str, msg: String| SpecError::invalid(path, field, msg);
-    let refuse = |field: &str| {
-        Err(invalid(
-            field,
-            format!(
-                "only a {} takes `{field}`; this network is a {topology}",
-                field.trim_start_matches("network.").replace('_', "-")
-            ),
-        ))
-    };
-    match topology {
-        TopologyKind::FatTree => {
-            let Some(t) = &net.fat_tree else {
+    // Each switched topology's description: required for it, refused for any other.
+    let shapes = [
+        (
+            "network.fat_tree",
+            TopologyKind::FatTree,
+            net.fat_tree.is_some(),
+            "a fat-tree needs its levels: {\"down\": [4, 4], \"up\": [1, 2], \"parallel\": [1, 1]}",
+        ),
+        (
+            "network.dragonfly",
+            TopologyKind::Dragonfly,
+            net.dragonfly.is_some(),
+            "a dragonfly needs its parts: {\"groups\": 4, \"chassis\": 2, \"routers\": 4, \"nodes_per_router\": 2}",
+        ),
+    ];
+    for (field, kind, given, example) in shapes {
+        match (given, topology == kind) {
+            (false, true) => return Err(invalid(field, example.into())),
+            (true, false) => {
                 return Err(invalid(
-                    "network.fat_tree",
-                    "a fat-tree needs its levels: {\"down\": [4, 4], \"up\": [1, 2], \"parallel\": [1, 1]}".into(),
-                ));
-            };
-            if net.dragonfly.is_some() {
-                return refuse("network.dragonfly");
+                    field,
+                    format!("only a {kind} takes `{field}`; this network is a {topology}"),
+                ))
             }
+            _ => {}
+        }
+    }
+    match (&net.fat_tree, &net.dragonfly) {
+        (Some(t), _) => {
             for (field, list) in [("down", &t.down), ("up", &t.up), ("parallel", &t.parallel)] {
                 if list.len() != t.down.len() || list.is_empty() {
                     return Err(invalid(
@@ -344,16 +353,7 @@ fn switched_dims(
             }
             Ok(Some([&t.down[..], &t.up, &t.parallel].concat()))
         }
-        TopologyKind::Dragonfly => {
-            let Some(d) = &net.dragonfly else {
-                return Err(invalid(
-                    "network.dragonfly",
-                    "a dragonfly needs its parts: {\"groups\": 4, \"chassis\": 2, \"routers\": 4, \"nodes_per_router\": 2}".into(),
-                ));
-            };
-            if net.fat_tree.is_some() {
-                return refuse("network.fat_tree");
-            }
+        (_, Some(d)) => {
             let parts = [d.groups, d.chassis, d.routers, d.nodes_per_router];
             let names = ["groups", "chassis", "routers", "nodes_per_router"];
             if let Some(i) = parts.iter().position(|&v| v == 0) {
@@ -377,9 +377,7 @@ fn switched_dims(
             }
             Ok(Some(dims))
         }
-        _ if net.fat_tree.is_some() => refuse("network.fat_tree"),
-        _ if net.dragonfly.is_some() => refuse("network.dragonfly"),
-        _ => Ok(None),
+        (None, None) => Ok(None),
     }
 }
 

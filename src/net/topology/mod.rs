@@ -233,6 +233,31 @@ fn fat_tree_vertices(dims: &[u32]) -> u64 {
         .sum()
 }
 
+/// What the topology tests share: a route as the vertex pairs it crosses.
+#[cfg(test)]
+pub(super) mod testing {
+    use super::Topology;
+
+    /// The route `s -> d` as (from, to) vertex pairs, asserting that it is a connected path
+    /// from `s` to `d` (empty when `s == d`).
+    pub fn path(t: &dyn Topology, s: u32, d: u32) -> Vec<(u32, u32)> {
+        let mut route = Vec::new();
+        assert!(t.route_into(s, d, &mut route), "{s}->{d} has a route");
+        let hops: Vec<(u32, u32)> = route
+            .iter()
+            .map(|&l| (t.links()[l as usize].from, t.links()[l as usize].to))
+            .collect();
+        match (hops.first(), hops.last()) {
+            (Some(first), Some(last)) => {
+                assert_eq!((first.0, last.1), (s, d), "{s}->{d} ends");
+                assert!(hops.windows(2).all(|w| w[0].1 == w[1].0), "{s}->{d} joined");
+            }
+            _ => assert_eq!(s, d, "only a message to itself has an empty route"),
+        }
+        hops
+    }
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
