@@ -176,9 +176,13 @@ fn check_packet_budget(net: &Network, messages: &[ParsedMessage]) -> Result<(), 
 /// u64 picoseconds. The message that contributes most is named.
 fn check_horizon(net: &Network, messages: &[ParsedMessage]) -> Result<(), NetError> {
     let timing = net.timing();
-    let per_hop = u128::from(timing.hop_latency.ps()) * u128::from(net.nodes());
+    // The slowest link and the longest hop, whichever kind of link they are.
+    let hop = timing
+        .hop_latency
+        .max(timing.node_links.map_or(SimTime::ZERO, |n| n.hop_latency));
+    let per_hop = u128::from(hop.ps()) * u128::from(net.nodes());
     let cost = |m: &ParsedMessage| {
-        let transfer = Bandwidth::work_of(m.bytes) / u128::from(timing.bandwidth.bits_per_s());
+        let transfer = Bandwidth::work_of(m.bytes) / u128::from(timing.slowest().bits_per_s());
         let packets = u128::from(
             m.bytes
                 .get()
