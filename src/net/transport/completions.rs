@@ -1,10 +1,10 @@
-//! The fluid transfers' completion instants, one entry per flow, kept in order.
+//! The fluid transfers' next completion instants, one entry per slot (a group of flows
+//! sharing a rate in `flow`, a single flow in the tests' per-flow account), kept in order.
 //!
-//! Owns a binary min-heap of `(completion, message, flow slot)` with each slot's position
-//! kept beside it, so a flow whose rate changes moves its one entry in place instead of
-//! leaving a stale entry behind (the heap stays as large as the flows carrying data).
-//! Entries order by completion, then by message id: flows completing at one instant finish
-//! in `MsgId` order.
+//! Owns a binary min-heap of `(completion, message, slot)` with each slot's position kept
+//! beside it, so a slot whose rate or first member changes moves its one entry in place (or
+//! drops it) instead of leaving a stale entry behind. Entries order by completion, then by
+//! message id.
 //!
 //! Must never hold two entries for one slot, and never order by anything but the entry.
 
@@ -27,7 +27,7 @@ impl Completions {
         self.heap.first().copied()
     }
 
-    /// Flow `slot` (carrying `msg`) completes at `at`, replacing any earlier entry of its own.
+    /// Slot `slot` (its first message `msg`) completes at `at`, replacing any entry of its own.
     pub fn set(&mut self, slot: u32, msg: MsgId, at: SimTime) {
         let s = slot as usize;
         if s >= self.position.len() {
@@ -52,7 +52,31 @@ impl Completions {
         }
     }
 
-    /// Takes the earliest entry out.
+    /// Drops `slot`'s entry, if it has one.
+    pub fn remove(&mut self, slot: u32) {
+        let Some(&i) = self.position.get(slot as usize) else {
+            return;
+        };
+        if i == ABSENT {
+            return;
+        }
+        let i = i as usize;
+        self.position[slot as usize] = ABSENT;
+        let last = self.heap.pop().expect("an entry is in the heap");
+        if i < self.heap.len() {
+            // The last entry takes the freed place and moves whichever way it must.
+            let earlier = last < self.heap[i];
+            self.place(i, last);
+            if earlier {
+                self.sift_up(i);
+            } else {
+                self.sift_down(i);
+            }
+        }
+    }
+
+    /// Takes the earliest entry out (the tests' per-flow account).
+    #[cfg(test)]
     pub fn pop(&mut self) -> Option<(SimTime, MsgId, u32)> {
         let first = *self.heap.first()?;
         let last = self.heap.pop().expect("not empty");
@@ -113,15 +137,19 @@ mod tests {
     use std::collections::BTreeMap;
 
     proptest! {
-        /// Against a plain map from slot to entry: every `first` and `pop` agrees.
+        /// Against a plain map from slot to entry: every `first` and `pop` agrees, with entries
+        /// set, moved and removed at random.
         #[test]
         fn keeps_the_order_of_a_plain_map(ops in proptest::collection::vec(
-            (0u32..24, 0u64..50, any::<bool>()), 1..300)
+            (0u32..24, 0u64..50, 0u8..3), 1..300)
         ) {
             let mut heap = Completions::default();
             let mut plain: BTreeMap<u32, (SimTime, MsgId)> = BTreeMap::new();
-            for (slot, at, take) in ops {
-                if take {
+            for (slot, at, op) in ops {
+                if op == 2 {
+                    heap.remove(slot);
+                    plain.remove(&slot);
+                } else if op == 1 {
                     let want = plain
                         .iter()
                         .map(|(&s, &(t, m))| (t, m, s))

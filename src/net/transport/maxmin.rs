@@ -542,13 +542,25 @@ impl MaxMin {
     }
 
     /// The rate of flow `slot` as of the last solve (0 before its first).
+    #[cfg(test)]
     pub fn rate(&self, slot: u32) -> u64 {
         self.flows[slot as usize].rate
     }
 
+    /// The link that fixes flow `slot` (its bottleneck) as of the last solve. Every flow one
+    /// link fixes has the same rate ([`MaxMin::group_rate`]).
+    pub fn bottleneck(&self, slot: u32) -> LinkId {
+        link_of(self.flows[slot as usize].key)
+    }
+
+    /// The rate of the flows link `g` fixed in the last solve; `None` if it fixed none.
+    pub fn group_rate(&self, g: LinkId) -> Option<u64> {
+        (self.groups[g as usize].members > 0).then(|| share_of(self.keys[g as usize]).max(1))
+    }
+
     /// Brings every rate up to date with the adds and removes since the last solve; appends
-    /// `(slot, old rate)` for every flow whose rate changed (0 for an added flow), in the
-    /// order the filling fixed them.
+    /// `(slot, old rate)` for every flow whose rate or bottleneck changed (rate 0 for an added
+    /// flow), in the order the filling fixed them.
     pub fn solve(&mut self, changed: &mut Vec<(u32, u64)>) {
         match (&self.added[..], &self.shrunk[..]) {
             // Nothing since the last solve but removals that moved no other rate.
@@ -1010,12 +1022,13 @@ impl MaxMin {
             let slot = self.sweep.settled[i];
             let f = &mut self.flows[slot as usize];
             let sf = f.swept();
-            if f.rate != sf.rate {
+            let regrouped = f.key == NONE || link_of(f.key) != link_of(sf.key);
+            if f.rate != sf.rate || regrouped {
                 changed.push((slot, f.rate));
             }
             f.rate = sf.rate;
             let old = std::mem::replace(&mut f.key, sf.key);
-            if old == NONE || link_of(old) != link_of(sf.key) {
+            if regrouped {
                 if old != NONE {
                     self.leave(slot, link_of(old));
                 }
@@ -1224,7 +1237,8 @@ mod tests {
     }
 
     /// Applies `steps` to a `MaxMin` and checks every flow's rate against the reference
-    /// after every solve, and that `changed` lists exactly the flows whose rate moved.
+    /// after every solve, and that `changed` lists exactly the flows whose rate or
+    /// bottleneck moved.
     fn check(capacity: u64, links: u32, steps: &[Step]) -> Result<(), TestCaseError> {
         check_counting(Capacities::Uniform(capacity), links, steps).map(|_| ())
     }
@@ -1241,6 +1255,9 @@ mod tests {
         let mut free: Vec<u32> = Vec::new();
         let mut next = 0u32;
         let mut before: Vec<u64> = Vec::new();
+        // Each flow's bottleneck after the last solve (`NO_LINK` before its first).
+        const NO_LINK: LinkId = LinkId::MAX;
+        let mut before_link: Vec<LinkId> = Vec::new();
         for step in steps {
             for &r in &step.remove {
                 if live.is_empty() {
@@ -1250,6 +1267,7 @@ mod tests {
                 mm.remove(slot);
                 free.push(slot);
                 before[slot as usize] = 0;
+                before_link[slot as usize] = NO_LINK;
             }
             for route in &step.add {
                 let slot = free.pop().unwrap_or_else(|| {
@@ -1269,9 +1287,13 @@ mod tests {
             }
             prop_assert!(mm.loads_add_up());
             prop_assert!(mm.groups_add_up());
+            before_link.resize(next as usize, NO_LINK);
             let mut moved: Vec<u32> = live
                 .iter()
-                .filter(|(slot, _)| before[*slot as usize] != mm.rate(*slot))
+                .filter(|(slot, _)| {
+                    let s = *slot as usize;
+                    before[s] != mm.rate(*slot) || before_link[s] != mm.bottleneck(*slot)
+                })
                 .map(|(slot, _)| *slot)
                 .collect();
             let mut listed: Vec<u32> = changed.iter().map(|c| c.0).collect();
@@ -1283,6 +1305,9 @@ mod tests {
             }
             for (slot, _) in &live {
                 before[*slot as usize] = mm.rate(*slot);
+                before_link[*slot as usize] = mm.bottleneck(*slot);
+                // One rate per group.
+                prop_assert_eq!(Some(mm.rate(*slot)), mm.group_rate(mm.bottleneck(*slot)));
             }
         }
         Ok((
