@@ -541,7 +541,7 @@ pub(crate) async fn rasterize(
     let mut received = Vec::new();
     match incoming {
         Incoming::Streams(streams) => {
-            let mut arrivals = redistribute::Streams::default();
+            let mut arrivals = redistribute::Streams::new(ctx.n);
             while arrivals.ended() < streams {
                 let env = node.recv(Filter::tag(TAG_POLYGONS)).await;
                 let Msg::Polygons {

@@ -250,7 +250,7 @@ pub(crate) async fn forward(
         )
     };
     let mut for_me = Vec::new();
-    let mut arrivals = Streams::default();
+    let mut arrivals = Streams::new(ctx.n);
     while arrivals.ended() < sources {
         let env = node.recv(Filter::tag(TAG_FORWARD)).await;
         let Msg::Forward {
@@ -297,16 +297,25 @@ pub(crate) async fn forward(
 
 /// Counts the messages of incoming streams until each has delivered as many messages as its
 /// last one announced.
-#[derive(Default)]
 pub(crate) struct Streams {
-    /// Per sender: messages seen, and the stream's length once known.
-    seen: std::collections::BTreeMap<u32, (u32, Option<u32>)>,
+    /// Per sender (indexed by node id): messages seen, and the stream's length once known.
+    /// A vector, not a map: a processor of a 512-node frame counts hundreds of thousands of
+    /// arrivals.
+    seen: Vec<(u32, Option<u32>)>,
     ended: u32,
 }
 
 impl Streams {
+    /// Streams from any of `senders` nodes.
+    pub fn new(senders: u32) -> Streams {
+        Streams {
+            seen: vec![(0, None); senders as usize],
+            ended: 0,
+        }
+    }
+
     pub fn arrived(&mut self, src: u32, end: Option<u32>) {
-        let (seen, total) = self.seen.entry(src).or_default();
+        let (seen, total) = &mut self.seen[src as usize];
         *seen += 1;
         if end.is_some() {
             *total = end;
