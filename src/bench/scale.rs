@@ -17,7 +17,8 @@ use std::time::Instant;
 use serde::Serialize;
 
 use super::{overhead, phold_report, PholdConfig};
-use crate::net::pattern::{random_staggered, run_pattern};
+use crate::net::pattern::{random_staggered, run_pattern_counted};
+use crate::net::transport::SolveCounters;
 use crate::net::{Fidelity, NetworkConfig, TopologyKind};
 use crate::output::cost::peak_host_memory;
 use crate::scene::Scene;
@@ -90,6 +91,9 @@ pub struct ScaleReport {
     pub wall_against_messages: Vec<CurvePoint>,
     pub wall_against_procs: Vec<CurvePoint>,
     pub wall_against_triangles: Vec<CurvePoint>,
+    /// The flow model's work on each torus pattern (empty unless built with the `counters`
+    /// feature).
+    pub flow_solves: Vec<(String, SolveCounters)>,
 }
 
 /// The fidelities each growth curve compares.
@@ -164,13 +168,17 @@ pub fn scale(cfg: &ScaleConfig, progress: &mut dyn FnMut(&str)) -> Result<ScaleR
     }
 
     let mut messages_curve = Vec::new();
+    let mut flow_solves = Vec::new();
     for &count in &cfg.messages {
         for fidelity in CURVE_FIDELITIES {
             progress(&format!(
                 "{count} staggered messages, 16x32 torus, {}",
                 fidelity.name()
             ));
-            let wall = torus_wall(&machine, count, fidelity)?;
+            let (wall, counters) = torus_wall(&machine, count, fidelity)?;
+            if counters.solves > 0 {
+                flow_solves.push((format!("{count} messages"), counters));
+            }
             messages_curve.push(CurvePoint {
                 x: count as f64,
                 label: format!("{count} messages"),
@@ -277,6 +285,7 @@ pub fn scale(cfg: &ScaleConfig, progress: &mut dyn FnMut(&str)) -> Result<ScaleR
     Ok(ScaleReport {
         figures,
         wall_against_messages: messages_curve,
+        flow_solves,
         wall_against_procs: procs_curve,
         wall_against_triangles: triangles_curve,
     })
@@ -363,7 +372,11 @@ fn frame_point(
 
 /// Wall seconds of `count` staggered messages (4 KiB or 64 KiB, random pairs) on the Delta's
 /// links wired as a 16x32 torus.
-fn torus_wall(machine: &Path, count: usize, fidelity: Fidelity) -> Result<f64, String> {
+fn torus_wall(
+    machine: &Path,
+    count: usize,
+    fidelity: Fidelity,
+) -> Result<(f64, SolveCounters), String> {
     let delta = crate::spec::machine::load_machine(machine).map_err(|e| e.to_string())?;
     let network = NetworkConfig {
         topology: TopologyKind::Torus,
@@ -375,8 +388,8 @@ fn torus_wall(machine: &Path, count: usize, fidelity: Fidelity) -> Result<f64, S
     let spread = STAGGER_PER_MESSAGE.times(count as u64);
     let pattern = random_staggered(512, count, &sizes, spread, 1);
     let start = Instant::now();
-    run_pattern(&network, &pattern).map_err(|e| e.to_string())?;
-    Ok(start.elapsed().as_secs_f64())
+    let (_, counters) = run_pattern_counted(&network, &pattern).map_err(|e| e.to_string())?;
+    Ok((start.elapsed().as_secs_f64(), counters))
 }
 
 /// The report as a table: one line per figure, then the curves.
@@ -427,6 +440,25 @@ pub fn table(report: &ScaleReport) -> String {
             );
         }
     }
+    if !report.flow_solves.is_empty() {
+        s += &format!(
+            "\nflow solves (16x32 torus, per solve)\n{:<28} {:>8} {:>9} {:>9} {:>9} {:>11} {:>11}\n",
+            "", "solves", "flows", "groups", "switched", "flows/link", "groups/link"
+        );
+        for (label, c) in &report.flow_solves {
+            let per = |n: u64, d: u64| n as f64 / d.max(1) as f64;
+            s += &format!(
+                "{:<28} {:>8} {:>9.1} {:>9.1} {:>9.2} {:>11.1} {:>11.1}\n",
+                label,
+                c.solves,
+                per(c.flows_changed, c.solves),
+                per(c.groups_changed, c.solves),
+                per(c.flows_switched, c.solves),
+                per(c.flows_walked, c.link_evaluations),
+                per(c.groups_crossing, c.link_evaluations),
+            );
+        }
+    }
     s
 }
 
@@ -468,6 +500,18 @@ mod tests {
             }],
             wall_against_procs: Vec::new(),
             wall_against_triangles: Vec::new(),
+            flow_solves: vec![(
+                "1024 messages".into(),
+                SolveCounters {
+                    solves: 4,
+                    flows_changed: 10,
+                    groups_changed: 2,
+                    flows_switched: 1,
+                    link_evaluations: 8,
+                    flows_walked: 20,
+                    groups_crossing: 12,
+                },
+            )],
         };
         let text = table(&report);
         let line = |name: &str| {
@@ -480,5 +524,15 @@ mod tests {
         assert!(line("too slow").ends_with("NO"));
         assert!(text.contains("    detail\n"));
         assert!(line("1024 messages").contains("flow"));
+        // Per solve: 2.5 flows and 0.5 groups changed, 0.25 switched; per evaluated link 2.5
+        // flows walked against 1.5 groups crossing.
+        let solves = text.split("flow solves").nth(1).unwrap();
+        let row: Vec<&str> = solves
+            .lines()
+            .find(|l| l.starts_with("1024 messages"))
+            .unwrap()
+            .split_whitespace()
+            .collect();
+        assert_eq!(row[2..], ["4", "2.5", "0.5", "0.25", "2.5", "1.5"]);
     }
 }

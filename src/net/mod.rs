@@ -397,6 +397,12 @@ impl Network {
         self.fidelity
     }
 
+    /// The flow model's work counters so far (zero at other levels, and without the
+    /// `counters` feature).
+    pub fn solve_counters(&self) -> transport::SolveCounters {
+        self.transport.counters()
+    }
+
     /// Whether every ordered pair of nodes has a route (see [`Network::can_route`]).
     pub fn routes_every_pair(&self) -> bool {
         self.topology.routes_every_pair()

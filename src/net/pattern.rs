@@ -223,10 +223,20 @@ fn check_horizon(net: &Network, messages: &[ParsedMessage]) -> Result<(), NetErr
 
 /// Runs `pattern` on a fresh network built from `cfg`.
 pub fn run_pattern(cfg: &NetworkConfig, pattern: &Pattern) -> Result<PatternReport, NetError> {
+    run_pattern_counted(cfg, pattern).map(|(report, _)| report)
+}
+
+/// [`run_pattern`], with the flow model's work counters at the end (see
+/// [`SolveCounters`](super::transport::SolveCounters)).
+pub fn run_pattern_counted(
+    cfg: &NetworkConfig,
+    pattern: &Pattern,
+) -> Result<(PatternReport, super::transport::SolveCounters), NetError> {
     let mut net = Network::new(cfg)?;
     let parsed = parse_pattern(&net, pattern)?;
     let completions = drive(&mut net, &parsed);
-    Ok(report(cfg, &net, &parsed, &completions))
+    let counters = net.solve_counters();
+    Ok((report(cfg, &net, &parsed, &completions), counters))
 }
 
 /// Injects every message at its start and collects each one's delivery instant, indexed like

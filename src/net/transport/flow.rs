@@ -68,6 +68,7 @@ pub struct Flow {
     touched: Vec<LinkId>,
     /// Reused by `advance`: (completion, message, slot) of the flows done by `now`.
     done: Vec<(SimTime, MsgId, u32)>,
+    counted: super::SolveCounters,
 }
 
 struct FlowState {
@@ -137,6 +138,7 @@ impl Flow {
             movers: Vec::new(),
             touched: Vec::new(),
             done: Vec::new(),
+            counted: super::SolveCounters::default(),
         }
     }
 
@@ -260,6 +262,10 @@ impl Flow {
             if old == NO_GROUP {
                 movers.push((slot, self.flows[slot as usize].work));
             } else if old != new {
+                #[cfg(feature = "counters")]
+                {
+                    self.counted.flows_switched += 1;
+                }
                 let f = &self.flows[slot as usize];
                 let key = (f.work, f.msg, slot);
                 let group = self.touch(old, now);
@@ -285,6 +291,12 @@ impl Flow {
             let f = &mut self.flows[slot as usize];
             (f.work, f.group) = (tag, g);
             group.members.insert((tag, f.msg, slot));
+        }
+        #[cfg(feature = "counters")]
+        {
+            self.counted.solves += 1;
+            self.counted.flows_changed += changed.len() as u64;
+            self.counted.groups_changed += self.touched.len() as u64;
         }
         for i in 0..self.touched.len() {
             let g = self.touched[i];
@@ -351,6 +363,16 @@ impl Transport for Flow {
             }
             self.deliveries.pop();
             delivered.push(Delivered { msg, at });
+        }
+    }
+
+    fn counters(&self) -> super::SolveCounters {
+        let (link_evaluations, flows_walked, groups_crossing) = self.shares.evaluations;
+        super::SolveCounters {
+            link_evaluations,
+            flows_walked,
+            groups_crossing,
+            ..self.counted
         }
     }
 
@@ -616,6 +638,34 @@ mod tests {
                 starts.sort_by_key(|s| s.0);
                 (links, capacity, starts)
             })
+    }
+
+    /// Two equal flows on link 0, then a third on links 0 and 1 while they run, counted by
+    /// hand: the first solve rates two new flows in one group (link 0's); the third joins
+    /// that group and the rate falls from a half to a third (three flows, one group); the
+    /// first two finish together (one solve: the third's rate rises, its group stays); the
+    /// third finishes alone (a solve with nothing left).
+    #[cfg(feature = "counters")]
+    #[test]
+    fn counters_count_flows_groups_and_solves() {
+        let ms = |n: u64| SimTime::from_ms(n);
+        let starts: Vec<Start> = vec![
+            (ms(0), vec![0], Bytes::new(170_000)),
+            (ms(0), vec![0], Bytes::new(170_000)),
+            (ms(1), vec![0, 1], Bytes::new(170_000)),
+        ];
+        let mut flow = Flow::new(
+            timing(),
+            2,
+            Capacities::Uniform(timing().bandwidth.bits_per_s()),
+        );
+        run(&mut flow, &starts);
+        let c = flow.counters();
+        assert_eq!(c.solves, 4);
+        assert_eq!(c.flows_changed, 2 + 3 + 1);
+        assert_eq!(c.groups_changed, 1 + 1 + 1);
+        assert_eq!(c.flows_switched, 0);
+        assert!(c.flows_walked >= c.link_evaluations);
     }
 
     proptest! {

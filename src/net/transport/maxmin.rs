@@ -118,6 +118,9 @@ pub struct MaxMin {
     /// Flows added without a sweep (`fixer_if_added_alone`).
     #[cfg(test)]
     added_alone: u64,
+    /// Dirty-link evaluations, the flows they walked and the groups crossing those links
+    /// (counted with the `counters` feature only).
+    pub(super) evaluations: (u64, u64, u64),
 }
 
 #[derive(Default)]
@@ -270,6 +273,7 @@ impl MaxMin {
             removed_alone: 0,
             #[cfg(test)]
             added_alone: 0,
+            evaluations: (0, 0, 0),
             sweep: Sweep {
                 links: vec![SweepLink::default(); links],
                 pops: vec![NONE; links],
@@ -833,6 +837,12 @@ impl MaxMin {
     /// so far, raised as the untouched flows on it reach their old keys. Anything that later
     /// changes a flow on it evaluates it again, so the pop it records is exact when reached.
     fn evaluate(&mut self, link: LinkId) {
+        #[cfg(feature = "counters")]
+        {
+            self.evaluations.0 += 1;
+            self.evaluations.1 += self.links[link as usize].flows.len() as u64;
+            self.evaluations.2 += self.group_entries[link as usize].len() as u64;
+        }
         let now = self.sweep.now;
         let mut ahead = std::mem::take(&mut self.sweep.ahead);
         ahead.clear();

@@ -16,6 +16,25 @@ use super::timing::{Hops, Timing};
 use super::{Delivered, Fidelity, LinkId, MsgId};
 use crate::units::{Bytes, SimTime};
 
+/// How much work the flow model's solves did, counted only when built with the `counters`
+/// feature (zero otherwise): what the groups of `flow.rs` save against flows, and what a
+/// sweep by groups would save in `maxmin.rs`.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, serde::Serialize)]
+pub struct SolveCounters {
+    pub solves: u64,
+    /// Flows whose rate or bottleneck changed, summed over solves.
+    pub flows_changed: u64,
+    /// Groups whose rate or members changed (each one clock and one completion update).
+    pub groups_changed: u64,
+    /// Flows that moved from one group to another (new flows not counted).
+    pub flows_switched: u64,
+    /// Dirty links evaluated by the max-min sweep.
+    pub link_evaluations: u64,
+    /// Flows those evaluations walked, and the groups crossing the same links.
+    pub flows_walked: u64,
+    pub groups_crossing: u64,
+}
+
 /// What a transport knows about one link.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
 pub struct Usage {
@@ -39,6 +58,10 @@ pub trait Transport: Send {
     fn next_event_time(&self) -> Option<SimTime>;
     fn advance(&mut self, now: SimTime, delivered: &mut Vec<Delivered>);
     fn usage(&self, link: LinkId) -> Usage;
+    /// The flow model's work counters; zero for the other levels.
+    fn counters(&self) -> SolveCounters {
+        SolveCounters::default()
+    }
 }
 
 /// The level `fidelity` for `links` links; `node_link[l]` says link `l` is a node link
