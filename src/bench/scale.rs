@@ -442,13 +442,13 @@ pub fn table(report: &ScaleReport) -> String {
     }
     if !report.flow_solves.is_empty() {
         s += &format!(
-            "\nflow solves (16x32 torus, per solve)\n{:<28} {:>8} {:>9} {:>9} {:>9} {:>11} {:>11}\n",
-            "", "solves", "flows", "groups", "switched", "flows/link", "groups/link"
+            "\nflow solves (16x32 torus, per solve)\n{:<20} {:>7} {:>7} {:>7} {:>8} {:>10} {:>11} {:>7} {:>11}\n",
+            "", "solves", "flows", "groups", "switched", "flows/link", "groups/link", "swept", "swept-links"
         );
         for (label, c) in &report.flow_solves {
             let per = |n: u64, d: u64| n as f64 / d.max(1) as f64;
             s += &format!(
-                "{:<28} {:>8} {:>9.1} {:>9.1} {:>9.2} {:>11.1} {:>11.1}\n",
+                "{:<20} {:>7} {:>7.1} {:>7.1} {:>8.2} {:>10.1} {:>11.1} {:>7.1} {:>11.1}\n",
                 label,
                 c.solves,
                 per(c.flows_changed, c.solves),
@@ -456,6 +456,8 @@ pub fn table(report: &ScaleReport) -> String {
                 per(c.flows_switched, c.solves),
                 per(c.flows_walked, c.link_evaluations),
                 per(c.groups_crossing, c.link_evaluations),
+                per(c.flows_swept, c.solves),
+                per(c.swept_route_links, c.solves),
             );
         }
     }
@@ -510,6 +512,8 @@ mod tests {
                     link_evaluations: 8,
                     flows_walked: 20,
                     groups_crossing: 12,
+                    flows_swept: 6,
+                    swept_route_links: 30,
                 },
             )],
         };
@@ -525,7 +529,8 @@ mod tests {
         assert!(text.contains("    detail\n"));
         assert!(line("1024 messages").contains("flow"));
         // Per solve: 2.5 flows and 0.5 groups changed, 0.25 switched; per evaluated link 2.5
-        // flows walked against 1.5 groups crossing.
+        // flows walked against 1.5 groups crossing; per solve 1.5 flows swept, crossing 7.5
+        // links.
         let solves = text.split("flow solves").nth(1).unwrap();
         let row: Vec<&str> = solves
             .lines()
@@ -533,6 +538,9 @@ mod tests {
             .unwrap()
             .split_whitespace()
             .collect();
-        assert_eq!(row[2..], ["4", "2.5", "0.5", "0.25", "2.5", "1.5"]);
+        assert_eq!(
+            row[2..],
+            ["4", "2.5", "0.5", "0.25", "2.5", "1.5", "1.5", "7.5"]
+        );
     }
 }

@@ -368,10 +368,13 @@ impl Transport for Flow {
 
     fn counters(&self) -> super::SolveCounters {
         let (link_evaluations, flows_walked, groups_crossing) = self.shares.evaluations;
+        let (flows_swept, swept_route_links) = self.shares.swept;
         super::SolveCounters {
             link_evaluations,
             flows_walked,
             groups_crossing,
+            flows_swept,
+            swept_route_links,
             ..self.counted
         }
     }

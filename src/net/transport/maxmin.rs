@@ -118,9 +118,11 @@ pub struct MaxMin {
     /// Flows added without a sweep (`fixer_if_added_alone`).
     #[cfg(test)]
     added_alone: u64,
-    /// Dirty-link evaluations, the flows they walked and the groups crossing those links
-    /// (counted with the `counters` feature only).
+    /// Dirty-link evaluations, the flows they walked and the groups crossing those links;
+    /// flows drawn into a sweep and the links of their routes (counted with the `counters`
+    /// feature only).
     pub(super) evaluations: (u64, u64, u64),
+    pub(super) swept: (u64, u64),
 }
 
 #[derive(Default)]
@@ -274,6 +276,7 @@ impl MaxMin {
             #[cfg(test)]
             added_alone: 0,
             evaluations: (0, 0, 0),
+            swept: (0, 0),
             sweep: Sweep {
                 links: vec![SweepLink::default(); links],
                 pops: vec![NONE; links],
@@ -601,6 +604,11 @@ impl MaxMin {
         s.unsettled.clear();
         s.suspects.clear();
         s.heap.clear();
+        #[cfg(feature = "counters")]
+        for &slot in &self.added {
+            self.swept.0 += 1;
+            self.swept.1 += self.flows[slot as usize].route.len() as u64;
+        }
         for &slot in &self.added {
             self.flows[slot as usize].sweep_to(SweepFlow {
                 epoch: s.epoch,
@@ -760,6 +768,11 @@ impl MaxMin {
             let slot = self.links[l].flows[i];
             let f = &mut self.flows[slot as usize];
             if f.swept_epoch != epoch && f.key == old {
+                #[cfg(feature = "counters")]
+                {
+                    self.swept.0 += 1;
+                    self.swept.1 += f.route.len() as u64;
+                }
                 f.sweep_to(SweepFlow {
                     epoch,
                     settled: false,
@@ -920,6 +933,11 @@ impl MaxMin {
         let old = if f.swept_epoch == s.epoch {
             (f.swept_rate, f.swept_key)
         } else {
+            #[cfg(feature = "counters")]
+            {
+                self.swept.0 += 1;
+                self.swept.1 += f.route.len() as u64;
+            }
             (f.rate, f.key)
         };
         f.sweep_to(SweepFlow {

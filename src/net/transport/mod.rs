@@ -33,6 +33,10 @@ pub struct SolveCounters {
     /// Flows those evaluations walked, and the groups crossing the same links.
     pub flows_walked: u64,
     pub groups_crossing: u64,
+    /// Flows drawn into a sweep (added, unsettled or fixed again), and the links their routes
+    /// cross: what a sweep by groups would have to tell each link about its groups' members.
+    pub flows_swept: u64,
+    pub swept_route_links: u64,
 }
 
 /// What a transport knows about one link.
