@@ -47,7 +47,6 @@ const NO_GROUP: LinkId = LinkId::MAX;
 pub struct Flow {
     timing: Timing,
     clock: SimTime,
-    seq: u64,
     flows: Vec<FlowState>,
     free_slots: Vec<u32>,
     links: Vec<LinkState>,
@@ -56,8 +55,8 @@ pub struct Flow {
     groups: Vec<Group>,
     /// Each non-empty group's next completion, keyed by its bottleneck link.
     completions: Completions,
-    /// (delivery, seq, message): fluid transfer done, fixed latency running.
-    deliveries: BinaryHeap<Reverse<(SimTime, u64, MsgId)>>,
+    /// Fluid transfer done, fixed latency running.
+    deliveries: Deliveries,
     /// The earliest start or end not yet solved for.
     dirty_since: Option<SimTime>,
     /// Reused by every solve: (flow slot, old rate) of the flows whose rate or group changed.
@@ -113,6 +112,36 @@ impl Group {
     }
 }
 
+/// Messages whose transfer is done, each waiting out its fixed latency: delivered in order
+/// of instant, then of scheduling.
+#[derive(Default)]
+struct Deliveries {
+    heap: BinaryHeap<Reverse<(SimTime, u64, MsgId)>>,
+    seq: u64,
+}
+
+impl Deliveries {
+    fn schedule(&mut self, at: SimTime, msg: MsgId) {
+        self.seq += 1;
+        self.heap.push(Reverse((at, self.seq, msg)));
+    }
+
+    fn next(&self) -> Option<SimTime> {
+        self.heap.peek().map(|Reverse(e)| e.0)
+    }
+
+    /// Every delivery due by `now`, in order, onto `delivered`.
+    fn take_until(&mut self, now: SimTime, delivered: &mut Vec<Delivered>) {
+        while let Some(&Reverse((at, _, msg))) = self.heap.peek() {
+            if at > now {
+                break;
+            }
+            self.heap.pop();
+            delivered.push(Delivered { msg, at });
+        }
+    }
+}
+
 #[derive(Default)]
 struct LinkState {
     busy: SimTime,
@@ -126,13 +155,12 @@ impl Flow {
             shares: MaxMin::new(capacities, links),
             timing,
             clock: SimTime::ZERO,
-            seq: 0,
             flows: Vec::new(),
             free_slots: Vec::new(),
             links: (0..links).map(|_| LinkState::default()).collect(),
             groups: (0..links).map(|_| Group::default()).collect(),
             completions: Completions::default(),
-            deliveries: BinaryHeap::new(),
+            deliveries: Deliveries::default(),
             dirty_since: None,
             changed: Vec::new(),
             movers: Vec::new(),
@@ -140,16 +168,6 @@ impl Flow {
             done: Vec::new(),
             counted: super::SolveCounters::default(),
         }
-    }
-
-    fn next_seq(&mut self) -> u64 {
-        self.seq += 1;
-        self.seq
-    }
-
-    fn schedule_delivery(&mut self, at: SimTime, msg: MsgId) {
-        let seq = self.next_seq();
-        self.deliveries.push(Reverse((at, seq, msg)));
     }
 
     fn mark_dirty(&mut self, now: SimTime) {
@@ -206,7 +224,7 @@ impl Flow {
         }
         self.shares.remove(slot);
         self.free_slots.push(slot);
-        self.schedule_delivery(at, msg);
+        self.deliveries.schedule(at, msg);
         self.mark_dirty(now);
     }
 
@@ -322,7 +340,7 @@ impl Transport for Flow {
         self.clock = self.clock.max(now);
         let tail = self.timing.fixed_part(hops, bytes);
         if bytes.get() == 0 {
-            self.schedule_delivery(now + tail, msg);
+            self.deliveries.schedule(now + tail, msg);
         } else {
             self.start_flow(now, msg, route, tail, bytes);
         }
@@ -331,8 +349,7 @@ impl Transport for Flow {
 
     fn next_event_time(&self) -> Option<SimTime> {
         let completion = self.completions.first().map(|e| e.0);
-        let delivery = self.deliveries.peek().map(|Reverse(e)| e.0);
-        [self.dirty_since, completion, delivery]
+        [self.dirty_since, completion, self.deliveries.next()]
             .into_iter()
             .flatten()
             .min()
@@ -357,13 +374,7 @@ impl Transport for Flow {
         if self.dirty_since.take().is_some() {
             self.solve(now);
         }
-        while let Some(&Reverse((at, _, msg))) = self.deliveries.peek() {
-            if at > now {
-                break;
-            }
-            self.deliveries.pop();
-            delivered.push(Delivered { msg, at });
-        }
+        self.deliveries.take_until(now, delivered);
     }
 
     fn counters(&self) -> super::SolveCounters {
@@ -421,8 +432,7 @@ mod tests {
         flows: Vec<(MsgId, u128, u64, SimTime, SimTime)>,
         free: Vec<u32>,
         completions: Completions,
-        deliveries: BinaryHeap<Reverse<(SimTime, u64, MsgId)>>,
-        seq: u64,
+        deliveries: Deliveries,
         /// The instant of a start or end not yet solved for.
         dirty: Option<SimTime>,
     }
@@ -436,15 +446,9 @@ mod tests {
                 flows: Vec::new(),
                 free: Vec::new(),
                 completions: Completions::default(),
-                deliveries: BinaryHeap::new(),
-                seq: 0,
+                deliveries: Deliveries::default(),
                 dirty: None,
             }
-        }
-
-        fn deliver_at(&mut self, at: SimTime, msg: MsgId) {
-            self.seq += 1;
-            self.deliveries.push(Reverse((at, self.seq, msg)));
         }
     }
 
@@ -459,7 +463,7 @@ mod tests {
         ) -> Option<SimTime> {
             let tail = self.timing.fixed_part(hops, bytes);
             if bytes.get() == 0 {
-                self.deliver_at(now + tail, msg);
+                self.deliveries.schedule(now + tail, msg);
                 return None;
             }
             let state = (msg, Bandwidth::work_of(bytes), 0, now, tail);
@@ -480,8 +484,7 @@ mod tests {
 
         fn next_event_time(&self) -> Option<SimTime> {
             let completion = self.completions.first().map(|e| e.0);
-            let delivery = self.deliveries.peek().map(|Reverse(e)| e.0);
-            [self.dirty, completion, delivery]
+            [self.dirty, completion, self.deliveries.next()]
                 .into_iter()
                 .flatten()
                 .min()
@@ -496,7 +499,7 @@ mod tests {
                 let tail = self.flows[slot as usize].4;
                 self.shares.remove(slot);
                 self.free.push(slot);
-                self.deliver_at(at + tail, msg);
+                self.deliveries.schedule(at + tail, msg);
                 self.dirty = Some(at);
             }
             if self.dirty.take().is_some() {
@@ -515,13 +518,7 @@ mod tests {
                     self.completions.set(slot, f.0, at);
                 }
             }
-            while let Some(&Reverse((at, _, msg))) = self.deliveries.peek() {
-                if at > now {
-                    break;
-                }
-                self.deliveries.pop();
-                delivered.push(Delivered { msg, at });
-            }
+            self.deliveries.take_until(now, delivered);
         }
 
         fn usage(&self, _: LinkId) -> Usage {
