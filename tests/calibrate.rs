@@ -315,5 +315,5 @@ fn every_shipped_fit_is_recorded_by_the_machine_it_produced() {
             });
         assert!(recorded, "no bundled machine records the fit {name}");
     }
-    assert_eq!(specs, 4);
+    assert_eq!(specs, 5);
 }
