@@ -346,19 +346,6 @@ impl Network {
         }
         let mut topology = topology::build(cfg.topology, &cfg.dims)?;
         if let Some(node) = cfg.node {
-            let same = node.links.bandwidth == cfg.link_bandwidth
-                && node.links.hop_latency == cfg.hop_latency;
-            if cfg.fidelity == Fidelity::Packet && !same {
-                return Err(NetError::Config(format!(
-                    "packet fidelity takes one kind of link; this network's nodes have {} and {} \
-                     a hop, its links {} and {}: use flow (or give both the same rate and \
-                     latency)",
-                    node.links.bandwidth,
-                    node.links.hop_latency,
-                    cfg.link_bandwidth,
-                    cfg.hop_latency
-                )));
-            }
             topology = topology::in_nodes(topology, node.processors, node.nics)?;
         }
         let nodes = topology.nodes();

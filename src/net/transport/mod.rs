@@ -69,7 +69,7 @@ pub trait Transport: Send {
 }
 
 /// The level `fidelity` for `links` links; `node_link[l]` says link `l` is a node link
-/// (empty when the network has none). `packet` takes one kind of link only.
+/// (empty when the network has none).
 pub fn build(
     fidelity: Fidelity,
     timing: Timing,
@@ -91,8 +91,6 @@ pub fn build(
             };
             Box::new(flow::Flow::new(timing, links, capacities))
         }
-        // Network::new lets node links through to packet only at the network's own rate
-        // and latency, so one timing serves every link.
-        Fidelity::Packet => Box::new(packet::Packet::new(timing, links)),
+        Fidelity::Packet => Box::new(packet::Packet::new(timing, links, node_link)),
     }
 }

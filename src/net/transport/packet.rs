@@ -17,13 +17,23 @@
 //! - store-and-forward: a packet is transmitted when it has fully arrived and the hop is
 //!   free, and is at the next router `T(packet) + L` after its transmission started;
 //! - wormhole: the head of a packet is at the next router `L` after it acquired a hop, and
-//!   requests the next hop at once; the packet is fully at its destination `T(packet) + L`
-//!   after its head acquired the last hop.
+//!   requests the next hop at once; a hop puts the packet's last byte on its links at
+//!   `max(head + T(packet), last byte on the hop before + L)` (a faster hop after a slower
+//!   one waits for the bytes to come), frees its links then, and the packet is fully at its
+//!   destination `L` after its last hop put the last byte on.
 //!
-//! A lone message therefore arrives exactly at `Timing::contention_free`. Simplification of
-//! wormhole, deliberate: while a head waits for a busy link, the rest of its packet keeps
-//! draining into the waiting router (a one-packet input buffer), so each link a worm holds
-//! is released `T(packet)` after the head took it. With the textbook rule that a blocked worm
+//! Hops run at their links' own rate and latency: a node link (several processors of a node
+//! on their switch, see `topology::in_nodes`) at the node's, the others at the network's; a
+//! hop's occupancy telescopes per rate, so a message's packets take exactly `T(b)` at each
+//! rate. With one kind of link the wormhole rule above is `T(packet) + L` after the head took
+//! the last hop (the previous hop's last byte is never later), and a lone message arrives
+//! exactly at `Timing::contention_free`; with two kinds, under wormhole too (the slower
+//! rate's serialization plus every hop's latency). Under store-and-forward with two kinds a
+//! lone message's last, shorter packet crosses the hops after the slower ones at its own
+//! length, so it arrives before `contention_free`, which charges the first packet there.
+//! Simplification of wormhole, deliberate: while a head waits for a busy link, the rest of
+//! its packet keeps draining into the waiting router (a one-packet input buffer), so a worm
+//! never holds a link for waiting downstream. With the textbook rule that a blocked worm
 //! freezes in place, dimension-order routing on a ring or torus deadlocks without virtual
 //! channels; this rule cannot deadlock and keeps link capacity exact.
 //!
@@ -36,10 +46,13 @@ use std::collections::{BinaryHeap, VecDeque};
 use super::{Transport, Usage};
 use crate::net::timing::{Hops, Timing};
 use crate::net::{Delivered, LinkId, MsgId, Switching};
-use crate::units::{Bytes, SimTime};
+use crate::units::{Bandwidth, Bytes, SimTime};
 
 pub struct Packet {
     timing: Timing,
+    /// `node_link[l]`: link `l` is a node link, at the node's rate and latency (empty when the
+    /// network has none).
+    node_link: Vec<bool>,
     seq: u64,
     events: BinaryHeap<Reverse<(SimTime, u64, Event)>>,
     messages: Vec<MessageState>,
@@ -63,25 +76,30 @@ enum Event {
 struct MessageState {
     msg: MsgId,
     route: Vec<LinkId>,
-    hops: u32,
-    links_per_hop: u32,
+    /// Where each hop's links end in `route` (a node link is a hop of its own; a network hop
+    /// takes the topology's links per hop).
+    hop_ends: Vec<u32>,
     packets_left: u64,
     bytes: Bytes,
     /// 1-based index of the next packet to offer; `> count` once all are in the network.
     next_packet: u64,
     count: u64,
-    /// `T(C_{k-1})` for the next packet `k`.
-    sent_before: SimTime,
+    /// `C_{k-1}` for the next packet `k`.
+    sent_before: Bytes,
 }
 
 #[derive(Clone, Copy)]
 struct PacketState {
     message: u32,
-    /// Occupancy of one link: `T(C_k) - T(C_{k-1})`.
-    transmit: SimTime,
+    /// The message's bytes before this packet and up to its end: `C_{k-1}`, `C_k`.
+    before: Bytes,
+    upto: Bytes,
     hop: u32,
     /// How many links of the current hop the packet already holds.
     held: u32,
+    /// When the packet's last byte is at the router of its current hop (wormhole: its head
+    /// may be there earlier).
+    tail_here: SimTime,
 }
 
 struct LinkQueue {
@@ -95,9 +113,11 @@ struct LinkQueue {
 }
 
 impl Packet {
-    pub fn new(timing: Timing, links: usize) -> Packet {
+    /// The level for `links` links; `node_link` as in `transport::build`.
+    pub fn new(timing: Timing, links: usize, node_link: &[bool]) -> Packet {
         Packet {
             timing,
+            node_link: node_link.to_vec(),
             seq: 0,
             events: BinaryHeap::new(),
             messages: Vec::new(),
@@ -122,18 +142,41 @@ impl Packet {
         self.events.push(Reverse((at, self.seq, event)));
     }
 
-    fn new_message(&mut self, msg: MsgId, route: &[LinkId], hops: u32, bytes: Bytes) -> u32 {
+    fn is_node_link(&self, link: LinkId) -> bool {
+        self.node_link.get(link as usize) == Some(&true)
+    }
+
+    /// Where each hop ends in `route`: node links one by one, the network's links in groups
+    /// of `(route length - node links) / network hops`.
+    fn hop_ends(&self, route: &[LinkId], hops: Hops) -> Vec<u32> {
+        let per_network_hop = match hops.network {
+            0 => 1,
+            n => (route.len() as u32 - hops.node) / n,
+        };
+        let mut ends = Vec::with_capacity(hops.total() as usize);
+        let mut at = 0u32;
+        while (at as usize) < route.len() {
+            at += match self.is_node_link(route[at as usize]) {
+                true => 1,
+                false => per_network_hop,
+            };
+            ends.push(at);
+        }
+        debug_assert_eq!(ends.len() as u32, hops.total(), "hops of route {route:?}");
+        ends
+    }
+
+    fn new_message(&mut self, msg: MsgId, route: &[LinkId], hops: Hops, bytes: Bytes) -> u32 {
         let count = self.timing.packet_count(bytes);
         let state = MessageState {
             msg,
             route: route.to_vec(),
-            hops,
-            links_per_hop: route.len() as u32 / hops,
+            hop_ends: self.hop_ends(route, hops),
             packets_left: count,
             bytes,
             next_packet: 1,
             count,
-            sent_before: SimTime::ZERO,
+            sent_before: Bytes::ZERO,
         };
         match self.free_messages.pop() {
             Some(slot) => {
@@ -147,12 +190,14 @@ impl Packet {
         }
     }
 
-    fn new_packet(&mut self, message: u32, transmit: SimTime) -> u32 {
+    fn new_packet(&mut self, message: u32, before: Bytes, upto: Bytes) -> u32 {
         let state = PacketState {
             message,
-            transmit,
+            before,
+            upto,
             hop: 0,
             held: 0,
+            tail_here: SimTime::ZERO,
         };
         match self.free_packets.pop() {
             Some(slot) => {
@@ -166,20 +211,18 @@ impl Packet {
         }
     }
 
-    /// Puts the message's next packet (if any) at its first hop. Its occupancy telescopes:
-    /// `T(C_k) - T(C_{k-1})`.
+    /// Puts the message's next packet (if any) at its first hop.
     fn offer_next_packet(&mut self, now: SimTime, message: u32) {
         let size = self.timing.packet_size.get();
         let m = &mut self.messages[message as usize];
         if m.next_packet > m.count {
             return;
         }
-        let cumulative = Bytes::new((m.next_packet * size).min(m.bytes.get()));
-        let sent = self.timing.serialization(cumulative);
-        let transmit = sent - m.sent_before;
-        m.sent_before = sent;
+        let before = m.sent_before;
+        let upto = Bytes::new((m.next_packet * size).min(m.bytes.get()));
+        m.sent_before = upto;
         m.next_packet += 1;
-        let pkt = self.new_packet(message, transmit);
+        let pkt = self.new_packet(message, before, upto);
         self.request(now, pkt);
     }
 
@@ -191,12 +234,32 @@ impl Packet {
         }
     }
 
+    /// The links of the packet's current hop, as a range of its message's route.
+    fn hop_links(&self, pkt: u32) -> std::ops::Range<usize> {
+        let p = &self.packets[pkt as usize];
+        let ends = &self.messages[p.message as usize].hop_ends;
+        let start = match p.hop {
+            0 => 0,
+            h => ends[h as usize - 1],
+        };
+        start as usize..ends[p.hop as usize] as usize
+    }
+
     /// The link the packet must acquire next, and whether it is the last of its hop.
     fn wanted_link(&self, pkt: u32) -> (LinkId, bool) {
         let p = &self.packets[pkt as usize];
-        let m = &self.messages[p.message as usize];
-        let index = p.hop * m.links_per_hop + p.held;
-        (m.route[index as usize], p.held + 1 == m.links_per_hop)
+        let hop = self.hop_links(pkt);
+        let index = hop.start + p.held as usize;
+        let route = &self.messages[p.message as usize].route;
+        (route[index], index + 1 == hop.end)
+    }
+
+    /// A hop's rate and latency: the node's for a node link, the network's otherwise.
+    fn hop_timing(&self, first_link: LinkId) -> (Bandwidth, SimTime) {
+        match self.timing.node_links {
+            Some(node) if self.is_node_link(first_link) => (node.bandwidth, node.hop_latency),
+            _ => (self.timing.bandwidth, self.timing.hop_latency),
+        }
     }
 
     /// The packet is at a router wanting its current hop: take its links, or queue.
@@ -225,26 +288,28 @@ impl Packet {
         self.packets[pkt as usize].held += 1;
     }
 
-    /// Every link of the hop is held: occupy them for the packet's transmission time and
-    /// schedule its arrival at the next router.
+    /// Every link of the hop is held: occupy them until the packet's last byte is on them
+    /// and schedule its arrival at the next router.
     fn start_hop(&mut self, now: SimTime, pkt: u32) {
         let p = self.packets[pkt as usize];
+        let hop_links = self.hop_links(pkt);
         let m = &self.messages[p.message as usize];
-        let first = (p.hop * m.links_per_hop) as usize;
-        let hop_links = first..first + m.links_per_hop as usize;
-        let last_hop = p.hop + 1 == m.hops;
+        let last_hop = p.hop as usize + 1 == m.hop_ends.len();
         if p.hop == 0 {
             self.offers.push(p.message);
         }
-        let free_at = now + p.transmit;
+        let (rate, latency) = self.hop_timing(m.route[hop_links.start]);
+        // Telescoping at this hop's rate: a message's packets take exactly `T(b)` on it.
+        let transmit = rate.transfer_time(p.upto) - rate.transfer_time(p.before);
+        let free_at = (now + transmit).max(p.tail_here);
         for i in hop_links {
             let link = self.messages[p.message as usize].route[i];
             let q = &mut self.links[link as usize];
             q.busy_until = free_at;
-            q.busy += p.transmit;
+            q.busy += free_at - now;
             self.ensure_free_event(link);
         }
-        let latency = self.timing.hop_latency;
+        self.packets[pkt as usize].tail_here = free_at + latency;
         let next_router = match self.timing.switching {
             Switching::Wormhole if !last_hop => now + latency,
             _ => free_at + latency,
@@ -287,7 +352,7 @@ impl Packet {
         p.hop += 1;
         p.held = 0;
         let (message, hop) = (p.message, p.hop);
-        if hop < self.messages[message as usize].hops {
+        if (hop as usize) < self.messages[message as usize].hop_ends.len() {
             self.request(now, pkt);
             return;
         }
@@ -313,7 +378,7 @@ impl Transport for Packet {
         hops: Hops,
         bytes: Bytes,
     ) -> Option<SimTime> {
-        let message = self.new_message(msg, route, hops.total(), bytes);
+        let message = self.new_message(msg, route, hops, bytes);
         self.offer_next_packet(now, message);
         self.drain_offers(now);
         None
