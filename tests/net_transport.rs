@@ -326,10 +326,10 @@ fn nodes_cfg(
 /// node's rate and latency and the network's links at theirs; alone, it takes the slowest
 /// link's serialization plus every hop's latency (wormhole), plus under store-and-forward
 /// the first packet's time on every link but one of the slowest. Each level agrees with
-/// that, worked out here by hand, except `packet` under store-and-forward, whose last packet
-/// is shorter than the first and crosses the hops after the slowest one at its own length:
-/// it is held to the packet-by-packet recursion of a lone message instead
-/// ([`store_and_forward_alone`]), which the formula bounds from above.
+/// that, worked out here by hand, except `packet` under store-and-forward: packet by packet,
+/// the pipeline's pace depends on which hops are slower and on the last packet's length, so
+/// it is held to the recursion of a lone message ([`store_and_forward_alone`]), which the
+/// formula bounds from above (exact with one rate).
 #[test]
 fn a_lone_message_across_nodes_takes_the_slowest_link_and_every_hops_latency() {
     let rate = |s: &str| s.parse::<Bandwidth>().unwrap();

@@ -28,9 +28,11 @@
 //! rate. With one kind of link the wormhole rule above is `T(packet) + L` after the head took
 //! the last hop (the previous hop's last byte is never later), and a lone message arrives
 //! exactly at `Timing::contention_free`; with two kinds, under wormhole too (the slower
-//! rate's serialization plus every hop's latency). Under store-and-forward with two kinds a
-//! lone message's last, shorter packet crosses the hops after the slower ones at its own
-//! length, so it arrives before `contention_free`, which charges the first packet there.
+//! rate's serialization plus every hop's latency). Under store-and-forward with two kinds
+//! the formula, which charges every hop but one of the slowest the first packet, is an upper
+//! bound: packet by packet, a shorter last packet and faster hops around the slower ones
+//! let a lone message arrive earlier (1,025 bytes across 170 MB/s node links and 17 MB/s
+//! network links: 272.241 us against the formula's 272.294).
 //! Simplification of wormhole, deliberate: while a head waits for a busy link, the rest of
 //! its packet keeps draining into the waiting router (a one-packet input buffer), so a worm
 //! never holds a link for waiting downstream. With the textbook rule that a blocked worm
