@@ -379,10 +379,10 @@ fn a_lone_message_across_nodes_takes_the_slowest_link_and_every_hops_latency() {
                                 // Two node hops at each end around the network's.
                                 let node = (rate(node_rate), SimTime::from_ns(300));
                                 let network = (rate("17MB/s"), SimTime::from_ns(1_500));
-                                let mut hops = vec![node, node];
-                                hops.extend(vec![network; hops_network(&net, 1, 14)]);
-                                hops.extend([node, node]);
-                                let alone = store_and_forward_alone(&hops, b);
+                                let mut route = vec![node, node];
+                                route.extend(vec![network; hops.network as usize]);
+                                route.extend([node, node]);
+                                let alone = store_and_forward_alone(&route, b);
                                 assert!(alone <= formula, "{alone:?} > {formula:?}");
                                 alone
                             }
@@ -413,10 +413,6 @@ fn a_lone_message_across_nodes_takes_the_slowest_link_and_every_hops_latency() {
             }
         }
     }
-}
-
-fn hops_network(net: &Network, src: u32, dst: u32) -> usize {
-    net.hops(src, dst).network as usize
 }
 
 /// A lone message's delivery under store-and-forward, packet by packet: packet `k` starts on

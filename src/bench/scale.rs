@@ -120,6 +120,7 @@ const STAGGER_PER_MESSAGE: SimTime = SimTime::from_us(2);
 pub fn scale(cfg: &ScaleConfig, progress: &mut dyn FnMut(&str)) -> Result<ScaleReport, String> {
     let machine = cfg.root.join("machines/delta.json");
     let polio = Arc::new(load(&cfg.root, "polio-standin.json")?);
+    let repeats = cfg.repeats.max(1);
     let mut figures = Vec::new();
 
     progress(&format!(
@@ -157,7 +158,7 @@ pub fn scale(cfg: &ScaleConfig, progress: &mut dyn FnMut(&str)) -> Result<ScaleR
             fidelity.name().to_string(),
         )];
         let set: std::collections::BTreeMap<_, _> = set.into_iter().collect();
-        let runs = (0..cfg.repeats.max(1))
+        let runs = (0..repeats)
             .map(|_| overhead(&machine, polio.clone(), 512, 1, set.clone()))
             .collect::<Result<Vec<_>, _>>()?;
         let ratio = median(runs.iter().map(|r| r.ratio).collect());
@@ -191,11 +192,7 @@ pub fn scale(cfg: &ScaleConfig, progress: &mut dyn FnMut(&str)) -> Result<ScaleR
                 fidelity.name()
             ));
             // The longest pattern runs once: 20 s a run at `flow`.
-            let runs = if count <= 16384 {
-                cfg.repeats.max(1)
-            } else {
-                1
-            };
+            let runs = if count <= 16384 { repeats } else { 1 };
             let mut walls = Vec::new();
             let mut counters = SolveCounters::default();
             for _ in 0..runs {
@@ -257,7 +254,7 @@ pub fn scale(cfg: &ScaleConfig, progress: &mut dyn FnMut(&str)) -> Result<ScaleR
         };
         let mut ratios = Vec::new();
         let mut events = 0;
-        for _ in 0..cfg.repeats.max(1) {
+        for _ in 0..repeats {
             let (summary, cost) = phold_report(&phold).map_err(|e| e.to_string())?;
             if !summary.baseline_agrees {
                 return Err(

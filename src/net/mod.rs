@@ -363,7 +363,13 @@ impl Network {
                 .collect(),
             None => Vec::new(),
         };
-        let transport = transport::build(cfg.fidelity, timing, links, &node_link);
+        let transport = transport::build(
+            cfg.fidelity,
+            timing,
+            links,
+            topology.links_per_hop(),
+            &node_link,
+        );
         Ok(Network {
             topology,
             transport,

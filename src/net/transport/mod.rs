@@ -68,12 +68,13 @@ pub trait Transport: Send {
     }
 }
 
-/// The level `fidelity` for `links` links; `node_link[l]` says link `l` is a node link
-/// (empty when the network has none).
+/// The level `fidelity` for `links` links, a network hop taking `links_per_hop` of them;
+/// `node_link[l]` says link `l` is a node link (empty when the network has none).
 pub fn build(
     fidelity: Fidelity,
     timing: Timing,
     links: usize,
+    links_per_hop: u32,
     node_link: &[bool],
 ) -> Box<dyn Transport> {
     let rate = |l: usize| match timing.node_links {
@@ -91,6 +92,6 @@ pub fn build(
             };
             Box::new(flow::Flow::new(timing, links, capacities))
         }
-        Fidelity::Packet => Box::new(packet::Packet::new(timing, links, node_link)),
+        Fidelity::Packet => Box::new(packet::Packet::new(timing, links, links_per_hop, node_link)),
     }
 }

@@ -52,9 +52,13 @@ use crate::units::{Bandwidth, Bytes, SimTime};
 
 pub struct Packet {
     timing: Timing,
-    /// `node_link[l]`: link `l` is a node link, at the node's rate and latency (empty when the
-    /// network has none).
+    /// Rate and latency of a network hop ([`NETWORK`]) and of a node hop ([`NODE`]).
+    kinds: [(Bandwidth, SimTime); 2],
+    /// `node_link[l]`: link `l` is a node link, a hop of its own at the node's rate and
+    /// latency (empty when the network has none).
     node_link: Vec<bool>,
+    /// Links a network hop acquires together (the topology's).
+    links_per_hop: u32,
     seq: u64,
     events: BinaryHeap<Reverse<(SimTime, u64, Event)>>,
     messages: Vec<MessageState>,
@@ -75,28 +79,29 @@ enum Event {
     LinkFree(LinkId),
 }
 
+/// Index of a hop kind in [`Packet::kinds`] and in the per-kind times below.
+const NETWORK: usize = 0;
+const NODE: usize = 1;
+
 struct MessageState {
     msg: MsgId,
     route: Vec<LinkId>,
-    /// Where each hop's links end in `route` (a node link is a hop of its own; a network hop
-    /// takes the topology's links per hop).
-    hop_ends: Vec<u32>,
     packets_left: u64,
     bytes: Bytes,
     /// 1-based index of the next packet to offer; `> count` once all are in the network.
     next_packet: u64,
     count: u64,
-    /// `C_{k-1}` for the next packet `k`.
-    sent_before: Bytes,
+    /// `T(C_{k-1})` for the next packet `k`, at each kind's rate.
+    sent_before: [SimTime; 2],
 }
 
 #[derive(Clone, Copy)]
 struct PacketState {
     message: u32,
-    /// The message's bytes before this packet and up to its end: `C_{k-1}`, `C_k`.
-    before: Bytes,
-    upto: Bytes,
-    hop: u32,
+    /// Occupancy of a hop of each kind: `T(C_k) - T(C_{k-1})` at its rate.
+    transmit: [SimTime; 2],
+    /// Index in the route of the current hop's first link.
+    at: u32,
     /// How many links of the current hop the packet already holds.
     held: u32,
     /// When the packet's last byte is at the router of its current hop (wormhole: its head
@@ -115,11 +120,18 @@ struct LinkQueue {
 }
 
 impl Packet {
-    /// The level for `links` links; `node_link` as in `transport::build`.
-    pub fn new(timing: Timing, links: usize, node_link: &[bool]) -> Packet {
+    /// The level for `links` links, a network hop taking `links_per_hop` of them;
+    /// `node_link` as in `transport::build`.
+    pub fn new(timing: Timing, links: usize, links_per_hop: u32, node_link: &[bool]) -> Packet {
+        let network = (timing.bandwidth, timing.hop_latency);
+        let node = timing
+            .node_links
+            .map_or(network, |n| (n.bandwidth, n.hop_latency));
         Packet {
             timing,
+            kinds: [network, node],
             node_link: node_link.to_vec(),
+            links_per_hop,
             seq: 0,
             events: BinaryHeap::new(),
             messages: Vec::new(),
@@ -144,41 +156,24 @@ impl Packet {
         self.events.push(Reverse((at, self.seq, event)));
     }
 
-    fn is_node_link(&self, link: LinkId) -> bool {
-        self.node_link.get(link as usize) == Some(&true)
-    }
-
-    /// Where each hop ends in `route`: node links one by one, the network's links in groups
-    /// of `(route length - node links) / network hops`.
-    fn hop_ends(&self, route: &[LinkId], hops: Hops) -> Vec<u32> {
-        let per_network_hop = match hops.network {
-            0 => 1,
-            n => (route.len() as u32 - hops.node) / n,
-        };
-        let mut ends = Vec::with_capacity(hops.total() as usize);
-        let mut at = 0u32;
-        while (at as usize) < route.len() {
-            at += match self.is_node_link(route[at as usize]) {
-                true => 1,
-                false => per_network_hop,
-            };
-            ends.push(at);
+    /// The kind of the hop starting at `link`, and how many links it acquires.
+    fn hop_of(&self, link: LinkId) -> (usize, u32) {
+        match self.node_link.get(link as usize) {
+            Some(true) => (NODE, 1),
+            _ => (NETWORK, self.links_per_hop),
         }
-        debug_assert_eq!(ends.len() as u32, hops.total(), "hops of route {route:?}");
-        ends
     }
 
-    fn new_message(&mut self, msg: MsgId, route: &[LinkId], hops: Hops, bytes: Bytes) -> u32 {
+    fn new_message(&mut self, msg: MsgId, route: &[LinkId], bytes: Bytes) -> u32 {
         let count = self.timing.packet_count(bytes);
         let state = MessageState {
             msg,
             route: route.to_vec(),
-            hop_ends: self.hop_ends(route, hops),
             packets_left: count,
             bytes,
             next_packet: 1,
             count,
-            sent_before: Bytes::ZERO,
+            sent_before: [SimTime::ZERO; 2],
         };
         match self.free_messages.pop() {
             Some(slot) => {
@@ -192,12 +187,11 @@ impl Packet {
         }
     }
 
-    fn new_packet(&mut self, message: u32, before: Bytes, upto: Bytes) -> u32 {
+    fn new_packet(&mut self, message: u32, transmit: [SimTime; 2]) -> u32 {
         let state = PacketState {
             message,
-            before,
-            upto,
-            hop: 0,
+            transmit,
+            at: 0,
             held: 0,
             tail_here: SimTime::ZERO,
         };
@@ -213,18 +207,26 @@ impl Packet {
         }
     }
 
-    /// Puts the message's next packet (if any) at its first hop.
+    /// Puts the message's next packet (if any) at its first hop. Its occupancy telescopes
+    /// at each kind's rate: `T(C_k) - T(C_{k-1})`, so a message's packets take exactly
+    /// `T(b)` on a hop of either kind.
     fn offer_next_packet(&mut self, now: SimTime, message: u32) {
         let size = self.timing.packet_size.get();
+        let kinds = if self.node_link.is_empty() { 1 } else { 2 };
         let m = &mut self.messages[message as usize];
         if m.next_packet > m.count {
             return;
         }
-        let before = m.sent_before;
-        let upto = Bytes::new((m.next_packet * size).min(m.bytes.get()));
-        m.sent_before = upto;
+        let cumulative = Bytes::new((m.next_packet * size).min(m.bytes.get()));
+        let mut transmit = [SimTime::ZERO; 2];
+        let per_kind = transmit.iter_mut().zip(&mut m.sent_before).zip(&self.kinds);
+        for ((transmit, before), (rate, _)) in per_kind.take(kinds) {
+            let sent = rate.transfer_time(cumulative);
+            *transmit = sent - *before;
+            *before = sent;
+        }
         m.next_packet += 1;
-        let pkt = self.new_packet(message, before, upto);
+        let pkt = self.new_packet(message, transmit);
         self.request(now, pkt);
     }
 
@@ -236,32 +238,12 @@ impl Packet {
         }
     }
 
-    /// The links of the packet's current hop, as a range of its message's route.
-    fn hop_links(&self, pkt: u32) -> std::ops::Range<usize> {
-        let p = &self.packets[pkt as usize];
-        let ends = &self.messages[p.message as usize].hop_ends;
-        let start = match p.hop {
-            0 => 0,
-            h => ends[h as usize - 1],
-        };
-        start as usize..ends[p.hop as usize] as usize
-    }
-
     /// The link the packet must acquire next, and whether it is the last of its hop.
     fn wanted_link(&self, pkt: u32) -> (LinkId, bool) {
         let p = &self.packets[pkt as usize];
-        let hop = self.hop_links(pkt);
-        let index = hop.start + p.held as usize;
         let route = &self.messages[p.message as usize].route;
-        (route[index], index + 1 == hop.end)
-    }
-
-    /// A hop's rate and latency: the node's for a node link, the network's otherwise.
-    fn hop_timing(&self, first_link: LinkId) -> (Bandwidth, SimTime) {
-        match self.timing.node_links {
-            Some(node) if self.is_node_link(first_link) => (node.bandwidth, node.hop_latency),
-            _ => (self.timing.bandwidth, self.timing.hop_latency),
-        }
+        let (_, links) = self.hop_of(route[p.at as usize]);
+        (route[(p.at + p.held) as usize], p.held + 1 == links)
     }
 
     /// The packet is at a router wanting its current hop: take its links, or queue.
@@ -294,16 +276,15 @@ impl Packet {
     /// and schedule its arrival at the next router.
     fn start_hop(&mut self, now: SimTime, pkt: u32) {
         let p = self.packets[pkt as usize];
-        let hop_links = self.hop_links(pkt);
         let m = &self.messages[p.message as usize];
-        let last_hop = p.hop as usize + 1 == m.hop_ends.len();
-        if p.hop == 0 {
+        let (kind, links) = self.hop_of(m.route[p.at as usize]);
+        let hop_links = p.at as usize..(p.at + links) as usize;
+        let last_hop = hop_links.end == m.route.len();
+        if p.at == 0 {
             self.offers.push(p.message);
         }
-        let (rate, latency) = self.hop_timing(m.route[hop_links.start]);
-        // Telescoping at this hop's rate: a message's packets take exactly `T(b)` on it.
-        let transmit = rate.transfer_time(p.upto) - rate.transfer_time(p.before);
-        let free_at = (now + transmit).max(p.tail_here);
+        let latency = self.kinds[kind].1;
+        let free_at = (now + p.transmit[kind]).max(p.tail_here);
         for i in hop_links {
             let link = self.messages[p.message as usize].route[i];
             let q = &mut self.links[link as usize];
@@ -351,10 +332,10 @@ impl Packet {
 
     fn on_arrive(&mut self, now: SimTime, pkt: u32, delivered: &mut Vec<Delivered>) {
         let p = &mut self.packets[pkt as usize];
-        p.hop += 1;
+        p.at += p.held;
         p.held = 0;
-        let (message, hop) = (p.message, p.hop);
-        if (hop as usize) < self.messages[message as usize].hop_ends.len() {
+        let (message, at) = (p.message, p.at);
+        if (at as usize) < self.messages[message as usize].route.len() {
             self.request(now, pkt);
             return;
         }
@@ -377,10 +358,11 @@ impl Transport for Packet {
         now: SimTime,
         msg: MsgId,
         route: &[LinkId],
-        hops: Hops,
+        _hops: Hops,
         bytes: Bytes,
     ) -> Option<SimTime> {
-        let message = self.new_message(msg, route, hops, bytes);
+        // The route says its hops: a node link is one, the network's take `links_per_hop`.
+        let message = self.new_message(msg, route, bytes);
         self.offer_next_packet(now, message);
         self.drain_offers(now);
         None
