@@ -3,6 +3,9 @@
 //! reports of contended patterns, each hashed (FNV-1a 64) and compared with the hash the
 //! code gave before the flow model, routing and engine were made faster.
 //!
+//! summary.json is hashed with its count of engine events set to zero: that count measures the
+//! engine's work (a wake-up that does nothing is one), not the simulated machine.
+//!
 //! A mismatch means a simulated picosecond, byte or pixel changed. If a change is meant to
 //! move answers (a model fix, not a speed-up), the new hashes are printed for the commit
 //! that says why.
@@ -23,36 +26,37 @@ use sortsim::units::{Bytes, SimTime};
 
 const FIDELITIES: [&str; 4] = ["ideal", "hops", "flow", "packet"];
 
-/// (case, hash of summary.json, hash of the image), recorded before the speed-up.
+/// (case, hash of summary.json without its event count, hash of the image), recorded at
+/// d25ffe7, where the hashes of the whole summary.json recorded before the speed-up still held.
 const RUNS: &[(&str, u64, u64)] = &[
-    ("sort-middle/ellsworth delta.json plb-head-standin.json n=64 frames=0..2 two-step=on ideal", 0x54b92bbed98ebdf4, 0x8c3aa80857f938f7),
-    ("sort-middle/ellsworth delta.json plb-head-standin.json n=64 frames=0..2 two-step=on hops", 0x6b49ae4efd31a7cd, 0x8c3aa80857f938f7),
-    ("sort-middle/ellsworth delta.json plb-head-standin.json n=64 frames=0..2 two-step=on flow", 0x82e52a5bae161103, 0x8c3aa80857f938f7),
-    ("sort-middle/ellsworth delta.json plb-head-standin.json n=64 frames=0..2 two-step=on packet", 0xe60f56f57d699826, 0x8c3aa80857f938f7),
-    ("sort-middle/ellsworth delta.json polio-standin.json n=512 frames=0 ideal", 0xa13ddcc3556f7778, 0x0681af2dce78a65e),
-    ("sort-middle/ellsworth delta.json polio-standin.json n=512 frames=0 hops", 0x94b8dd29eaab34bf, 0x0681af2dce78a65e),
-    ("sort-middle/ellsworth delta.json polio-standin.json n=512 frames=0 flow", 0x87ff165551ba7023, 0x0681af2dce78a65e),
-    ("sort-middle/ellsworth delta.json polio-standin.json n=512 frames=0 packet", 0x19603d34c9ee9cc9, 0x0681af2dce78a65e),
-    ("sort-middle/static power-challenge.json p000-tetra-500.json n=8 frames=0..2 ideal", 0x4f040b937c49881d, 0x0346fc8a424f6732),
-    ("sort-middle/static power-challenge.json p000-tetra-500.json n=8 frames=0..2 hops", 0xfa0f43f2fbdc0194, 0x0346fc8a424f6732),
-    ("sort-middle/static power-challenge.json p000-tetra-500.json n=8 frames=0..2 flow", 0x3c0f2336f6c42ec3, 0x0346fc8a424f6732),
-    ("sort-middle/static power-challenge.json p000-tetra-500.json n=8 frames=0..2 packet", 0x17bd031c10595e7b, 0x0346fc8a424f6732),
-    ("sort-last/df multicluster-torus.json spd-teapot.json n=16 frames=0 assign=request ideal", 0x7ba1859e5e32604f, 0xf308eb1ba10fe0d3),
-    ("sort-last/df multicluster-torus.json spd-teapot.json n=16 frames=0 assign=request hops", 0xdaa8d57d8fcc6140, 0xf308eb1ba10fe0d3),
-    ("sort-last/df multicluster-torus.json spd-teapot.json n=16 frames=0 assign=request flow", 0x79b9a0c6443d3c16, 0xf308eb1ba10fe0d3),
-    ("sort-last/df multicluster-torus.json spd-teapot.json n=16 frames=0 assign=request packet", 0x9756da99635135f3, 0xf308eb1ba10fe0d3),
-    ("sort-last/pc multicluster-pipeline.json spd-teapot.json n=8 frames=0 ideal", 0xba4f6796378837de, 0xf308eb1ba10fe0d3),
-    ("sort-last/pc multicluster-pipeline.json spd-teapot.json n=8 frames=0 hops", 0xcf69d0b8ae38d0dd, 0xf308eb1ba10fe0d3),
-    ("sort-last/pc multicluster-pipeline.json spd-teapot.json n=8 frames=0 flow", 0x4b331d3fc4dd64c0, 0xf308eb1ba10fe0d3),
-    ("sort-last/pc multicluster-pipeline.json spd-teapot.json n=8 frames=0 packet", 0xda9f0f910542985e, 0xf308eb1ba10fe0d3),
-    ("sort-last/direct-send denali-crossbar.json p003-cube.json n=16 frames=0 local-zbuffer=on ideal", 0xbdb0c9faec85c228, 0xcc93046f41923d57),
-    ("sort-last/direct-send denali-crossbar.json p003-cube.json n=16 frames=0 local-zbuffer=on hops", 0xf5c0a6e3262477b9, 0xcc93046f41923d57),
-    ("sort-last/direct-send denali-crossbar.json p003-cube.json n=16 frames=0 local-zbuffer=on flow", 0xa329bdb13bd63cf1, 0xcc93046f41923d57),
-    ("sort-last/direct-send denali-crossbar.json p003-cube.json n=16 frames=0 local-zbuffer=on packet", 0xb65b359b792a0bb2, 0xcc93046f41923d57),
-    ("sort-last/snooping snooping-bus.json p003-cube.json n=16 frames=0 assign=random ideal", 0xeb86b48b8f12422a, 0xcc93046f41923d57),
-    ("sort-last/snooping snooping-bus.json p003-cube.json n=16 frames=0 assign=random hops", 0xdf7d526cac37babb, 0xcc93046f41923d57),
-    ("sort-last/snooping snooping-bus.json p003-cube.json n=16 frames=0 assign=random flow", 0x71fdb3bef67e28be, 0xcc93046f41923d57),
-    ("sort-last/snooping snooping-bus.json p003-cube.json n=16 frames=0 assign=random packet", 0x24c1adee5e736c86, 0xcc93046f41923d57),
+    ("sort-middle/ellsworth delta.json plb-head-standin.json n=64 frames=0..2 two-step=on ideal", 0x2f8e692975a4c6fc, 0x8c3aa80857f938f7),
+    ("sort-middle/ellsworth delta.json plb-head-standin.json n=64 frames=0..2 two-step=on hops", 0x943e2d430415bb15, 0x8c3aa80857f938f7),
+    ("sort-middle/ellsworth delta.json plb-head-standin.json n=64 frames=0..2 two-step=on flow", 0x914432dd521ae6ad, 0x8c3aa80857f938f7),
+    ("sort-middle/ellsworth delta.json plb-head-standin.json n=64 frames=0..2 two-step=on packet", 0x31c8c7847f4cdf65, 0x8c3aa80857f938f7),
+    ("sort-middle/ellsworth delta.json polio-standin.json n=512 frames=0 ideal", 0xae15d5ceffd7fb70, 0x0681af2dce78a65e),
+    ("sort-middle/ellsworth delta.json polio-standin.json n=512 frames=0 hops", 0xdd6d581230f76d25, 0x0681af2dce78a65e),
+    ("sort-middle/ellsworth delta.json polio-standin.json n=512 frames=0 flow", 0x5e46e1fcb09a430d, 0x0681af2dce78a65e),
+    ("sort-middle/ellsworth delta.json polio-standin.json n=512 frames=0 packet", 0xdf2fd08eac8d92d7, 0x0681af2dce78a65e),
+    ("sort-middle/static power-challenge.json p000-tetra-500.json n=8 frames=0..2 ideal", 0x22e7c5fa3af0078d, 0x0346fc8a424f6732),
+    ("sort-middle/static power-challenge.json p000-tetra-500.json n=8 frames=0..2 hops", 0xcfd48abfcd604a4c, 0x0346fc8a424f6732),
+    ("sort-middle/static power-challenge.json p000-tetra-500.json n=8 frames=0..2 flow", 0xb7b9184211cc7303, 0x0346fc8a424f6732),
+    ("sort-middle/static power-challenge.json p000-tetra-500.json n=8 frames=0..2 packet", 0x341461fd6a22b5f3, 0x0346fc8a424f6732),
+    ("sort-last/df multicluster-torus.json spd-teapot.json n=16 frames=0 assign=request ideal", 0x6b5c6d2fc686228e, 0xf308eb1ba10fe0d3),
+    ("sort-last/df multicluster-torus.json spd-teapot.json n=16 frames=0 assign=request hops", 0x40edca026f8996d3, 0xf308eb1ba10fe0d3),
+    ("sort-last/df multicluster-torus.json spd-teapot.json n=16 frames=0 assign=request flow", 0x451d512a71d618d5, 0xf308eb1ba10fe0d3),
+    ("sort-last/df multicluster-torus.json spd-teapot.json n=16 frames=0 assign=request packet", 0x0919a0fbfeb37005, 0xf308eb1ba10fe0d3),
+    ("sort-last/pc multicluster-pipeline.json spd-teapot.json n=8 frames=0 ideal", 0xc34289b2305cf6d3, 0xf308eb1ba10fe0d3),
+    ("sort-last/pc multicluster-pipeline.json spd-teapot.json n=8 frames=0 hops", 0x518ff2bca167284c, 0xf308eb1ba10fe0d3),
+    ("sort-last/pc multicluster-pipeline.json spd-teapot.json n=8 frames=0 flow", 0xeb964091ec75ad29, 0xf308eb1ba10fe0d3),
+    ("sort-last/pc multicluster-pipeline.json spd-teapot.json n=8 frames=0 packet", 0xeb38147a1e292247, 0xf308eb1ba10fe0d3),
+    ("sort-last/direct-send denali-crossbar.json p003-cube.json n=16 frames=0 local-zbuffer=on ideal", 0x061f2e3eeb697a19, 0xcc93046f41923d57),
+    ("sort-last/direct-send denali-crossbar.json p003-cube.json n=16 frames=0 local-zbuffer=on hops", 0xad495ddf0c7bf8ac, 0xcc93046f41923d57),
+    ("sort-last/direct-send denali-crossbar.json p003-cube.json n=16 frames=0 local-zbuffer=on flow", 0x60d194b5e3933715, 0xcc93046f41923d57),
+    ("sort-last/direct-send denali-crossbar.json p003-cube.json n=16 frames=0 local-zbuffer=on packet", 0x02bfd913ea6db34d, 0xcc93046f41923d57),
+    ("sort-last/snooping snooping-bus.json p003-cube.json n=16 frames=0 assign=random ideal", 0x0e2a3356d850f765, 0xcc93046f41923d57),
+    ("sort-last/snooping snooping-bus.json p003-cube.json n=16 frames=0 assign=random hops", 0xe4fc0e04d5ee3a1c, 0xcc93046f41923d57),
+    ("sort-last/snooping snooping-bus.json p003-cube.json n=16 frames=0 assign=random flow", 0x18a8cb5032aa0635, 0xcc93046f41923d57),
+    ("sort-last/snooping snooping-bus.json p003-cube.json n=16 frames=0 assign=random packet", 0x99c50feeeea6ca32, 0xcc93046f41923d57),
 ];
 
 /// (case, hash of the netsim report), recorded before the speed-up.
@@ -237,7 +241,11 @@ fn runs_give_the_answers_recorded_before_the_speed_up() {
             .resolve(None)
             .unwrap_or_else(|e| panic!("{}: {e}", c.name));
         let result = run(&cfg).unwrap_or_else(|e| panic!("{}: {e}", c.name));
-        let summary = to_json(&RunSummary::new(&cfg, &result));
+        let mut summary = RunSummary::new(&cfg, &result);
+        // How many events the engine took is a count of its own work, not a simulated answer:
+        // dropping wake-ups that do nothing lowers it and must move nothing else.
+        summary.machine_metrics.events = 0;
+        let summary = to_json(&summary);
         actual.push((c.name, fnv1a64(summary.as_bytes()), result.image.hash()));
     }
     let expected: Vec<(String, u64, u64)> = RUNS
