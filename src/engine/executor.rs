@@ -16,6 +16,7 @@ use std::task::{Context, Poll, Waker};
 use super::node::{Envelope, Filter, Node, Payload};
 use super::queue::EventQueue;
 use super::stats::{CpuSpan, NodeStats, RunStats};
+use super::wakes::NetWakes;
 use crate::machine::{CpuConfig, MachineConfig, MemError, MemoryPool};
 use crate::net::{Delivered, Dest, MsgId, Network, NodeId};
 use crate::units::{Bytes, SimTime};
@@ -107,8 +108,6 @@ pub(super) enum Event<M> {
     Wake(ProgramId),
     /// A message whose arrival time the network knew at injection.
     Arrive(MsgId),
-    /// The network model has internal work at this instant.
-    NetWake,
     /// A message posted directly into a mailbox, bypassing network and cpu (timers, PHOLD).
     /// Kept small: heap entries are moved on every push and pop.
     Post {
@@ -158,7 +157,7 @@ pub(super) struct State<M> {
     pub nodes: Vec<NodeState<M>>,
     pub cpu: CpuConfig,
     net: Option<Network>,
-    net_wake_at: Option<SimTime>,
+    net_wakes: NetWakes,
     in_flight: Vec<Option<InFlight<M>>>,
     free_slots: Vec<usize>,
     delivered: Vec<Delivered>,
@@ -285,20 +284,13 @@ impl<M: Payload> State<M> {
     }
 
     fn arm_net_wake(&mut self) {
-        let next = self.net.as_ref().and_then(Network::next_event_time);
-        if let Some(t) = next {
-            if self.net_wake_at.is_none_or(|armed| t < armed) {
-                self.net_wake_at = Some(t);
-                self.schedule(t, Event::NetWake);
-            }
+        if let Some(t) = self.net.as_ref().and_then(Network::next_event_time) {
+            self.net_wakes.arm(t, &mut self.queue);
         }
     }
 
+    /// The network's wake-up at the current instant (`NetWakes::take` has disarmed it).
     fn net_wake(&mut self) {
-        if self.net_wake_at != Some(self.now) {
-            return; // superseded by an earlier wake-up, or already handled at this instant
-        }
-        self.net_wake_at = None;
         let mut delivered = std::mem::take(&mut self.delivered);
         self.net
             .as_mut()
@@ -408,7 +400,7 @@ impl<M: Payload> Sim<M> {
             nodes,
             cpu,
             net,
-            net_wake_at: None,
+            net_wakes: NetWakes::default(),
             in_flight: Vec::new(),
             free_slots: Vec::new(),
             delivered: Vec::new(),
@@ -502,15 +494,23 @@ impl<M: Payload> Sim<M> {
                         p
                     }
                     None => {
-                        let Some((at, event)) = st.queue.pop_until(horizon) else {
-                            return Ok(());
+                        let last = st.queue.last_taken();
+                        let wake = st.net_wakes.due(last).filter(|w| w.time() <= horizon);
+                        let Some((at, event)) = st.queue.pop_before(horizon, wake) else {
+                            let Some(wake) = wake else {
+                                return Ok(());
+                            };
+                            st.net_wakes.take(wake);
+                            st.now = wake.time();
+                            st.events += 1;
+                            st.net_wake();
+                            continue;
                         };
                         st.now = at;
                         st.events += 1;
                         match event {
                             Event::Wake(p) => st.ready.push_back(p),
                             Event::Arrive(id) => st.arrive(id),
-                            Event::NetWake => st.net_wake(),
                             Event::Post { src, dst, payload } => {
                                 let tag = payload.tag();
                                 st.deliver(Envelope {

@@ -19,6 +19,7 @@ mod node;
 mod queue;
 mod rng;
 mod stats;
+mod wakes;
 
 pub use executor::{ProgramId, Sim, SimError, WaitingProgram};
 pub use node::{Envelope, Filter, Node, Payload};

@@ -10,6 +10,8 @@
 //!   times at most instead of sifting through a heap of a million.
 //!
 //! Both give the same order (the keys'), so the switch is invisible to the simulation.
+//! A [`Place`] in that order can also be reserved without queueing anything, for events kept
+//! elsewhere that must still run exactly where a queued one would (the network's wake-ups).
 //! Event bodies stay put in a side slab, whose freed slots are reused first (warm in cache).
 //! Owns ordering only; must never look at what an event means, and never accepts a key below
 //! the last one taken (that would break the radix heap's order; it panics instead).
@@ -23,6 +25,22 @@ use crate::units::SimTime;
 const SLOT_BITS: u32 = 24;
 const _: () = assert!(1 << SLOT_BITS == crate::limits::MAX_PENDING_EVENTS);
 const SEQ_BITS: u32 = 64 - SLOT_BITS;
+
+/// A place in the queue's order: a time and an insertion sequence number (a reserved place,
+/// or a queued event's).
+#[derive(Clone, Copy, Debug, PartialEq, Eq, PartialOrd, Ord)]
+pub struct Place(u128);
+
+impl Place {
+    /// The first place at `at`, before every event at that time.
+    pub fn first_at(at: SimTime) -> Place {
+        Place((at.ps() as u128) << 64)
+    }
+
+    pub fn time(self) -> SimTime {
+        SimTime::from_ps((self.0 >> 64) as u64)
+    }
+}
 
 /// Pending events, earliest first, FIFO among equal times.
 pub struct EventQueue<E> {
@@ -78,13 +96,25 @@ impl<E> EventQueue<E> {
                 s
             }
         };
+        let Place(key) = self.reserve(at);
+        self.keys.push(key | slot as u128);
+    }
+
+    /// The place an event pushed at `at` now would take, taken so that no later event can
+    /// have it; nothing is queued.
+    pub fn reserve(&mut self, at: SimTime) -> Place {
         assert!(
             self.next_seq < 1 << SEQ_BITS,
             "a run scheduled more than 2^40 events"
         );
-        let low = (self.next_seq << SLOT_BITS) | slot as u64;
+        let low = self.next_seq << SLOT_BITS;
         self.next_seq += 1;
-        self.keys.push(((at.ps() as u128) << 64) | low as u128);
+        Place(((at.ps() as u128) << 64) | low as u128)
+    }
+
+    /// The place of the last event taken (the start of the order before any).
+    pub fn last_taken(&self) -> Place {
+        Place(self.keys.last)
     }
 
     pub fn pop(&mut self) -> Option<(SimTime, E)> {
@@ -93,7 +123,15 @@ impl<E> EventQueue<E> {
 
     /// Takes the earliest event if it is due at or before `horizon`.
     pub fn pop_until(&mut self, horizon: SimTime) -> Option<(SimTime, E)> {
-        let key = self.keys.pop_if(|key| (key >> 64) as u64 <= horizon.ps())?;
+        self.pop_before(horizon, None)
+    }
+
+    /// Takes the earliest event if it is due at or before `horizon` and comes before `place`
+    /// (a reserved place whose event is kept elsewhere) when there is one.
+    pub fn pop_before(&mut self, horizon: SimTime, place: Option<Place>) -> Option<(SimTime, E)> {
+        let key = self.keys.pop_if(|key| {
+            (key >> 64) as u64 <= horizon.ps() && place.is_none_or(|Place(first)| key < first)
+        })?;
         let slot = (key as u64 & ((1 << SLOT_BITS) - 1)) as u32;
         let event = self.slots[slot as usize]
             .take()
