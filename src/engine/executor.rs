@@ -13,6 +13,8 @@ use std::pin::Pin;
 use std::rc::Rc;
 use std::task::{Context, Poll, Waker};
 
+use smallvec::SmallVec;
+
 use super::node::{Envelope, Filter, Node, Payload};
 use super::queue::EventQueue;
 use super::stats::{CpuSpan, NodeStats, RunStats};
@@ -141,7 +143,9 @@ struct InFlight<M> {
 pub(super) struct NodeState<M> {
     pub cpu_free_at: SimTime,
     pub mailbox: VecDeque<Envelope<M>>,
-    pub waiters: Vec<(ProgramId, Filter)>,
+    /// Programs waiting for a message, one as a rule: kept inline, so handing a message over
+    /// touches no memory beyond the node's own.
+    pub waiters: SmallVec<[(ProgramId, Filter); 1]>,
     pub pool: MemoryPool,
     pub stats: NodeStats,
 }
@@ -384,7 +388,7 @@ impl<M: Payload> Sim<M> {
             .map(|i| NodeState {
                 cpu_free_at: SimTime::ZERO,
                 mailbox: VecDeque::new(),
-                waiters: Vec::new(),
+                waiters: SmallVec::new(),
                 pool: MemoryPool::new(i, memory),
                 stats: NodeStats::default(),
             })
