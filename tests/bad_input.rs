@@ -708,7 +708,7 @@ fn bad_flags_are_refused_with_exit_code_2() {
                 "--set",
                 "assign=request",
             ],
-            "--set assign=request: expected scatter, random or background-last",
+            "--set assign=request: expected scatter, random, background-last or blocks",
         ),
         (
             &[
@@ -967,6 +967,34 @@ fn sort_last_runs_refuse_what_the_machine_or_options_cannot_do() {
             "4",
             &["k=2,2"],
             "k",
+        ),
+        (
+            "machines/denali-crossbar.json",
+            "sort-last/binary-swap",
+            "4",
+            &["bounds=on"],
+            "--set bounds=on: expected off, or on together with image=rle",
+        ),
+        (
+            "machines/denali-crossbar.json",
+            "sort-last/radix-k",
+            "4",
+            &["bounds=on", "image=rle", "pieces=interleaved"],
+            "--set bounds=on: expected off, or on with pieces=contiguous",
+        ),
+        (
+            "machines/denali-crossbar.json",
+            "sort-last/tree",
+            "4",
+            &["bounds=on", "image=rle", "assign=request"],
+            "--set bounds=on: expected off, or on with a static assignment",
+        ),
+        (
+            "machines/denali-crossbar.json",
+            "sort-last/direct-send",
+            "4",
+            &["bounds=on"],
+            "bounds",
         ),
     ];
     for (machine, algo, procs, sets, fragment) in cases {

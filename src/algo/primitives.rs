@@ -86,6 +86,50 @@ pub fn deal(
     }
 }
 
+/// Object-space blocks, as a volume renderer deals its data: primitive k (its centroid
+/// `centroids[k]`) to one of `n` processors by recursive bisection. A set going to m
+/// processors is ordered along the widest axis of its centroids' extent (ties by database
+/// index) and cut where the lower part holds floor(m/2) processors' share (its count times
+/// floor(m/2) / m, rounded down); each part recurses. Every processor gets a compact block,
+/// the counts within a few primitives of each other, the same deal for the same centroids.
+pub fn blocks(centroids: &[[f32; 3]], n: u32) -> Vec<u32> {
+    assert!(n >= 1, "at least one processor");
+    let mut out = vec![0; centroids.len()];
+    let mut ids: Vec<u32> = (0..centroids.len() as u32).collect();
+    bisect(&mut ids, 0, n, centroids, &mut out);
+    out
+}
+
+fn bisect(ids: &mut [u32], first: u32, m: u32, centroids: &[[f32; 3]], out: &mut [u32]) {
+    if m == 1 || ids.is_empty() {
+        for &k in ids.iter() {
+            out[k as usize] = first;
+        }
+        return;
+    }
+    let extent = |axis: usize| {
+        let values = ids.iter().map(|&k| centroids[k as usize][axis]);
+        let (lo, hi) = values.fold((f32::INFINITY, f32::NEG_INFINITY), |(lo, hi), v| {
+            (lo.min(v), hi.max(v))
+        });
+        hi - lo
+    };
+    let axis = (0..3)
+        .max_by(|&a, &b| extent(a).total_cmp(&extent(b)).then(b.cmp(&a)))
+        .expect("three axes");
+    let lower = m / 2;
+    let cut = ids.len() * lower as usize / m as usize;
+    if cut > 0 && cut < ids.len() {
+        ids.select_nth_unstable_by(cut, |&a, &b| {
+            let (ca, cb) = (centroids[a as usize][axis], centroids[b as usize][axis]);
+            ca.total_cmp(&cb).then(a.cmp(&b))
+        });
+    }
+    let (low, high) = ids.split_at_mut(cut);
+    bisect(low, first, lower, centroids, out);
+    bisect(high, first + lower, m - lower, centroids, out);
+}
+
 /// Every processor's primitives (database indices, ascending) under `assignment`, in one
 /// pass: `shares(a, n)[p]` is what `deal` gave processor p.
 pub fn shares(assignment: &[u32], n: u32) -> Vec<Vec<u32>> {
@@ -119,6 +163,36 @@ mod tests {
         assert_ne!(a, deal(Deal::Random, 1000, |_| 0, 7, 43, "s"));
         assert!(a.iter().all(|&p| p < 7));
         assert!((0..7).all(|p| a.contains(&p)));
+    }
+
+    #[test]
+    fn blocks_cut_space_into_compact_balanced_parts() {
+        // A 16 x 8 grid of centroids in x and y, dealt to 8: each processor gets one 4 x 4
+        // square (x is wider, so it is cut first, then the halves' wider axis, and so on).
+        let centroids: Vec<[f32; 3]> = (0..128)
+            .map(|k| [(k % 16) as f32, (k / 16) as f32, 0.0])
+            .collect();
+        let dealt = blocks(&centroids, 8);
+        for p in 0..8 {
+            let mine: Vec<&[f32; 3]> = (0..128)
+                .filter(|&k| dealt[k] == p)
+                .map(|k| &centroids[k])
+                .collect();
+            assert_eq!(mine.len(), 16, "processor {p}");
+            let span = |axis: usize| {
+                let v = mine.iter().map(|c| c[axis] as i32);
+                v.clone().max().unwrap() - v.min().unwrap()
+            };
+            assert_eq!(
+                (span(0), span(1)),
+                (3, 3),
+                "processor {p} holds a 4 x 4 square"
+            );
+        }
+        // Uneven: 10 primitives on 3 processors, every one dealt, counts 3, 3, 4.
+        let line: Vec<[f32; 3]> = (0..10).map(|k| [k as f32, 0.0, 0.0]).collect();
+        let dealt = blocks(&line, 3);
+        assert_eq!(dealt, [0, 0, 0, 1, 1, 1, 2, 2, 2, 2]);
     }
 
     #[test]

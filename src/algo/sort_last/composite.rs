@@ -8,7 +8,7 @@
 use super::full_frame::{self, piece_tag, tag, Msg, PARTITION};
 use super::interlace::Interlace;
 use super::pixel::ShippedPixel;
-use super::{image, local, request, Ctx};
+use super::{bounds, image, local, request, Ctx};
 use crate::engine::{Filter, Node, SimError};
 
 /// This node's rendered frame for compositing, in raster order or, with `interlace`, in the
@@ -83,20 +83,33 @@ pub(super) async fn receive_and_merge<P: ShippedPixel>(
     (lo, hi): (u32, u32),
     own: Vec<P>,
 ) -> Result<Vec<P>, SimError> {
-    let input = crate::units::Bytes::new(u64::from(hi - lo) * ctx.record_bytes());
-    node.alloc("input piece", input)?;
     let env = node
         .recv(Filter::tag(piece_tag(frame, round)).and_source(from))
         .await;
-    let Msg::Piece { pixels: theirs, .. } = env.payload else {
+    let Msg::Piece {
+        pixels: theirs,
+        rect,
+        ..
+    } = env.payload
+    else {
         unreachable!("filtered by tag")
     };
+    // A buffer for every position of the range, or with bounds those inside the sender's
+    // rectangle.
+    let positions = match (ctx.settings.bounds, rect) {
+        (false, _) => u64::from(hi - lo),
+        (true, None) => 0,
+        (true, Some(r)) => bounds::positions_inside(r, (lo, hi), ctx.viewport.width()),
+    };
+    let input = crate::units::Bytes::new(positions * ctx.record_bytes());
+    node.alloc("input piece", input)?;
     // What a compressed composite walks of its own: the runs inside the range.
     let inside = &own[own.partition_point(|p| p.loc() < lo)..own.partition_point(|p| p.loc() < hi)];
     let (compared, walked) = image::merge_work(ctx, (lo, hi), &theirs, inside);
     node.compute(&walked).await;
     let merged = ctx.merge_rows(node, &theirs, &own, compared).await;
     node.free("input piece", input)?;
+    ctx.bounds.merge(node.id(), rect);
     Ok(merged)
 }
 
@@ -109,7 +122,8 @@ async fn send_to_image<P: ShippedPixel>(
     (lo, hi): (u32, u32),
     pixels: Vec<P>,
 ) {
-    node.compute(&image::encode_work(ctx, (lo, hi), &pixels))
+    let scanned = ctx.scanned(node.id(), (lo, hi));
+    node.compute(&image::encode_work(ctx, (lo, hi), scanned, &pixels))
         .await;
     let bytes = image::bytes(ctx, (lo, hi), &pixels);
     let msg = Msg::Partition {

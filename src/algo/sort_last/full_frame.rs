@@ -13,6 +13,7 @@ use std::rc::Rc;
 use super::pixel::ShippedPixel;
 use super::{image, Ctx};
 use crate::engine::{Filter, Node, Payload, SimError};
+use crate::raster::ScreenRect;
 use crate::units::Bytes;
 
 /// Bytes of a control message (a request, a credit, a frame start).
@@ -57,6 +58,8 @@ pub enum Msg<P> {
         frame: u32,
         round: u32,
         pixels: Vec<P>,
+        /// With `bounds=on`, the sender's rectangle (where its pixels can be).
+        rect: Option<ScreenRect>,
     },
 }
 
@@ -178,12 +181,15 @@ pub async fn send_piece<P: ShippedPixel>(
     range: (u32, u32),
     pixels: Vec<P>,
 ) {
-    node.compute(&image::encode_work(ctx, range, &pixels)).await;
+    let scanned = ctx.scanned(node.id(), range);
+    node.compute(&image::encode_work(ctx, range, scanned, &pixels))
+        .await;
     let bytes = image::bytes(ctx, range, &pixels);
     let msg = Msg::Piece {
         frame,
         round,
         pixels,
+        rect: ctx.bounds.rect(node.id()),
     };
     ctx.send(node, frame, dst, bytes, msg).await;
 }

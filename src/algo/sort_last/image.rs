@@ -69,12 +69,18 @@ pub fn bytes<P: ShippedPixel>(ctx: &Ctx, range: (u32, u32), pixels: &[P]) -> Byt
     Bytes::new(records * ctx.record_bytes() + headers + extra)
 }
 
-/// The work of encoding a piece before it is sent (none for dense).
-pub fn encode_work<P: ShippedPixel>(ctx: &Ctx, range: (u32, u32), pixels: &[P]) -> Counts {
+/// The work of encoding a piece before it is sent (none for dense), looking at `scanned` of
+/// its positions (`Ctx::scanned`: all of them, unless bounds rule some out).
+pub fn encode_work<P: ShippedPixel>(
+    ctx: &Ctx,
+    range: (u32, u32),
+    scanned: u64,
+    pixels: &[P],
+) -> Counts {
     match ctx.settings.image {
         ImageEncoding::Dense => Counts::new(),
         ImageEncoding::Rle => {
-            let mut work = Counts::of(Op::RlePixel, u64::from(range.1 - range.0));
+            let mut work = Counts::of(Op::RlePixel, scanned);
             work += &Counts::of(Op::RleRun, runs(pixels, range));
             work
         }

@@ -4,12 +4,14 @@
 //!
 //! Must never merge or send: merging is each variant's business.
 
+use super::bounds;
 use super::pixel::ShippedPixel;
 use super::Ctx;
 use crate::algo::charge;
 use crate::engine::{Node, Payload, SimError};
 use crate::machine::{Counts, Op};
 use crate::raster::{draw_subset, Counters, Target};
+use crate::units::Bytes;
 
 /// Primitives per compute charge: events grow with batches, not with pixels, and a request
 /// for work waits at most one batch before the renderer looks at it.
@@ -82,10 +84,41 @@ pub(crate) async fn render_own_share<P: ShippedPixel, M: Payload>(
     ctx: &Ctx,
     frame: u32,
 ) -> Result<Vec<P>, SimError> {
+    let (pixels, batches) = draw_share(node, ctx, frame)?;
+    charge_batches(node, ctx, frame, &batches).await;
+    raster_finished(node, ctx, frame);
+    Ok(pixels)
+}
+
+/// Draws this node's static share of `frame` on the host, uncharged: its pixels in raster
+/// order and the counts of each batch.
+fn draw_share<P: ShippedPixel, M: Payload>(
+    node: &Node<M>,
+    ctx: &Ctx,
+    frame: u32,
+) -> Result<(Vec<P>, Vec<Counters>), SimError> {
     let share = ctx.share(node, frame)?;
     let mut buffer = P::buffer(ctx, frame);
     let batches = draw(node, ctx, frame, &share, &mut buffer)?;
-    let pixels = P::collect(buffer, ctx, node.id());
+    Ok((P::collect(buffer, ctx, node.id()), batches))
+}
+
+/// [`render_own_share`] with `bounds=on`: the host draws the share first, so that the node
+/// allocates and clears a frame buffer of only the rectangle around what it drew (charged
+/// before its batches, as IceT clears before rendering) and starts the frame's bounds with it.
+pub(crate) async fn render_bounded<P: ShippedPixel, M: Payload>(
+    node: &Node<M>,
+    ctx: &Ctx,
+    frame: u32,
+) -> Result<Vec<P>, SimError> {
+    let (pixels, batches) = draw_share::<P, M>(node, ctx, frame)?;
+    let rect = bounds::around(&pixels, ctx.viewport);
+    let area = rect.map_or(0, |r| r.pixels() as u64);
+    let bytes = Bytes::new(area * ctx.record_bytes());
+    ctx.bounds.start(node.id(), rect, bytes);
+    node.alloc("frame buffer", bytes)?;
+    node.compute(&Counts::of(Op::ClearPixel, area)).await;
+    node.phase("render");
     charge_batches(node, ctx, frame, &batches).await;
     raster_finished(node, ctx, frame);
     Ok(pixels)
@@ -109,7 +142,12 @@ pub(crate) async fn clear_full_frame<M: Payload>(
     Ok(())
 }
 
-/// Returns the full frame to the memory pool.
+/// Returns the full frame (with `bounds=on`, the node's rectangle of it) to the memory pool.
 pub(crate) fn free_full_frame<M: Payload>(node: &Node<M>, ctx: &Ctx) -> Result<(), SimError> {
-    node.free("frame buffer", ctx.full_frame_bytes())
+    let bytes = if ctx.settings.bounds {
+        ctx.bounds.buffer(node.id())
+    } else {
+        ctx.full_frame_bytes()
+    };
+    node.free("frame buffer", bytes)
 }

@@ -28,6 +28,7 @@
 
 mod aa;
 mod binary_swap;
+mod bounds;
 mod composite;
 mod df;
 mod direct_send;
@@ -112,6 +113,8 @@ impl Variant {
 pub enum Assignment {
     /// A fixed deal before rendering.
     Static(Deal),
+    /// Object-space blocks of each frame's geometry (`primitives::blocks`).
+    Blocks,
     /// Scatter, then idle nodes ask around the ring for work packets (paper 001): a busy
     /// neighbour answers with `1/split` of its remaining queue, if that is at least
     /// `min_packet` primitives.
@@ -136,6 +139,8 @@ pub struct Settings {
     pub image: options::ImageEncoding,
     /// Binary swap, radix-k, 2-3 swap: how the image is cut into pieces.
     pub pieces: options::Pieces,
+    /// Tree, binary swap, radix-k, 2-3 swap: IceT's bounding boxes (`bounds=on`).
+    pub bounds: bool,
     /// Samples per pixel side (`aa=supersample:N`: sqrt N; 1 otherwise). Nodes render and
     /// merge samples, so every pixel the algorithm moves is a sample.
     pub side: u32,
@@ -172,6 +177,8 @@ pub(crate) struct Ctx {
     image: RefCell<Option<Framebuffer>>,
     /// The latest frame's deal, every node's share.
     shares: RefCell<Option<(u32, Vec<Vec<u32>>)>>,
+    /// With `bounds=on`, each node's rectangle and frame buffer.
+    pub(super) bounds: bounds::Bounds,
 }
 
 impl Ctx {
@@ -236,6 +243,17 @@ impl Ctx {
         } else {
             FULL_FRAME_PIXEL_BYTES
         }
+    }
+
+    /// Positions of the piece `range` node `node` looks at to encode it: every one, or with
+    /// `bounds=on` those inside its rectangle.
+    pub fn scanned(&self, node: u32, range: (u32, u32)) -> u64 {
+        if !self.settings.bounds {
+            return u64::from(range.1 - range.0);
+        }
+        self.bounds.rect(node).map_or(0, |r| {
+            bounds::positions_inside(r, range, self.viewport.width())
+        })
     }
 
     /// The bytes of a full frame, as a node's memory holds it (the Subpixel pool apart).
@@ -313,11 +331,15 @@ impl Ctx {
         let mut cache = self.shares.borrow_mut();
         if cache.as_ref().is_none_or(|(f, _)| *f != frame) {
             let geometry = self.geometry(node, frame)?;
-            let rule = match self.settings.assignment {
-                Assignment::Static(rule) => rule,
-                Assignment::Request { .. } => Deal::Scatter,
+            let dealt = match self.settings.assignment {
+                Assignment::Static(rule) => {
+                    static_assignment(&geometry, frame, rule, self.n, self.cfg.seed)
+                }
+                Assignment::Request { .. } => {
+                    static_assignment(&geometry, frame, Deal::Scatter, self.n, self.cfg.seed)
+                }
+                Assignment::Blocks => block_assignment(&geometry, self.n),
             };
-            let dealt = static_assignment(&geometry, frame, rule, self.n, self.cfg.seed);
             *cache = Some((frame, shares(&dealt, self.n)));
         }
         let (_, shares) = cache.as_ref().expect("filled above");
@@ -377,6 +399,24 @@ pub fn static_assignment(
     let area = |k: usize| screen_area(geometry, k);
     let stream = format!("sort-last/assign/frame={frame}");
     deal(rule, count, area, n, seed, &stream)
+}
+
+/// The processor of every triangle of `geometry` dealt in object-space blocks: each
+/// triangle's centroid in clip coordinates (x, y, z before the divide: within a frame, a
+/// fixed affine image of the scene's space, so the cuts are planes through the scene).
+pub fn block_assignment(geometry: &FrameGeometry, n: u32) -> Vec<u32> {
+    let centroids: Vec<[f32; 3]> = geometry
+        .triangles
+        .iter()
+        .map(|tri| {
+            let sum = tri
+                .iter()
+                .map(|&v| geometry.vertices[v as usize].clip.truncate())
+                .fold(glam::Vec3::ZERO, |a, b| a + b);
+            (sum / 3.0).to_array()
+        })
+        .collect();
+    crate::algo::primitives::blocks(&centroids, n)
 }
 
 /// Twice the clip-space-projected area of triangle `k` in NDC units: the size
@@ -480,6 +520,7 @@ struct Common {
     radices: Option<options::Radices>,
     image: options::ImageEncoding,
     pieces: options::Pieces,
+    bounds: bool,
 }
 
 impl Common {
@@ -499,8 +540,43 @@ impl Common {
             radices: None,
             image: options::ImageEncoding::Dense,
             pieces: options::Pieces::Contiguous,
+            bounds: false,
         }
     }
+}
+
+/// `bounds=on` needs pieces that can skip what lies outside a rectangle: run-length images,
+/// cut in raster order, drawn from a deal known before rendering.
+fn check_bounds(
+    o: &super::Options,
+    common: &Common,
+    assignment: &Assignment,
+) -> Result<(), RunError> {
+    if common.image != options::ImageEncoding::Rle {
+        return Err(bad(
+            o,
+            "bounds",
+            "off, or on together with image=rle: a dense piece carries every position, so \
+             there is nothing outside the rectangle to skip",
+        ));
+    }
+    if common.pieces != options::Pieces::Contiguous {
+        return Err(bad(
+            o,
+            "bounds",
+            "off, or on with pieces=contiguous: interleaved rows scatter a rectangle over \
+             every piece",
+        ));
+    }
+    if matches!(assignment, Assignment::Request { .. }) {
+        return Err(bad(
+            o,
+            "bounds",
+            "off, or on with a static assignment (scatter, random, background-last or \
+             blocks): with request balancing a node does not know what it will draw",
+        ));
+    }
+    Ok(())
 }
 
 /// Reads the options of `variant` and checks them.
@@ -524,6 +600,7 @@ fn settings(cfg: &RunConfig, variant: Variant) -> Result<Settings, RunError> {
             let (d, aa) = parse::<CompositeOptions>(o, algo)?;
             let c = Common {
                 image: d.image,
+                bounds: d.bounds.is_on(),
                 ..Common::balanced(d.assign, d.split, d.min_packet)
             };
             (c, aa)
@@ -533,6 +610,7 @@ fn settings(cfg: &RunConfig, variant: Variant) -> Result<Settings, RunError> {
             let c = Common {
                 image: d.image,
                 pieces: d.pieces,
+                bounds: d.bounds.is_on(),
                 ..Common::balanced(d.assign, d.split, d.min_packet)
             };
             (c, aa)
@@ -543,6 +621,7 @@ fn settings(cfg: &RunConfig, variant: Variant) -> Result<Settings, RunError> {
                 radices: Some(r.k),
                 image: r.image,
                 pieces: r.pieces,
+                bounds: r.bounds.is_on(),
                 ..Common::balanced(r.assign, r.split, r.min_packet)
             };
             (c, aa)
@@ -570,24 +649,24 @@ fn settings(cfg: &RunConfig, variant: Variant) -> Result<Settings, RunError> {
             (Common::dealt(d.assign), aa)
         }
     };
-    let assignment = match common.assign {
-        AssignRule::Scatter => Assignment::Static(Deal::Scatter),
-        AssignRule::Random => Assignment::Static(Deal::Random),
-        AssignRule::BackgroundLast => Assignment::Static(Deal::BackgroundLast),
-        AssignRule::Request if !variant.balances_on_request() => {
-            return Err(bad(
+    let assignment =
+        match common.assign {
+            AssignRule::Scatter => Assignment::Static(Deal::Scatter),
+            AssignRule::Random => Assignment::Static(Deal::Random),
+            AssignRule::BackgroundLast => Assignment::Static(Deal::BackgroundLast),
+            AssignRule::Blocks => Assignment::Blocks,
+            AssignRule::Request if !variant.balances_on_request() => return Err(bad(
                 o,
                 "assign",
-                "scatter, random or background-last: request balancing runs at the end \
+                "scatter, random, background-last or blocks: request balancing runs at the end \
                  of rendering, so only sort-last/df, sort-last/pc and the compositing \
                  variants (tree, binary-swap, radix-k, 2-3-swap) use it (paper 001)",
-            ))
-        }
-        AssignRule::Request => Assignment::Request {
-            split: common.split,
-            min_packet: common.min_packet,
-        },
-    };
+            )),
+            AssignRule::Request => Assignment::Request {
+                split: common.split,
+                min_packet: common.min_packet,
+            },
+        };
     if common.assign != AssignRule::Request {
         if let Some(k) = ["split", "min-packet"].iter().find(|k| o.is_given(k)) {
             return Err(bad(
@@ -596,6 +675,9 @@ fn settings(cfg: &RunConfig, variant: Variant) -> Result<Settings, RunError> {
                 "assign=request with it (it applies to request balancing only)",
             ));
         }
+    }
+    if common.bounds {
+        check_bounds(o, &common, &assignment)?;
     }
     let (local_zbuffer, chunk_rows) = (common.local_zbuffer, common.chunk_rows);
     let n = cfg.machine.nodes;
@@ -636,6 +718,7 @@ fn settings(cfg: &RunConfig, variant: Variant) -> Result<Settings, RunError> {
         },
         image: common.image,
         pieces: common.pieces,
+        bounds: common.bounds,
         side,
         aa,
     })
@@ -680,6 +763,7 @@ pub fn run(cfg: &RunConfig, variant: Variant) -> Result<RunResult, RunError> {
         ),
         image: RefCell::default(),
         shares: RefCell::default(),
+        bounds: bounds::Bounds::new(n),
     });
     let stats = if ctx.aa.adaptive {
         simulate_variant::<AaPx>(cfg, &ctx, variant)?

@@ -16,6 +16,9 @@ choice_option!(
         Random = "random",
         /// Scatter, but the largest primitive last (paper 003's advice for backgrounds).
         BackgroundLast = "background-last",
+        /// Object-space blocks by recursive bisection of the primitives' centroids, as a
+        /// volume renderer deals its data: each processor draws one compact part of the scene.
+        Blocks = "blocks",
         /// Paper 001's request-based dynamic load balancing (sort-last/df and pc only).
         Request = "request",
     }
@@ -136,7 +139,7 @@ fn off() -> OnOff {
 #[derive(Clone, Debug, serde::Deserialize, schemars::JsonSchema)]
 #[serde(rename_all = "kebab-case")]
 pub struct PcOptions {
-    /// How primitives are dealt: scatter, random, background-last or request (paper 001's
+    /// How primitives are dealt: scatter, random, background-last, blocks or request (paper 001's
     /// request-based dynamic load balancing).
     #[serde(default = "scatter")]
     pub assign: AssignRule,
@@ -155,7 +158,7 @@ pub struct PcOptions {
 #[derive(Clone, Debug, serde::Deserialize, schemars::JsonSchema)]
 #[serde(rename_all = "kebab-case")]
 pub struct DfOptions {
-    /// How primitives are dealt: scatter, random, background-last or request (paper 001's
+    /// How primitives are dealt: scatter, random, background-last, blocks or request (paper 001's
     /// request-based dynamic load balancing).
     #[serde(default = "scatter")]
     pub assign: AssignRule,
@@ -171,7 +174,7 @@ pub struct DfOptions {
 #[derive(Clone, Debug, serde::Deserialize, schemars::JsonSchema)]
 #[serde(rename_all = "kebab-case")]
 pub struct CompositeOptions {
-    /// How primitives are dealt: scatter, random, background-last or request (paper 001's
+    /// How primitives are dealt: scatter, random, background-last, blocks or request (paper 001's
     /// request-based dynamic load balancing).
     #[serde(default = "scatter")]
     pub assign: AssignRule,
@@ -185,6 +188,11 @@ pub struct CompositeOptions {
     /// image, charged per position scanned and per run).
     #[serde(default = "dense")]
     pub image: ImageEncoding,
+    /// IceT's bounding boxes (with image=rle): a node clears, holds and scans only the
+    /// rectangle of the screen it drew (after merging, the rectangle around what it holds);
+    /// positions outside it go as one inactive run, never looked at.
+    #[serde(default = "off")]
+    pub bounds: OnOff,
 }
 
 fn dense() -> ImageEncoding {
@@ -199,7 +207,7 @@ fn contiguous() -> Pieces {
 #[derive(Clone, Debug, serde::Deserialize, schemars::JsonSchema)]
 #[serde(rename_all = "kebab-case")]
 pub struct SwapOptions {
-    /// How primitives are dealt: scatter, random, background-last or request (paper 001's
+    /// How primitives are dealt: scatter, random, background-last, blocks or request (paper 001's
     /// request-based dynamic load balancing).
     #[serde(default = "scatter")]
     pub assign: AssignRule,
@@ -213,6 +221,11 @@ pub struct SwapOptions {
     /// image, charged per position scanned and per run).
     #[serde(default = "dense")]
     pub image: ImageEncoding,
+    /// IceT's bounding boxes (with image=rle): a node clears, holds and scans only the
+    /// rectangle of the screen it drew (after merging, the rectangle around what it holds);
+    /// positions outside it go as one inactive run, never looked at.
+    #[serde(default = "off")]
+    pub bounds: OnOff,
     /// How the image is cut: contiguous ranges in raster order, or interleaved rows (IceT's
     /// interlaced images: each piece gets rows from the whole screen, for balance).
     #[serde(default = "contiguous")]
@@ -223,7 +236,7 @@ pub struct SwapOptions {
 #[derive(Clone, Debug, serde::Deserialize, schemars::JsonSchema)]
 #[serde(rename_all = "kebab-case")]
 pub struct RadixKOptions {
-    /// How primitives are dealt: scatter, random, background-last or request (paper 001's
+    /// How primitives are dealt: scatter, random, background-last, blocks or request (paper 001's
     /// request-based dynamic load balancing).
     #[serde(default = "scatter")]
     pub assign: AssignRule,
@@ -241,6 +254,11 @@ pub struct RadixKOptions {
     /// image, charged per position scanned and per run).
     #[serde(default = "dense")]
     pub image: ImageEncoding,
+    /// IceT's bounding boxes (with image=rle): a node clears, holds and scans only the
+    /// rectangle of the screen it drew (after merging, the rectangle around what it holds);
+    /// positions outside it go as one inactive run, never looked at.
+    #[serde(default = "off")]
+    pub bounds: OnOff,
     /// How the image is cut: contiguous ranges in raster order, or interleaved rows (IceT's
     /// interlaced images: each piece gets rows from the whole screen, for balance).
     #[serde(default = "contiguous")]
@@ -255,7 +273,7 @@ fn auto_radices() -> Radices {
 #[derive(Clone, Debug, serde::Deserialize, schemars::JsonSchema)]
 #[serde(rename_all = "kebab-case")]
 pub struct DirectSendOptions {
-    /// How primitives are dealt: scatter, random or background-last.
+    /// How primitives are dealt: scatter, random, background-last or blocks.
     #[serde(default = "scatter")]
     pub assign: AssignRule,
     /// Z-buffer locally first and send only the active pixels.
@@ -272,7 +290,7 @@ pub struct DirectSendOptions {
 #[derive(Clone, Debug, serde::Deserialize, schemars::JsonSchema)]
 #[serde(rename_all = "kebab-case")]
 pub struct DealOptions {
-    /// How primitives are dealt: scatter, random or background-last.
+    /// How primitives are dealt: scatter, random, background-last or blocks.
     #[serde(default = "scatter")]
     pub assign: AssignRule,
 }

@@ -45,9 +45,13 @@ pub(crate) async fn render_frame<P: ShippedPixel>(
 ) -> Result<Vec<P>, SimError> {
     full_frame::start_frame(node, ctx, frame).await?;
     node.phase("clear");
-    local::clear_full_frame(node, ctx).await?;
-    node.phase("render");
-    let pixels = render_share(node, ctx, frame).await?;
+    let pixels = if ctx.settings.bounds {
+        local::render_bounded(node, ctx, frame).await?
+    } else {
+        local::clear_full_frame(node, ctx).await?;
+        node.phase("render");
+        render_share(node, ctx, frame).await?
+    };
     node.phase("merge");
     Ok(pixels)
 }
