@@ -996,7 +996,46 @@ fn sort_last_runs_refuse_what_the_machine_or_options_cannot_do() {
             &["bounds=on"],
             "bounds",
         ),
+        (
+            "machines/denali-crossbar.json",
+            "sort-last/binary-swap",
+            "4",
+            &["gather=off", "pieces=interleaved"],
+            "--set gather=off: expected on, or off with pieces=contiguous",
+        ),
+        (
+            "machines/denali-crossbar.json",
+            "sort-last/tree",
+            "4",
+            &["gather=off"],
+            "sort-last/tree has no option 'gather'",
+        ),
     ];
+    // A run of several frames with the image left in pieces.
+    let out = sortsim(&[
+        "run",
+        "--machine",
+        "machines/bgp-intrepid-8k.json",
+        "--scene",
+        "scenes/plb-head-standin.json",
+        "--algo",
+        "sort-last/radix-k",
+        "--procs",
+        "4",
+        "--frames",
+        "0..2",
+        "--set",
+        "gather=off",
+        "-o",
+        out_dir.to_str().unwrap(),
+    ]);
+    let stderr = String::from_utf8_lossy(&out.stderr);
+    assert_eq!(out.status.code(), Some(2), "{stderr}");
+    assert!(
+        stderr.contains("--set gather=off: expected on, or off with one frame (--frames A)"),
+        "{stderr}"
+    );
+    assert!(!out_dir.exists(), "a refused run wrote output");
     for (machine, algo, procs, sets, fragment) in cases {
         let mut args = vec![
             "run",

@@ -119,3 +119,53 @@ fn blocks_keep_each_nodes_rectangle_small_where_scattering_spreads_it() {
         total(&scatter, "clear")
     );
 }
+
+#[test]
+fn gather_off_leaves_the_image_in_pieces_and_ends_the_frame_sooner() {
+    let s = scene("plb-head-standin.json");
+    let (expected, _) = reference::render(&s.frame(0).unwrap());
+    for algo in [
+        "sort-last/binary-swap",
+        "sort-last/radix-k",
+        "sort-last/2-3-swap",
+    ] {
+        for procs in [1, 6, 16] {
+            let run = |gather: &str| {
+                run_frame0(
+                    "bgp-intrepid-8k.json",
+                    &s,
+                    algo,
+                    procs,
+                    &[
+                        ("image", "rle"),
+                        ("assign", "blocks"),
+                        ("bounds", "on"),
+                        ("gather", gather),
+                    ],
+                )
+                .unwrap_or_else(|e| panic!("{algo} n={procs} gather={gather}: {e}"))
+            };
+            let (on, off) = (run("on"), run("off"));
+            assert_eq!(off.image.hash(), expected.hash(), "{algo} n={procs}");
+            // Every node but 0 that ends holding a piece sends it to node 0 when gathering
+            // (binary swap's folded nodes hand theirs on first; radix-k and 2-3 swap keep all).
+            let holders = if algo == "sort-last/binary-swap" {
+                1 << procs.ilog2()
+            } else {
+                procs
+            };
+            let (f_on, f_off) = (&on.frames[0], &off.frames[0]);
+            assert_eq!(
+                f_on.messages - f_off.messages,
+                u64::from(holders - 1),
+                "{algo} n={procs}"
+            );
+            let time = |f: &sortsim::algo::FrameRecord| f.end - f.start;
+            if procs > 1 {
+                assert!(time(f_off) < time(f_on), "{algo} n={procs}");
+            } else {
+                assert!(time(f_off) <= time(f_on), "{algo} n={procs}");
+            }
+        }
+    }
+}

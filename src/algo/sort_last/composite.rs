@@ -52,6 +52,17 @@ pub(super) async fn finish<P: ShippedPixel>(
     interlace: Option<&Interlace>,
 ) -> Result<(), SimError> {
     let me = node.id();
+    if !ctx.settings.gather {
+        // The image stays in pieces: each node is done when its last merge is.
+        if let Some((_, pixels)) = &held {
+            ctx.leave_piece(pixels);
+        }
+        local::free_full_frame(node, ctx)?;
+        ctx.end_aa(node, frame)?;
+        let now = node.now();
+        ctx.record(frame, |r| r.end = r.end.max(now));
+        return Ok(());
+    }
     let own = match held {
         Some((range, pixels)) if me != 0 => {
             send_to_image(node, ctx, frame, range, pixels).await;

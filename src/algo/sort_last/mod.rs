@@ -141,6 +141,9 @@ pub struct Settings {
     pub pieces: options::Pieces,
     /// Tree, binary swap, radix-k, 2-3 swap: IceT's bounding boxes (`bounds=on`).
     pub bounds: bool,
+    /// Binary swap, radix-k, 2-3 swap: the frame ends with the pieces at node 0 (`gather=on`)
+    /// or left where they were composited (`gather=off`).
+    pub gather: bool,
     /// Samples per pixel side (`aa=supersample:N`: sqrt N; 1 otherwise). Nodes render and
     /// merge samples, so every pixel the algorithm moves is a sample.
     pub side: u32,
@@ -179,6 +182,9 @@ pub(crate) struct Ctx {
     shares: RefCell<Option<(u32, Vec<Vec<u32>>)>>,
     /// With `bounds=on`, each node's rectangle and frame buffer.
     pub(super) bounds: bounds::Bounds,
+    /// With `gather=off`, the composited pixels left at the nodes, resolved: (position, rgb,
+    /// z), put together into the report's image after the run.
+    left_in_pieces: RefCell<Vec<(u32, [u8; 3], u32)>>,
 }
 
 impl Ctx {
@@ -363,13 +369,31 @@ impl Ctx {
         };
         node.compute(&Counts::of(Op::ResolvePixel, resolved)).await;
         if self.is_last(frame) {
-            let image = sparse::framebuffer(self.viewport, self.background, pixels);
-            let image = if side > 1 {
-                downsample(&image, side)
-            } else {
-                image
-            };
+            let image = self.image_of(pixels.iter().map(|p| {
+                let (rgb, z) = p.resolve();
+                (p.loc(), rgb, z)
+            }));
             *self.image.borrow_mut() = Some(image);
+        }
+    }
+
+    /// Keeps a piece composited at a node that does not send it on (`gather=off`), for the
+    /// report's image.
+    pub fn leave_piece<P: ShippedPixel>(&self, pixels: &[P]) {
+        let mut left = self.left_in_pieces.borrow_mut();
+        left.extend(pixels.iter().map(|p| {
+            let (rgb, z) = p.resolve();
+            (p.loc(), rgb, z)
+        }));
+    }
+
+    /// The image of resolved pixels on the run's grid (downsampled to the screen when
+    /// supersampled).
+    fn image_of(&self, pixels: impl Iterator<Item = (u32, [u8; 3], u32)>) -> Framebuffer {
+        let image = sparse::framebuffer_of(self.viewport, self.background, pixels);
+        match self.settings.side {
+            1 => image,
+            side => downsample(&image, side),
         }
     }
 
@@ -521,6 +545,7 @@ struct Common {
     image: options::ImageEncoding,
     pieces: options::Pieces,
     bounds: bool,
+    gather: bool,
 }
 
 impl Common {
@@ -541,6 +566,7 @@ impl Common {
             image: options::ImageEncoding::Dense,
             pieces: options::Pieces::Contiguous,
             bounds: false,
+            gather: true,
         }
     }
 }
@@ -579,6 +605,32 @@ fn check_bounds(
     Ok(())
 }
 
+/// `gather=off` times one frame's compositing and leaves its pieces where they are, so there
+/// is no next frame to start and no interlaced order to undo at node 0.
+fn check_no_gather(o: &super::Options, cfg: &RunConfig, common: &Common) -> Result<(), RunError> {
+    if common.pieces != options::Pieces::Contiguous {
+        return Err(bad(
+            o,
+            "gather",
+            "on, or off with pieces=contiguous: interleaved pieces are put back in order at \
+             node 0, which gather=off never reaches",
+        ));
+    }
+    if cfg.frames.len() != 1 {
+        return Err(bad(
+            o,
+            "gather",
+            &format!(
+                "on, or off with one frame (--frames A): with the image left in pieces no \
+                 node knows when the frame ends, so a next frame cannot start (asked for {} \
+                 frames)",
+                cfg.frames.len()
+            ),
+        ));
+    }
+    Ok(())
+}
+
 /// Reads the options of `variant` and checks them.
 fn settings(cfg: &RunConfig, variant: Variant) -> Result<Settings, RunError> {
     let o = &cfg.options;
@@ -611,6 +663,7 @@ fn settings(cfg: &RunConfig, variant: Variant) -> Result<Settings, RunError> {
                 image: d.image,
                 pieces: d.pieces,
                 bounds: d.bounds.is_on(),
+                gather: d.gather.is_on(),
                 ..Common::balanced(d.assign, d.split, d.min_packet)
             };
             (c, aa)
@@ -622,6 +675,7 @@ fn settings(cfg: &RunConfig, variant: Variant) -> Result<Settings, RunError> {
                 image: r.image,
                 pieces: r.pieces,
                 bounds: r.bounds.is_on(),
+                gather: r.gather.is_on(),
                 ..Common::balanced(r.assign, r.split, r.min_packet)
             };
             (c, aa)
@@ -679,6 +733,9 @@ fn settings(cfg: &RunConfig, variant: Variant) -> Result<Settings, RunError> {
     if common.bounds {
         check_bounds(o, &common, &assignment)?;
     }
+    if !common.gather {
+        check_no_gather(o, cfg, &common)?;
+    }
     let (local_zbuffer, chunk_rows) = (common.local_zbuffer, common.chunk_rows);
     let n = cfg.machine.nodes;
     let radices = match common.radices {
@@ -719,6 +776,7 @@ fn settings(cfg: &RunConfig, variant: Variant) -> Result<Settings, RunError> {
         image: common.image,
         pieces: common.pieces,
         bounds: common.bounds,
+        gather: common.gather,
         side,
         aa,
     })
@@ -764,6 +822,7 @@ pub fn run(cfg: &RunConfig, variant: Variant) -> Result<RunResult, RunError> {
         image: RefCell::default(),
         shares: RefCell::default(),
         bounds: bounds::Bounds::new(n),
+        left_in_pieces: RefCell::default(),
     });
     let stats = if ctx.aa.adaptive {
         simulate_variant::<AaPx>(cfg, &ctx, variant)?
@@ -799,6 +858,10 @@ fn simulate_variant<P: ShippedPixel>(
 }
 
 fn finish(ctx: Rc<Ctx>, stats: crate::engine::RunStats) -> Result<RunResult, RunError> {
+    if !ctx.settings.gather {
+        let left = std::mem::take(&mut *ctx.left_in_pieces.borrow_mut());
+        *ctx.image.borrow_mut() = Some(ctx.image_of(left.into_iter()));
+    }
     let image = ctx.image.borrow_mut().take().unwrap_or_else(|| {
         let side = ctx.settings.side;
         let screen = Viewport::new(ctx.viewport.width() / side, ctx.viewport.height() / side);

@@ -135,6 +135,10 @@ fn off() -> OnOff {
     OnOff::Off
 }
 
+fn on() -> OnOff {
+    OnOff::On
+}
+
 /// sort-last/pc (paper 001's Pipeline Composition).
 #[derive(Clone, Debug, serde::Deserialize, schemars::JsonSchema)]
 #[serde(rename_all = "kebab-case")]
@@ -230,6 +234,11 @@ pub struct SwapOptions {
     /// interlaced images: each piece gets rows from the whole screen, for balance).
     #[serde(default = "contiguous")]
     pub pieces: Pieces,
+    /// Whether the frame ends with every piece sent to node 0 (on), or with the composited
+    /// image left in pieces, one per node, as compositing benchmarks time it (off: one frame,
+    /// contiguous pieces; the report's image is put together outside the simulation).
+    #[serde(default = "on")]
+    pub gather: OnOff,
 }
 
 /// sort-last/radix-k (Peterka, Goodell, Ross, Shen, Thakur 2009).
@@ -263,6 +272,11 @@ pub struct RadixKOptions {
     /// interlaced images: each piece gets rows from the whole screen, for balance).
     #[serde(default = "contiguous")]
     pub pieces: Pieces,
+    /// Whether the frame ends with every piece sent to node 0 (on), or with the composited
+    /// image left in pieces, one per node, as compositing benchmarks time it (off: one frame,
+    /// contiguous pieces; the report's image is put together outside the simulation).
+    #[serde(default = "on")]
+    pub gather: OnOff,
 }
 
 fn auto_radices() -> Radices {

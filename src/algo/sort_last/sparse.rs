@@ -79,19 +79,19 @@ impl<P: ShippedPixel> Image<P> {
     }
 }
 
-/// The image raster-ordered (or any-order) pixels show on a screen cleared to `background`.
-pub fn framebuffer<P: ShippedPixel>(
+/// The image resolved pixels (position, rgb, z; in any order) show on a screen cleared to
+/// `background`.
+pub fn framebuffer_of(
     viewport: Viewport,
     background: [u8; 3],
-    pixels: &[P],
+    pixels: impl Iterator<Item = (u32, [u8; 3], u32)>,
 ) -> Framebuffer {
     let w = viewport.width() as usize;
     let mut color = vec![background; viewport.pixels()];
     let mut depth = vec![u32::MAX; viewport.pixels()];
-    for p in pixels {
-        let (rgb, z) = p.resolve();
-        color[p.loc() as usize] = rgb;
-        depth[p.loc() as usize] = z;
+    for (loc, rgb, z) in pixels {
+        color[loc as usize] = rgb;
+        depth[loc as usize] = z;
     }
     let mut fb = Framebuffer::with_clear(viewport, background);
     for y in 0..viewport.height() {
