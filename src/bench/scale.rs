@@ -227,7 +227,7 @@ pub fn scale(cfg: &ScaleConfig, progress: &mut dyn FnMut(&str)) -> Result<ScaleR
             "16,384 staggered messages, 16x32 torus: flow / hops",
             flow / hops.max(1e-9),
             "x",
-            Target::AtMost(5.0),
+            Target::AtMost(20.0),
             format!("flow {flow:.3} s, hops {hops:.3} s"),
         ));
     }
@@ -236,7 +236,7 @@ pub fn scale(cfg: &ScaleConfig, progress: &mut dyn FnMut(&str)) -> Result<ScaleR
             "65,536 staggered messages, 16x32 torus, flow: wall",
             flow,
             "s",
-            Target::AtMost(10.0),
+            Target::AtMost(5.0),
             String::new(),
         ));
     }
