@@ -88,6 +88,15 @@ impl ScreenRect {
             self.y1.min(other.y1),
         )
     }
+    /// The smallest rectangle holding both.
+    pub fn union(self, other: ScreenRect) -> ScreenRect {
+        ScreenRect {
+            x0: self.x0.min(other.x0),
+            y0: self.y0.min(other.y0),
+            x1: self.x1.max(other.x1),
+            y1: self.y1.max(other.y1),
+        }
+    }
     pub fn overlaps(self, other: ScreenRect) -> bool {
         self.intersect(other).is_some()
     }

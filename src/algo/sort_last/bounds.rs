@@ -46,12 +46,7 @@ impl Bounds {
         let mut rects = self.rects.borrow_mut();
         let mine = &mut rects[node as usize];
         *mine = match (*mine, theirs) {
-            (Some(a), Some(b)) => ScreenRect::new(
-                a.x0().min(b.x0()),
-                a.y0().min(b.y0()),
-                a.x1().max(b.x1()),
-                a.y1().max(b.y1()),
-            ),
+            (Some(a), Some(b)) => Some(a.union(b)),
             (a, b) => a.or(b),
         };
     }

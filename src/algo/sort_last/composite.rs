@@ -8,7 +8,7 @@
 use super::full_frame::{self, piece_tag, tag, Msg, PARTITION};
 use super::interlace::Interlace;
 use super::pixel::ShippedPixel;
-use super::{bounds, image, local, request, Ctx};
+use super::{image, local, request, Ctx};
 use crate::engine::{Filter, Node, SimError};
 
 /// This node's rendered frame for compositing, in raster order or, with `interlace`, in the
@@ -52,18 +52,12 @@ pub(super) async fn finish<P: ShippedPixel>(
     interlace: Option<&Interlace>,
 ) -> Result<(), SimError> {
     let me = node.id();
-    if !ctx.settings.gather {
-        // The image stays in pieces: each node is done when its last merge is.
-        if let Some((_, pixels)) = &held {
-            ctx.leave_piece(pixels);
-        }
-        local::free_full_frame(node, ctx)?;
-        ctx.end_aa(node, frame)?;
-        let now = node.now();
-        ctx.record(frame, |r| r.end = r.end.max(now));
-        return Ok(());
-    }
     let own = match held {
+        // The image stays in pieces: each node is done when its last merge is.
+        Some((_, pixels)) if !ctx.settings.gather => {
+            ctx.leave_piece(&pixels);
+            None
+        }
         Some((range, pixels)) if me != 0 => {
             send_to_image(node, ctx, frame, range, pixels).await;
             None
@@ -72,6 +66,11 @@ pub(super) async fn finish<P: ShippedPixel>(
     };
     local::free_full_frame(node, ctx)?;
     ctx.end_aa(node, frame)?;
+    if !ctx.settings.gather {
+        let now = node.now();
+        ctx.record(frame, |r| r.end = r.end.max(now));
+        return Ok(());
+    }
     if me == 0 {
         let ((lo, _), pixels) = own.expect("node 0 holds a piece");
         let image = gather(node, frame, pieces, (lo, pixels)).await;
@@ -107,11 +106,7 @@ pub(super) async fn receive_and_merge<P: ShippedPixel>(
     };
     // A buffer for every position of the range, or with bounds those inside the sender's
     // rectangle.
-    let positions = match (ctx.settings.bounds, rect) {
-        (false, _) => u64::from(hi - lo),
-        (true, None) => 0,
-        (true, Some(r)) => bounds::positions_inside(r, (lo, hi), ctx.viewport.width()),
-    };
+    let positions = ctx.positions_within(rect, (lo, hi));
     let input = crate::units::Bytes::new(positions * ctx.record_bytes());
     node.alloc("input piece", input)?;
     // What a compressed composite walks of its own: the runs inside the range.

@@ -59,7 +59,7 @@ use super::{bad_option as bad, simulate, RunConfig, RunError, RunResult};
 use crate::engine::{Node, Payload, SimError};
 use crate::machine::{Counts, Op};
 use crate::raster::aa::{downsample, AaMethod, PIXEL_BYTES};
-use crate::raster::{Framebuffer, RasterOptions, VertexCache, Viewport};
+use crate::raster::{Framebuffer, RasterOptions, ScreenRect, VertexCache, Viewport};
 use crate::scene::FrameGeometry;
 use crate::units::Bytes;
 use options::{AssignRule, Primitives, SplitFactor};
@@ -254,10 +254,16 @@ impl Ctx {
     /// Positions of the piece `range` node `node` looks at to encode it: every one, or with
     /// `bounds=on` those inside its rectangle.
     pub fn scanned(&self, node: u32, range: (u32, u32)) -> u64 {
+        self.positions_within(self.bounds.rect(node), range)
+    }
+
+    /// Positions of `range` a node holding nothing outside `rect` must cover: every one, or
+    /// with `bounds=on` those inside `rect` (none without one).
+    pub fn positions_within(&self, rect: Option<ScreenRect>, range: (u32, u32)) -> u64 {
         if !self.settings.bounds {
             return u64::from(range.1 - range.0);
         }
-        self.bounds.rect(node).map_or(0, |r| {
+        rect.map_or(0, |r| {
             bounds::positions_inside(r, range, self.viewport.width())
         })
     }
