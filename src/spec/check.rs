@@ -71,8 +71,13 @@ pub fn check(path: &Path) -> Result<String, CheckError> {
                 file: path.to_path_buf(),
             };
             let cfg = spec.resolve_file(None).map_err(run_error)?;
-            crate::algo::check_options(&cfg)
-                .map_err(|e| run_error(RunSpecError::Invalid(e.to_string())))?;
+            crate::algo::check_options(&cfg).map_err(|e| {
+                let message = match &e {
+                    crate::algo::RunError::Option(o) => super::run::file_option_error(o),
+                    e => e.to_string(),
+                };
+                run_error(RunSpecError::Invalid(message))
+            })?;
             Ok(format!(
                 "run: {} on {} processors of '{}', frames {}..{}",
                 cfg.algo.id(),

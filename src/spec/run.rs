@@ -172,6 +172,12 @@ impl RunSpec {
     }
 }
 
+/// An algorithm option's error in a run spec file, worded by the field written
+/// (`at `set.key` (value)`), not by the flag.
+pub fn file_option_error(e: &OptionError) -> String {
+    Written::File.option_error(e)
+}
+
 /// Where a run spec came from, which decides how its messages name a value: by the flag a
 /// person typed or by the field they wrote.
 #[derive(Clone, Copy)]
