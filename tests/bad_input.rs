@@ -160,7 +160,7 @@ fn every_bad_paper_file_is_refused_by_check_naming_its_row() {
         check_refusal(&out, &file, &fragment);
     }
     // And every shipped paper file checks out, with its rows counted by role.
-    for id in ["000", "001", "002", "003"] {
+    for id in ["000", "001", "002", "003", "004"] {
         let file = format!("papers/{id}.json");
         let out = sortsim(&["check", &file]);
         let stdout = String::from_utf8_lossy(&out.stdout);

@@ -49,7 +49,7 @@ fn every_bundled_machine_checks_ok() {
     );
     // Issue 32: today's machines, with nodes of several processors.
     assert!(
-        stdout.contains("machine 'bgp-intrepid-8k': 32768 processors in nodes of 4 with 1 NIC on 3400MB/s links with 100ns per hop, joined by a torus 16x16x32, links 425MB/s"),
+        stdout.contains("machine 'bgp-intrepid-8k': 32768 processors in nodes of 4 (placed cyclically) with 1 NIC on 3400MB/s links with 100ns per hop, joined by a torus 16x16x32, links 425MB/s"),
         "{stdout}"
     );
     assert!(

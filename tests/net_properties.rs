@@ -7,6 +7,7 @@
 
 use proptest::prelude::*;
 use sortsim::net::pattern::{drive, ParsedMessage};
+use sortsim::net::topology::Placement;
 use sortsim::net::{
     Dest, Fidelity, Network, NetworkConfig, NodeConfig, NodeLinks, Switching, TopologyKind,
 };
@@ -95,11 +96,13 @@ proptest! {
     }
 
     /// Nodes of 3 processors and 2 NICs on a 10x faster switch, at flow (packet takes one
-    /// kind of link), the NICs on a ring, a fat-tree or a dragonfly.
+    /// kind of link), the NICs on a ring, a fat-tree or a dragonfly, processors placed in
+    /// blocks or cyclically.
     #[test]
     fn messages_between_nodes_of_several_processors_are_all_delivered_never_early(
         shape in prop_oneof![Just(0usize), Just(6), Just(7)],
         wormhole in any::<bool>(),
+        cyclic in any::<bool>(),
         raw in prop::collection::vec((0u32..64, 0u32..64, 1u64..1_000_000, 0u64..6), 1000..2500),
     ) {
         let cfg = NetworkConfig {
@@ -110,6 +113,7 @@ proptest! {
                     bandwidth: "170MB/s".parse().unwrap(),
                     hop_latency: SimTime::from_ns(100),
                 },
+                placement: if cyclic { Placement::Cyclic } else { Placement::Block },
             }),
             ..config(shape, false, wormhole)
         };

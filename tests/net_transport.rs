@@ -3,6 +3,7 @@
 //! split it exactly, and the pathological cases (0 bytes, self, broadcast) behave.
 
 use sortsim::net::pattern::{drive, ParsedMessage};
+use sortsim::net::topology::Placement;
 use sortsim::net::{
     Dest, Fidelity, Network, NetworkConfig, NodeConfig, NodeLinks, Switching, TopologyKind,
 };
@@ -317,6 +318,7 @@ fn nodes_cfg(
                 bandwidth: node_rate.parse().unwrap(),
                 hop_latency: SimTime::from_ns(300),
             },
+            placement: Placement::Block,
         }),
         ..cfg(topology, dims, fidelity, switching)
     }

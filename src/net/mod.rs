@@ -232,6 +232,8 @@ pub struct NodeConfig {
     pub processors: u32,
     pub nics: u32,
     pub links: NodeLinks,
+    /// Which node each processor sits on.
+    pub placement: topology::Placement,
 }
 
 /// Where a message goes.
@@ -346,7 +348,7 @@ impl Network {
         }
         let mut topology = topology::build(cfg.topology, &cfg.dims)?;
         if let Some(node) = cfg.node {
-            topology = topology::in_nodes(topology, node.processors, node.nics)?;
+            topology = topology::in_nodes(topology, node.processors, node.nics, node.placement)?;
         }
         let nodes = topology.nodes();
         let timing = Timing {

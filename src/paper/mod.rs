@@ -1,6 +1,7 @@
-//! The papers side by side: for each of the four papers, every number and claim of
+//! The papers side by side: for each of the four seed papers, every number and claim of
 //! PAPER-TARGETS.md (the paper's value from `papers/NNN.json`) next to what sortsim measures
-//! for it, with the deviation, the tolerance and a verdict.
+//! for it, with the deviation, the tolerance and a verdict; and a fifth, radix-k on Blue
+//! Gene/P, whose published claims nothing in sortsim was tuned to.
 //!
 //! ```text
 //! papers/NNN.json (References) ─┐
@@ -16,6 +17,7 @@ mod p000;
 mod p001;
 mod p002;
 mod p003;
+mod p004;
 mod runs;
 pub mod verdict;
 
@@ -28,7 +30,7 @@ use crate::output::plot::{ChartOptions, Series};
 pub use data::{PaperData, Reference, Role};
 pub use verdict::{judge, Tally, Verdict};
 
-/// One of the four papers sortsim reproduces.
+/// One of the papers sortsim is held against.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, PartialOrd, Ord)]
 pub enum PaperId {
     /// Adaptive supersampling with fixed memory pools (SGI Power Challenge).
@@ -39,10 +41,18 @@ pub enum PaperId {
     P002,
     /// Pixel merging and distributed snooping.
     P003,
+    /// Radix-k compositing on Blue Gene/P (Peterka et al. 2009, Kendall et al. 2010).
+    P004,
 }
 
 impl PaperId {
-    pub const ALL: [PaperId; 4] = [PaperId::P000, PaperId::P001, PaperId::P002, PaperId::P003];
+    pub const ALL: [PaperId; 5] = [
+        PaperId::P000,
+        PaperId::P001,
+        PaperId::P002,
+        PaperId::P003,
+        PaperId::P004,
+    ];
 
     /// The paper's number as the command line and the data files spell it.
     pub fn id(self) -> &'static str {
@@ -51,6 +61,7 @@ impl PaperId {
             PaperId::P001 => "001",
             PaperId::P002 => "002",
             PaperId::P003 => "003",
+            PaperId::P004 => "004",
         }
     }
 
@@ -62,7 +73,7 @@ impl PaperId {
 /// How to run the experiments (not which: that is the paper).
 #[derive(Clone, Debug)]
 pub struct PaperOptions {
-    /// Fewer frames per run, so that all four papers take minutes, not tens of minutes.
+    /// Fewer frames per run, so that all the papers take minutes, not tens of minutes.
     pub quick: bool,
     /// Simulations at a time.
     pub jobs: usize,
@@ -242,6 +253,7 @@ pub fn run_paper(id: PaperId, options: &PaperOptions) -> Result<PaperReport, Pap
         PaperId::P001 => p001::measure(options, &data),
         PaperId::P002 => p002::measure(options, &data),
         PaperId::P003 => p003::measure(options, &data),
+        PaperId::P004 => p004::measure(options, &data),
     }
     .map_err(|message| PaperError::Experiment {
         paper: id.id(),

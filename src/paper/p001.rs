@@ -7,7 +7,7 @@
 use crate::algo::RunResult;
 use crate::output::plot::{ChartOptions, Series};
 
-use super::runs::{run_jobs, Job};
+use super::runs::{after_raster_s, run_jobs, Job};
 use super::{paper_value, Chart, Measured, Measurements, PaperData, PaperOptions};
 
 /// (row key, scene file, paper name), in the paper's order.
@@ -61,13 +61,6 @@ fn df(key: &str, procs: u32) -> Job {
 
 fn secs(r: &RunResult) -> f64 {
     r.frames[0].time().as_secs_f64()
-}
-
-/// The merge: frame end minus the last node's rasterization finish.
-fn merge_s(r: &RunResult) -> f64 {
-    let f = &r.frames[0];
-    let last = f.raster_finish.iter().max().copied().unwrap_or(f.start);
-    (f.end - last).as_secs_f64()
 }
 
 fn throughput(r: &RunResult) -> f64 {
@@ -231,10 +224,13 @@ pub fn measure(options: &PaperOptions, data: &PaperData) -> Result<Measurements,
             ),
         ),
     );
-    let df_merge: Vec<f64> = NODES.iter().map(|&n| merge_s(at(df("misc3", n)))).collect();
+    let df_merge: Vec<f64> = NODES
+        .iter()
+        .map(|&n| after_raster_s(at(df("misc3", n))))
+        .collect();
     let pc_merge: Vec<f64> = NODES
         .iter()
-        .map(|&n| merge_s(at(pc("misc3", n, "scatter"))))
+        .map(|&n| after_raster_s(at(pc("misc3", n, "scatter"))))
         .collect();
     m.put(
         "df-merge-grows",

@@ -16,7 +16,7 @@ use crate::spec::run::RunSpec;
 use super::PaperOptions;
 
 /// One simulation: files named relative to machines/ and scenes/.
-#[derive(Clone, Debug)]
+#[derive(Clone, Debug, PartialEq)]
 pub struct Job {
     pub machine: String,
     pub scene: String,
@@ -51,6 +51,16 @@ impl Job {
 
 /// Runs `jobs` on a pool of `options.jobs` threads; results in the order of `jobs`.
 pub fn run_jobs(options: &PaperOptions, jobs: &[Job]) -> Result<Vec<RunResult>, String> {
+    run_jobs_keeping(options, jobs, |r| r)
+}
+
+/// As [`run_jobs`], keeping only `keep` of each result as soon as its run ends (a run's image
+/// and per-node statistics can be larger than the figure wanted from it).
+pub fn run_jobs_keeping<T: Send>(
+    options: &PaperOptions,
+    jobs: &[Job],
+    keep: impl Fn(RunResult) -> T + Sync,
+) -> Result<Vec<T>, String> {
     let (root, threads) = (&options.root, options.jobs);
     let mut scenes: BTreeMap<&str, Arc<Scene>> = BTreeMap::new();
     for job in jobs {
@@ -80,10 +90,17 @@ pub fn run_jobs(options: &PaperOptions, jobs: &[Job]) -> Result<Vec<RunResult>, 
                 let config = spec
                     .resolve(Some(scenes[job.scene.as_str()].clone()))
                     .map_err(|e| format!("{job:?}: {e}"))?;
-                run(&config).map_err(|e| format!("{job:?}: {e}"))
+                run(&config).map(&keep).map_err(|e| format!("{job:?}: {e}"))
             })
             .collect()
     })
+}
+
+/// Frame 0's merge or composite: its end minus the last node's rasterization finish.
+pub fn after_raster_s(r: &RunResult) -> f64 {
+    let f = &r.frames[0];
+    let last = f.raster_finish.iter().max().copied().unwrap_or(f.start);
+    (f.end - last).as_secs_f64()
 }
 
 /// Mean over frames of triangles in view per simulated second.

@@ -36,9 +36,13 @@ pub fn check(path: &Path) -> Result<String, CheckError> {
                 .collect();
             let nodes = match m.network.node {
                 Some(n) => format!(
-                    "{} processors in nodes of {} with {} on {} links with {} per hop, joined by a",
+                    "{} processors in nodes of {}{} with {} on {} links with {} per hop, joined by a",
                     m.nodes,
                     n.processors,
+                    match n.placement {
+                        crate::net::topology::Placement::Block => "",
+                        crate::net::topology::Placement::Cyclic => " (placed cyclically)",
+                    },
                     crate::units::count(n.nics, "NIC"),
                     n.links.bandwidth,
                     n.links.hop_latency

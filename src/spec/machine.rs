@@ -117,6 +117,20 @@ pub struct NodeSpec {
     /// Rate of every link inside the node (processor or NIC to the node's switch).
     pub link_bandwidth: Bandwidth,
     pub hop_latency: SimTime,
+    /// Which node each processor sits on: `block` (default; processor p on node p / G, a
+    /// node's processors numbered together) or `cyclic` (processor p on node p mod M,
+    /// consecutive processors on consecutive nodes: Blue Gene's default XYZT order).
+    #[serde(default)]
+    pub placement: PlacementSpec,
+}
+
+/// `network.node.placement`.
+#[derive(Deserialize, Debug, Clone, Copy, Default, PartialEq, Eq, schemars::JsonSchema)]
+#[serde(rename_all = "kebab-case")]
+pub enum PlacementSpec {
+    #[default]
+    Block,
+    Cyclic,
 }
 
 fn one() -> u32 {
@@ -539,6 +553,10 @@ fn node_config(
         links: crate::net::NodeLinks {
             bandwidth: n.link_bandwidth,
             hop_latency: n.hop_latency,
+        },
+        placement: match n.placement {
+            PlacementSpec::Block => crate::net::topology::Placement::Block,
+            PlacementSpec::Cyclic => crate::net::topology::Placement::Cyclic,
         },
     }))
 }

@@ -26,6 +26,8 @@ mod pipeline;
 mod ring;
 mod torus;
 
+pub use nodes::Placement;
+
 use super::{LinkId, NetError, NodeId, TopologyKind};
 
 /// One directed link (or the shared medium of a bus, or a crossbar port).
@@ -113,8 +115,11 @@ pub fn in_nodes(
     network: Box<dyn Topology>,
     processors: u32,
     nics: u32,
+    placement: Placement,
 ) -> Result<Box<dyn Topology>, NetError> {
-    Ok(Box::new(nodes::Nodes::new(network, processors, nics)?))
+    Ok(Box::new(nodes::Nodes::new(
+        network, processors, nics, placement,
+    )?))
 }
 
 /// Builds the topology `kind` with extents `dims`, or says what `dims` would be valid.

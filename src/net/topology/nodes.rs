@@ -1,6 +1,9 @@
 //! Nodes of several processors: `G` processors (GPUs, cores) and `K` network interfaces on
 //! one switch per node, the NICs being the hosts of any other topology (the network between
-//! nodes). Processor `i` of node `m` is vertex `m * G + i` and sends and receives through
+//! nodes). Where processor `p` sits is the [`Placement`]: slot `i` of node `m` with
+//! `(m, i) = (p / G, p mod G)` (`block`: a node's processors numbered together, as a GPU
+//! cluster numbers its ranks) or `(p mod M, p / M)` (`cyclic`: consecutive processors on
+//! consecutive nodes, Blue Gene's default XYZT order). Slot `i` sends and receives through
 //! its node's NIC `i mod K` (NIC `m * K + k` of the network between nodes), the way each GPU
 //! of a multi-GPU node is paired with a NIC.
 //!
@@ -16,8 +19,19 @@
 use super::{Link, Topology};
 use crate::net::{LinkId, NetError, NodeId, TopologyKind};
 
+/// Which node and slot each processor takes.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub enum Placement {
+    /// Processor `p` in slot `p mod G` of node `p / G`.
+    #[default]
+    Block,
+    /// Processor `p` in slot `p / M` of node `p mod M` (`M` nodes).
+    Cyclic,
+}
+
 pub struct Nodes {
     network: Box<dyn Topology>,
+    placement: Placement,
     processors: u32,
     nics: u32,
     nodes: u32,
@@ -27,7 +41,12 @@ pub struct Nodes {
 }
 
 impl Nodes {
-    pub fn new(network: Box<dyn Topology>, processors: u32, nics: u32) -> Result<Nodes, NetError> {
+    pub fn new(
+        network: Box<dyn Topology>,
+        processors: u32,
+        nics: u32,
+        placement: Placement,
+    ) -> Result<Nodes, NetError> {
         let kind = network.kind();
         let invalid = |what: String| Err(NetError::Config(format!("nodes on a {kind}: {what}")));
         if matches!(kind, TopologyKind::Crossbar | TopologyKind::Bus) {
@@ -77,10 +96,14 @@ impl Nodes {
             })
             .collect();
         let first_node_link = links.len() as LinkId;
+        let processor_at = |m: u32, i: u32| match placement {
+            Placement::Block => m * processors + i,
+            Placement::Cyclic => i * nodes + m,
+        };
         for m in 0..nodes {
             let switch = first_switch + m;
             for i in 0..processors {
-                let p = m * processors + i;
+                let p = processor_at(m, i);
                 links.push(Link::wire(p, switch));
                 links.push(Link::wire(switch, p));
             }
@@ -92,6 +115,7 @@ impl Nodes {
         }
         Ok(Nodes {
             network,
+            placement,
             processors,
             nics,
             nodes,
@@ -105,14 +129,22 @@ impl Nodes {
         self.first_node_link + 2 * m * (self.processors + self.nics)
     }
 
+    /// Processor `p`'s node and slot in it.
+    fn place(&self, p: NodeId) -> (u32, u32) {
+        match self.placement {
+            Placement::Block => (p / self.processors, p % self.processors),
+            Placement::Cyclic => (p % self.nodes, p / self.nodes),
+        }
+    }
+
     fn processor_up(&self, p: NodeId) -> LinkId {
-        let (m, i) = (p / self.processors, p % self.processors);
+        let (m, i) = self.place(p);
         self.block(m) + 2 * i
     }
 
     /// The NIC processor `p` uses, as a host of the network between nodes.
     fn nic_of(&self, p: NodeId) -> NodeId {
-        let (m, i) = (p / self.processors, p % self.processors);
+        let (m, i) = self.place(p);
         m * self.nics + i % self.nics
     }
 
@@ -136,7 +168,7 @@ impl Topology for Nodes {
         if src == dst {
             return true;
         }
-        let (m, m2) = (src / self.processors, dst / self.processors);
+        let (m, m2) = (self.place(src).0, self.place(dst).0);
         out.push(self.processor_up(src));
         if m != m2 {
             let (a, b) = (self.nic_of(src), self.nic_of(dst));
@@ -183,7 +215,7 @@ mod tests {
     fn four_nodes_of_four_gpus_and_two_nics_on_a_ring() {
         // A ring of 8 NICs: nodes 0..4 with NICs (0, 1), (2, 3), ...; 16 processors.
         let ring = build(TopologyKind::Ring, &[8]).unwrap();
-        let t = Nodes::new(ring, 4, 2).unwrap();
+        let t = Nodes::new(ring, 4, 2, Placement::Block).unwrap();
         assert_eq!(t.nodes(), 16);
         // Vertices: processors 0..16, NICs 16..24 (s0..s7 in names), node switches s8..s11.
         // Inside node 0: processor, switch, processor.
@@ -201,14 +233,48 @@ mod tests {
     }
 
     #[test]
+    fn cyclic_placement_puts_consecutive_processors_on_consecutive_nodes() {
+        // The same 16 processors on 4 nodes, now processor p on node p mod 4, slot p / 4:
+        // processors 1 and 5 share node 1 (switch s9), 1 and 2 are a node apart.
+        let ring = build(TopologyKind::Ring, &[8]).unwrap();
+        let t = Nodes::new(ring, 4, 2, Placement::Cyclic).unwrap();
+        assert_eq!(names(&t, 1, 5), ["1->s9", "s9->5"]);
+        // Processor 1 is slot 0 of node 1 (NIC 2 = s2); processor 6 slot 1 of node 2 (NIC 5).
+        assert_eq!(
+            names(&t, 1, 6),
+            ["1->s9", "s9->s2", "s2->s3", "s3->s4", "s4->s5", "s5->s10", "s10->6"]
+        );
+        // Every processor has its own pair of node links, and they are on its node's switch.
+        for p in 0..16 {
+            let mut route = Vec::new();
+            assert!(t.route_into(p, (p + 4) % 16, &mut route));
+            assert_eq!(
+                route.len(),
+                2,
+                "processors {p} and {} share a node",
+                (p + 4) % 16
+            );
+            let up = t.links[route[0] as usize];
+            assert_eq!((up.from, up.to), (p, 24 + p % 4));
+        }
+    }
+
+    #[test]
     fn a_crossbar_or_a_bus_cannot_join_nodes() {
         for kind in [TopologyKind::Crossbar, TopologyKind::Bus] {
-            let e = Nodes::new(build(kind, &[4]).unwrap(), 2, 1).err().unwrap();
+            let e = Nodes::new(build(kind, &[4]).unwrap(), 2, 1, Placement::Block)
+                .err()
+                .unwrap();
             assert!(e.to_string().contains("point-to-point"), "{e}");
         }
-        let e = Nodes::new(build(TopologyKind::Ring, &[6]).unwrap(), 2, 4)
-            .err()
-            .unwrap();
+        let e = Nodes::new(
+            build(TopologyKind::Ring, &[6]).unwrap(),
+            2,
+            4,
+            Placement::Block,
+        )
+        .err()
+        .unwrap();
         assert!(e.to_string().contains("not a multiple of 4"), "{e}");
     }
 }
