@@ -116,3 +116,56 @@ fn group_sizes_that_do_not_multiply_to_the_node_count_are_refused() {
         "{stderr}"
     );
 }
+
+/// A round's pieces are merged as they arrive, as IceT's radix-k does with a wait-any, not
+/// in the order of the group's members. Three processors in one round of 3: processor 0
+/// draws a triangle over the whole screen at 1 us a pixel, 1 and 2 a pixel's worth each, so
+/// 0's pieces arrive last. Processor 1 has 2's piece early and merges it while 0 still
+/// draws; once 0's piece is in, one merge is left, where member order (0 before 2) would
+/// leave two.
+#[test]
+fn a_round_merges_its_pieces_as_they_arrive() {
+    let dir = tempfile::tempdir().unwrap();
+    std::fs::write(
+        dir.path().join("late.obj"),
+        "v 0 0 0.5 1 0 0\nv 200 0 0.5 1 0 0\nv 0 200 0.5 1 0 0\n\
+         v 1 1 0.2 0 1 0\nv 2 1 0.2 0 1 0\nv 1 2 0.2 0 1 0\n\
+         v 5 5 0.2 0 0 1\nv 6 5 0.2 0 0 1\nv 5 6 0.2 0 0 1\n\
+         f 1 2 3\nf 4 5 6\nf 7 8 9\n",
+    )
+    .unwrap();
+    let scene_file = dir.path().join("late.json");
+    std::fs::write(
+        &scene_file,
+        r#"{"resolution": [96, 96], "frames": 1, "camera": {"kind": "screen"},
+            "cull_backfaces": false, "geometry": [{"obj": "late.obj"}]}"#,
+    )
+    .unwrap();
+    let s = Arc::new(Scene::load(&scene_file).unwrap());
+    let composite_pixel = 1_000_000u64; // ps
+    let r = simulate(
+        "denali-crossbar.json",
+        &s,
+        3,
+        &[
+            ("k", "3"),
+            ("gather", "off"),
+            ("machine.cpu.costs.pixel_write", "1us"),
+            ("machine.cpu.costs.composite_pixel", "1us"),
+        ],
+    );
+    let f = &r.frames[0];
+    let drawn = |p: usize| f.raster_finish[p].ps();
+    assert!(drawn(0) > drawn(1).max(drawn(2)), "processor 0 draws last");
+    // Processor 1 keeps positions A/3..2A/3 of the raster order: 3,072 positions a merge.
+    let merge = 96 * 96 / 3 * composite_pixel;
+    assert!(
+        drawn(0) - drawn(2) > 2 * merge,
+        "2's piece arrives well before 0's is drawn"
+    );
+    let after_last = r.stats.nodes[1].finish.ps() - drawn(0);
+    assert!(
+        (merge..2 * merge).contains(&after_last),
+        "processor 1 ends {after_last} ps after 0 has drawn; one merge is {merge} ps"
+    );
+}

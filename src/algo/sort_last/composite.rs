@@ -83,19 +83,32 @@ pub(super) async fn finish<P: ShippedPixel>(
     Ok(())
 }
 
-/// Receives `from`'s pixels of the positions `lo..hi` sent in round `round` and z-merges
-/// them into `own` (the same range), charging what the encoding compares and walks.
+/// Whose piece a receive waits for.
+#[derive(Clone, Copy, Debug)]
+pub(super) enum From {
+    /// This node's.
+    Node(u32),
+    /// Whichever of the round's senders arrives first (the round's tag names them): a group
+    /// merged as its pieces come in, as IceT's radix-k does with a wait-any.
+    First,
+}
+
+/// Receives a piece of the positions `lo..hi` sent in round `round` (`from` whom) and
+/// z-merges it into `own` (the same range), charging what the encoding compares and walks.
+/// Merging is order-free (depth, then primitive), so arrival order changes times, not pixels.
 pub(super) async fn receive_and_merge<P: ShippedPixel>(
     node: &Node<Msg<P>>,
     ctx: &Ctx,
     (frame, round): (u32, u32),
-    from: u32,
+    from: From,
     (lo, hi): (u32, u32),
     own: Vec<P>,
 ) -> Result<Vec<P>, SimError> {
-    let env = node
-        .recv(Filter::tag(piece_tag(frame, round)).and_source(from))
-        .await;
+    let filter = Filter::tag(piece_tag(frame, round));
+    let env = match from {
+        From::Node(src) => node.recv(filter.and_source(src)).await,
+        From::First => node.recv(filter).await,
+    };
     let Msg::Piece {
         pixels: theirs,
         rect,

@@ -7,7 +7,7 @@
 //! for round r: my group = the k_r nodes whose ids differ from mine in digit r only
 //!   cut my piece into k_r parts; part j belongs to the member whose digit r is j
 //!   send every other member its part (a direct send within the group)
-//!   receive the k_r - 1 members' pixels of my part and z-merge them
+//!   receive the k_r - 1 members' pixels of my part, z-merging each as it arrives
 //! gather: every node sends its piece (A/N positions, rgb and z as merged) to node 0
 //! ```
 //!
@@ -20,7 +20,7 @@
 
 use std::rc::Rc;
 
-use super::composite::{self, cut, receive_and_merge};
+use super::composite::{self, cut, receive_and_merge, From};
 use super::full_frame::{self, Msg};
 use super::interlace::Interlace;
 use super::pixel::ShippedPixel;
@@ -85,9 +85,9 @@ pub(super) async fn processor<P: ShippedPixel>(
                 }
             }
             piece = part(piece, k, mine);
-            for &member in members.iter().filter(|&&m| m != me) {
+            for _ in 1..k {
                 let at = (frame, round as u32);
-                keep = receive_and_merge(&node, &ctx, at, member, piece, keep).await?;
+                keep = receive_and_merge(&node, &ctx, at, From::First, piece, keep).await?;
             }
             pixels = keep;
         }

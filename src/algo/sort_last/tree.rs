@@ -19,7 +19,7 @@
 
 use std::rc::Rc;
 
-use super::composite::receive_and_merge;
+use super::composite::{receive_and_merge, From};
 use super::full_frame::{self, Msg};
 use super::pixel::ShippedPixel;
 use super::{local, request, Ctx};
@@ -44,7 +44,9 @@ pub(super) async fn processor<P: ShippedPixel>(
                 break;
             }
             if me + stride < n {
-                pixels = receive_and_merge(&node, &ctx, at, me + stride, screen, pixels).await?;
+                pixels =
+                    receive_and_merge(&node, &ctx, at, From::Node(me + stride), screen, pixels)
+                        .await?;
             }
             stride *= 2;
             round += 1;
