@@ -386,7 +386,7 @@ fn check_help() -> String {
 /// `sortsim run --help`: the example, then every algorithm's options from their structs.
 fn run_long_help() -> String {
     format!(
-        "Example:\n  sortsim run --machine machines/delta.json --scene scenes/plb-head-standin.json \\\n      --algo sort-middle/ellsworth --procs 64 --frames 0..4 --set granularity=8 -o reports/plb-64\n\n{}\nMachine fields are set the same way: --set machine.network.fidelity=packet.",
+        "Example:\n  sortsim run --machine machines/delta.json --scene scenes/plb-head-standin.json \\\n      --algo sort-middle/ellsworth --procs 64 --frames 0..4 --set granularity=8 -o reports/plb-64\n\n{}\nMachine fields are set the same way: --set machine.network.fidelity=packet (a field the file leaves out too, when the machine spec has it there: --set machine.network.node.placement=cyclic).",
         crate::algo::AlgorithmId::options_help()
     )
 }

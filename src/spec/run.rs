@@ -246,20 +246,40 @@ impl Written {
 }
 
 /// Sets `path` inside `value` to `raw`, read as JSON when it is a number, boolean, list or
-/// object, and as a string otherwise. The path must exist.
+/// object, and as a string otherwise. The objects on the way must be in the file; the last
+/// field may be one the file leaves out, if the machine spec allows it there (an optional
+/// field, such as `network.node.placement`).
 fn set_path(value: &mut serde_json::Value, path: &[&str], raw: &str) -> Result<(), String> {
     let mut here = value;
     for (i, key) in path.iter().enumerate() {
         let obj = here
             .as_object_mut()
             .ok_or_else(|| format!("`{}` is not an object", path[..i].join(".")))?;
-        let valid = obj.keys().cloned().collect::<Vec<_>>().join(", ");
-        here = obj.get_mut(*key).ok_or_else(|| {
-            format!(
-                "the machine spec has no field `{}`; valid fields there: {valid}",
-                path[..=i].join(".")
-            )
-        })?;
+        let allowed = super::schema::machine_fields_at(&path[..i]).unwrap_or_default();
+        let last = i + 1 == path.len();
+        let in_spec = allowed.iter().any(|f| f == key);
+        if !obj.contains_key(*key) && in_spec && !last {
+            return Err(format!(
+                "the machine file has no `{}` to set `{}` in; write that object in the file",
+                path[..=i].join("."),
+                path[i + 1..].join(".")
+            ));
+        }
+        if !obj.contains_key(*key) && !in_spec {
+            let valid = if allowed.is_empty() {
+                obj.keys().cloned().collect::<Vec<_>>()
+            } else {
+                allowed
+            };
+            return Err(format!(
+                "the machine spec has no field `{}`; valid fields there: {}",
+                path[..=i].join("."),
+                valid.join(", ")
+            ));
+        }
+        here = obj
+            .entry(key.to_string())
+            .or_insert(serde_json::Value::Null);
     }
     *here = match serde_json::from_str::<serde_json::Value>(raw) {
         Ok(v) if !v.is_string() => v,
@@ -348,18 +368,34 @@ mod tests {
     }
 
     #[test]
-    fn machine_paths_must_exist() {
-        let mut v: serde_json::Value =
-            serde_json::json!({"network": {"fidelity": "flow"}, "nodes": 4});
+    fn machine_paths_must_be_the_specs() {
+        let mut v: serde_json::Value = serde_json::json!({"network": {"fidelity": "flow", "node": {"processors": 4}}, "nodes": 4});
         set_path(&mut v, &["network", "fidelity"], "packet").unwrap();
         set_path(&mut v, &["nodes"], "8").unwrap();
+        // An optional field the file leaves out.
+        set_path(&mut v, &["network", "node", "placement"], "cyclic").unwrap();
         assert_eq!(
             v,
-            serde_json::json!({"network": {"fidelity": "packet"}, "nodes": 8})
+            serde_json::json!({"network": {"fidelity": "packet",
+                "node": {"processors": 4, "placement": "cyclic"}}, "nodes": 8})
         );
+        // A field the spec does not have, named with the ones it has there.
         let err = set_path(&mut v, &["network", "colour"], "red").unwrap_err();
         assert!(
-            err.contains("no field `network.colour`; valid fields there: fidelity"),
+            err.contains("no field `network.colour`; valid fields there: ")
+                && err.contains("dims, dragonfly, fat_tree, fidelity, hop_latency"),
+            "{err}"
+        );
+        let err = set_path(&mut v, &["network", "node", "placment"], "cyclic").unwrap_err();
+        assert!(
+            err.contains("hop_latency, link_bandwidth, nics, placement, processors"),
+            "{err}"
+        );
+        // The objects on the way must be written: a node's fields without a node.
+        let mut flat = serde_json::json!({"network": {"fidelity": "flow"}});
+        let err = set_path(&mut flat, &["network", "node", "placement"], "cyclic").unwrap_err();
+        assert!(
+            err.contains("no `network.node` to set `placement` in; write that object"),
             "{err}"
         );
     }

@@ -54,6 +54,45 @@ fn options_schema() -> serde_json::Value {
     })
 }
 
+/// The fields the machine spec allows in the object at `path` (`[]`: the top level; `["network",
+/// "node"]`: a node's), sorted; `None` when `path` does not name an object of the schema.
+pub fn machine_fields_at(path: &[&str]) -> Option<Vec<String>> {
+    let schema = serde_json::to_value(schemars::schema_for!(MachineSpec)).ok()?;
+    let mut here = object_schema(&schema, &schema)?;
+    for key in path {
+        here = object_schema(&schema, here.get("properties")?.get(*key)?)?;
+    }
+    let mut fields: Vec<String> = here
+        .get("properties")?
+        .as_object()?
+        .keys()
+        .cloned()
+        .collect();
+    fields.sort();
+    Some(fields)
+}
+
+/// `node` as an object schema: itself, the definition it refers to, or the one alternative of
+/// an optional field (`anyOf` a definition and null) that is an object.
+fn object_schema<'a>(
+    root: &'a serde_json::Value,
+    node: &'a serde_json::Value,
+) -> Option<&'a serde_json::Value> {
+    if node.get("properties").is_some() {
+        return Some(node);
+    }
+    if let Some(name) = node
+        .get("$ref")
+        .and_then(|r| r.as_str()?.strip_prefix("#/$defs/"))
+    {
+        return object_schema(root, root.get("$defs")?.get(name)?);
+    }
+    node.get("anyOf")?
+        .as_array()?
+        .iter()
+        .find_map(|alternative| object_schema(root, alternative))
+}
+
 fn pretty(schema: &impl serde::Serialize) -> String {
     let mut text = serde_json::to_string_pretty(schema).expect("a schema serializes");
     text.push('\n');
