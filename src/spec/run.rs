@@ -255,27 +255,28 @@ fn set_path(value: &mut serde_json::Value, path: &[&str], raw: &str) -> Result<(
         let obj = here
             .as_object_mut()
             .ok_or_else(|| format!("`{}` is not an object", path[..i].join(".")))?;
-        let allowed = super::schema::machine_fields_at(&path[..i]).unwrap_or_default();
-        let last = i + 1 == path.len();
-        let in_spec = allowed.iter().any(|f| f == key);
-        if !obj.contains_key(*key) && in_spec && !last {
-            return Err(format!(
-                "the machine file has no `{}` to set `{}` in; write that object in the file",
-                path[..=i].join("."),
-                path[i + 1..].join(".")
-            ));
-        }
-        if !obj.contains_key(*key) && !in_spec {
-            let valid = if allowed.is_empty() {
-                obj.keys().cloned().collect::<Vec<_>>()
-            } else {
-                allowed
-            };
-            return Err(format!(
-                "the machine spec has no field `{}`; valid fields there: {}",
-                path[..=i].join("."),
-                valid.join(", ")
-            ));
+        if !obj.contains_key(*key) {
+            let allowed = super::schema::machine_fields_at(&path[..i]).unwrap_or_default();
+            let in_spec = allowed.iter().any(|f| f == key);
+            if in_spec && i + 1 < path.len() {
+                return Err(format!(
+                    "the machine file has no `{}` to set `{}` in; write that object in the file",
+                    path[..=i].join("."),
+                    path[i + 1..].join(".")
+                ));
+            }
+            if !in_spec {
+                let valid = if allowed.is_empty() {
+                    obj.keys().cloned().collect::<Vec<_>>()
+                } else {
+                    allowed
+                };
+                return Err(format!(
+                    "the machine spec has no field `{}`; valid fields there: {}",
+                    path[..=i].join("."),
+                    valid.join(", ")
+                ));
+            }
         }
         here = obj
             .entry(key.to_string())

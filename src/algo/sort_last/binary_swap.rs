@@ -22,7 +22,7 @@
 
 use std::rc::Rc;
 
-use super::composite::{self, cut, receive_and_merge, From};
+use super::composite::{self, cut, receive_and_merge, Sender};
 use super::full_frame::{self, Msg};
 use super::interlace::Interlace;
 use super::pixel::ShippedPixel;
@@ -48,8 +48,9 @@ pub(super) async fn processor<P: ShippedPixel>(
             continue;
         }
         if me + k < n {
-            pixels = receive_and_merge(&node, &ctx, (frame, 0), From::Node(me + k), piece, pixels)
-                .await?;
+            pixels =
+                receive_and_merge(&node, &ctx, (frame, 0), Sender::Node(me + k), piece, pixels)
+                    .await?;
         }
         let mut bit = 1;
         let mut round = 1;
@@ -66,7 +67,7 @@ pub(super) async fn processor<P: ShippedPixel>(
             };
             let at = (frame, round);
             full_frame::send_piece(&node, &ctx, at, me ^ bit, theirs, give).await;
-            pixels = receive_and_merge(&node, &ctx, at, From::Node(me ^ bit), mine, keep).await?;
+            pixels = receive_and_merge(&node, &ctx, at, Sender::Node(me ^ bit), mine, keep).await?;
             piece = mine;
             bit <<= 1;
             round += 1;

@@ -85,7 +85,7 @@ pub(super) async fn finish<P: ShippedPixel>(
 
 /// Whose piece a receive waits for.
 #[derive(Clone, Copy, Debug)]
-pub(super) enum From {
+pub(super) enum Sender {
     /// This node's.
     Node(u32),
     /// Whichever of the round's senders arrives first (the round's tag names them): a group
@@ -100,14 +100,14 @@ pub(super) async fn receive_and_merge<P: ShippedPixel>(
     node: &Node<Msg<P>>,
     ctx: &Ctx,
     (frame, round): (u32, u32),
-    from: From,
+    from: Sender,
     (lo, hi): (u32, u32),
     own: Vec<P>,
 ) -> Result<Vec<P>, SimError> {
     let filter = Filter::tag(piece_tag(frame, round));
     let env = match from {
-        From::Node(src) => node.recv(filter.and_source(src)).await,
-        From::First => node.recv(filter).await,
+        Sender::Node(src) => node.recv(filter.and_source(src)).await,
+        Sender::First => node.recv(filter).await,
     };
     let Msg::Piece {
         pixels: theirs,

@@ -20,7 +20,7 @@
 
 use std::rc::Rc;
 
-use super::composite::{self, cut, receive_and_merge, From};
+use super::composite::{self, cut, receive_and_merge, Sender};
 use super::full_frame::{self, Msg};
 use super::interlace::Interlace;
 use super::pixel::ShippedPixel;
@@ -87,7 +87,7 @@ pub(super) async fn processor<P: ShippedPixel>(
             piece = part(piece, k, mine);
             for _ in 1..k {
                 let at = (frame, round as u32);
-                keep = receive_and_merge(&node, &ctx, at, From::First, piece, keep).await?;
+                keep = receive_and_merge(&node, &ctx, at, Sender::First, piece, keep).await?;
             }
             pixels = keep;
         }

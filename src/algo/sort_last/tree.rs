@@ -19,7 +19,7 @@
 
 use std::rc::Rc;
 
-use super::composite::{receive_and_merge, From};
+use super::composite::{receive_and_merge, Sender};
 use super::full_frame::{self, Msg};
 use super::pixel::ShippedPixel;
 use super::{local, request, Ctx};
@@ -45,7 +45,7 @@ pub(super) async fn processor<P: ShippedPixel>(
             }
             if me + stride < n {
                 pixels =
-                    receive_and_merge(&node, &ctx, at, From::Node(me + stride), screen, pixels)
+                    receive_and_merge(&node, &ctx, at, Sender::Node(me + stride), screen, pixels)
                         .await?;
             }
             stride *= 2;

@@ -25,7 +25,7 @@
 
 use std::rc::Rc;
 
-use super::composite::{self, cut, receive_and_merge, From};
+use super::composite::{self, cut, receive_and_merge, Sender};
 use super::full_frame::{self, Msg};
 use super::interlace::Interlace;
 use super::pixel::ShippedPixel;
@@ -188,7 +188,7 @@ pub(super) async fn processor<P: ShippedPixel>(
             for &q in members.iter().filter(|&&q| q != me) {
                 let theirs = piece(&rounds, r.checked_sub(1), q, area);
                 if let Some(range) = overlap(theirs, new) {
-                    keep = receive_and_merge(&node, &ctx, at, From::Node(q), range, keep).await?;
+                    keep = receive_and_merge(&node, &ctx, at, Sender::Node(q), range, keep).await?;
                 }
             }
             pixels = keep;
