@@ -3,9 +3,14 @@
 //! the rows were written (release build, seed 1); a change that makes a row worse fails here
 //! and must either be fixed or be recorded here with its reason. Key rows are held to their
 //! own verdicts. The data files are checked against the papers' text.
+//!
+//! The papers' runs are the slowest part of the suite, so `sortsim paper all --quick` runs
+//! once for every test here that reads a quick report (`quick`), and once in full for the
+//! comparison of the two; one paper also runs alone, as `sortsim paper ID`.
 
 use std::path::{Path, PathBuf};
 use std::process::{Command, Output};
+use std::sync::OnceLock;
 
 use serde_json::Value;
 
@@ -40,6 +45,22 @@ fn quick_report(id: &str) -> (Value, tempfile::TempDir) {
         serde_json::from_str(&std::fs::read_to_string(folder.join("paper.json")).unwrap()).unwrap();
     check_folder(&folder, &json);
     (json, dir)
+}
+
+/// Paper `id`'s quick report, from the one `sortsim paper all --quick` of this test run (its
+/// folder checked, then removed).
+fn quick(id: &str) -> Value {
+    static QUICK: OnceLock<Vec<(String, Value)>> = OnceLock::new();
+    let reports = QUICK.get_or_init(|| {
+        let dir = tempfile::tempdir().unwrap();
+        all_reports(dir.path(), true)
+    });
+    reports
+        .iter()
+        .find(|(paper, _)| paper == id)
+        .unwrap_or_else(|| panic!("no paper {id} in `paper all`"))
+        .1
+        .clone()
 }
 
 /// Every file the report names exists: the plots the page shows, the markdown tables.
@@ -139,7 +160,7 @@ fn hold(json: &Value, matching: u64, differ: u64, key_rows: &[(&str, &str)]) {
 
 #[test]
 fn paper_000_memory_and_adaptation() {
-    let (json, _dir) = quick_report("000");
+    let json = quick("000");
     hold(
         &json,
         6,
@@ -165,6 +186,7 @@ fn paper_000_memory_and_adaptation() {
 
 #[test]
 fn paper_001_table_1_and_figures() {
+    // Run alone, as `sortsim paper 001`, the one paper quick enough to run twice.
     let (json, _dir) = quick_report("001");
     hold(
         &json,
@@ -221,7 +243,7 @@ fn paper_001_table_1_and_figures() {
 
 #[test]
 fn paper_002_delta() {
-    let (json, _dir) = quick_report("002");
+    let json = quick("002");
     hold(
         &json,
         8,
@@ -289,7 +311,7 @@ fn paper_002_delta() {
 
 #[test]
 fn paper_003_snooping() {
-    let (json, _dir) = quick_report("003");
+    let json = quick("003");
     hold(
         &json,
         5,
@@ -319,7 +341,7 @@ fn paper_003_snooping() {
 /// quotes text that ../shared/papers could check.
 #[test]
 fn paper_004_radix_k_on_blue_gene() {
-    let (json, _dir) = quick_report("004");
+    let json = quick("004");
     hold(
         &json,
         2,
@@ -421,8 +443,9 @@ fn an_unwritable_folder_is_refused_before_anything_runs() {
     assert!(out.stdout.is_empty(), "nothing ran");
 }
 
-/// Runs `sortsim paper all` (quick or full) into `dir`; each paper's rows by id.
-fn all_reports(dir: &Path, quick: bool) -> Vec<(String, Vec<Value>)> {
+/// Runs `sortsim paper all` (quick or full) into `dir`; each paper's paper.json by id, its
+/// folder checked.
+fn all_reports(dir: &Path, quick: bool) -> Vec<(String, Value)> {
     let mut args = vec!["paper", "all", "--jobs", "2", "-o", dir.to_str().unwrap()];
     if quick {
         args.push("--quick");
@@ -433,14 +456,17 @@ fn all_reports(dir: &Path, quick: bool) -> Vec<(String, Vec<Value>)> {
         "{}",
         String::from_utf8_lossy(&out.stderr)
     );
+    let stdout = String::from_utf8_lossy(&out.stdout);
     ["000", "001", "002", "003", "004"]
         .iter()
         .map(|id| {
-            let json: Value = serde_json::from_str(
-                &std::fs::read_to_string(dir.join(id).join("paper.json")).unwrap(),
-            )
-            .unwrap();
-            (id.to_string(), json["rows"].as_array().unwrap().clone())
+            assert!(stdout.contains(&format!("paper {id}: ")), "{stdout}");
+            let folder = dir.join(id);
+            let json: Value =
+                serde_json::from_str(&std::fs::read_to_string(folder.join("paper.json")).unwrap())
+                    .unwrap();
+            check_folder(&folder, &json);
+            (id.to_string(), json)
         })
         .collect()
 }
@@ -452,10 +478,12 @@ fn all_reports(dir: &Path, quick: bool) -> Vec<(String, Vec<Value>)> {
 #[test]
 fn quick_values_are_within_tolerance_of_the_full_runs() {
     let dir = tempfile::tempdir().unwrap();
-    let quick = all_reports(&dir.path().join("quick"), true);
-    let full = all_reports(&dir.path().join("full"), false);
+    let full = all_reports(dir.path(), false);
     let mut compared = 0;
-    for ((id, quick_rows), (_, full_rows)) in quick.iter().zip(&full) {
+    for (id, full_json) in &full {
+        let quick_json = quick(id);
+        let quick_rows = quick_json["rows"].as_array().unwrap();
+        let full_rows = full_json["rows"].as_array().unwrap();
         let data: Value = serde_json::from_str(
             &std::fs::read_to_string(
                 Path::new(env!("CARGO_MANIFEST_DIR")).join(format!("papers/{id}.json")),
