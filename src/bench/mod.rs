@@ -97,9 +97,11 @@ pub fn phold_engine(cfg: &PholdConfig) -> Result<PholdOutcome, SimError> {
     use std::rc::Rc;
     let mut sim: Sim<Phold> = Sim::bare(cfg.lps, cfg.seed);
     let log = Rc::new(Cell::new((0u64, 0u64, 0u64))); // events, last time, hash
+                                                      // One configuration read by every LP, as the baseline reads its one.
+    let shared = Rc::new(cfg.clone());
     for lp in 0..cfg.lps {
         let node = sim.node(lp);
-        let (cfg, log) = (cfg.clone(), log.clone());
+        let (cfg, log) = (shared.clone(), log.clone());
         sim.spawn(lp, format!("lp{lp}"), async move {
             let mut draw = Draw::new(&cfg, lp);
             for _ in 0..cfg.events_per_lp {

@@ -119,7 +119,7 @@ pub(super) enum Event<M> {
     },
 }
 
-pub(super) struct ProgramMeta<M> {
+pub(super) struct ProgramMeta {
     pub name: String,
     pub node: NodeId,
     /// Daemons (message handlers) may still be waiting when the run ends.
@@ -129,8 +129,6 @@ pub(super) struct ProgramMeta<M> {
     pub wait: Wait,
     /// Set when a blocking send this program waits on has been delivered.
     pub delivered: bool,
-    /// A message handed straight to this program because it was waiting for it.
-    pub handoff: Option<Envelope<M>>,
 }
 
 struct InFlight<M> {
@@ -140,14 +138,55 @@ struct InFlight<M> {
     notify: Option<ProgramId>,
 }
 
+/// A node's state. The fields a message's hand-over touches come first, so that with the
+/// alignment they share the node's first cache lines (a run with many nodes takes most of its
+/// time missing in cache on them).
+#[repr(C, align(64))]
 pub(super) struct NodeState<M> {
-    pub cpu_free_at: SimTime,
-    pub mailbox: VecDeque<Envelope<M>>,
     /// Programs waiting for a message, one as a rule: kept inline, so handing a message over
     /// touches no memory beyond the node's own.
     pub waiters: SmallVec<[(ProgramId, Filter); 1]>,
-    pub pool: MemoryPool,
+    /// Messages handed straight to programs that were waiting for them, until each runs: kept
+    /// on the node too, where a `recv` looks first.
+    pub handoffs: Handoffs<M>,
+    pub mailbox: VecDeque<Envelope<M>>,
     pub stats: NodeStats,
+    pub cpu_free_at: SimTime,
+    pub pool: MemoryPool,
+}
+
+/// A node's messages handed over and not yet taken, one per program: one as a rule, kept
+/// inline (several only when a node's programs are handed messages before any of them runs).
+pub(super) struct Handoffs<M> {
+    first: Option<(ProgramId, Envelope<M>)>,
+    more: Vec<(ProgramId, Envelope<M>)>,
+}
+
+impl<M> Default for Handoffs<M> {
+    fn default() -> Self {
+        Handoffs {
+            first: None,
+            more: Vec::new(),
+        }
+    }
+}
+
+impl<M> Handoffs<M> {
+    fn put(&mut self, p: ProgramId, env: Envelope<M>) {
+        match self.first {
+            None => self.first = Some((p, env)),
+            Some(_) => self.more.push((p, env)),
+        }
+    }
+
+    /// The message handed to program `p`, if one was.
+    pub fn take(&mut self, p: ProgramId) -> Option<Envelope<M>> {
+        if self.first.as_ref().is_some_and(|&(q, _)| q == p) {
+            return self.first.take().map(|(_, env)| env);
+        }
+        let i = self.more.iter().position(|&(q, _)| q == p)?;
+        Some(self.more.swap_remove(i).1)
+    }
 }
 
 pub(super) struct State<M> {
@@ -156,7 +195,7 @@ pub(super) struct State<M> {
     pub queue: EventQueue<Event<M>>,
     pub ready: VecDeque<ProgramId>,
     pub current: ProgramId,
-    pub programs: Vec<ProgramMeta<M>>,
+    pub programs: Vec<ProgramMeta>,
     pub spawned: Vec<Program>,
     pub nodes: Vec<NodeState<M>>,
     pub cpu: CpuConfig,
@@ -185,7 +224,7 @@ impl<M: Payload> State<M> {
         self.queue.push(at, event);
     }
 
-    pub fn meta(&mut self) -> &mut ProgramMeta<M> {
+    pub fn meta(&mut self) -> &mut ProgramMeta {
         &mut self.programs[self.current as usize]
     }
 
@@ -247,7 +286,6 @@ impl<M: Payload> State<M> {
             phase: "run",
             wait: Wait::Nothing,
             delivered: false,
-            handoff: None,
         });
         self.spawned.push(program);
     }
@@ -344,7 +382,7 @@ impl<M: Payload> State<M> {
         match node.waiters.iter().position(|(_, f)| f.matches(&env)) {
             Some(i) => {
                 let (p, _) = node.waiters.swap_remove(i);
-                self.programs[p as usize].handoff = Some(env);
+                node.handoffs.put(p, env);
                 self.ready.push_back(p);
             }
             None => node.mailbox.push_back(env),
@@ -389,6 +427,7 @@ impl<M: Payload> Sim<M> {
                 cpu_free_at: SimTime::ZERO,
                 mailbox: VecDeque::new(),
                 waiters: SmallVec::new(),
+                handoffs: Handoffs::default(),
                 pool: MemoryPool::new(i, memory),
                 stats: NodeStats::default(),
             })
@@ -454,14 +493,16 @@ impl<M: Payload> Sim<M> {
     pub fn run(&mut self) -> Result<RunStats, SimError> {
         self.run_until(SimTime::MAX)?;
         let st = self.state.borrow();
+        let waits = st.waits();
         let waiting: Vec<WaitingProgram> = st
             .programs
             .iter()
-            .filter(|p| !p.done && !p.daemon)
-            .map(|p| WaitingProgram {
+            .enumerate()
+            .filter(|(_, p)| !p.done && !p.daemon)
+            .map(|(id, p)| WaitingProgram {
                 name: p.name.clone(),
                 node: p.node,
-                waits_for: p.wait.to_string(),
+                waits_for: waits[id].to_string(),
             })
             .collect();
         if !waiting.is_empty() {
@@ -600,6 +641,19 @@ impl<M: Payload> Drop for Sim<M> {
 }
 
 impl<M: Payload> State<M> {
+    /// What each program is blocked on: a message if a node lists it among its waiters (a
+    /// `recv` registers there only, so handing a message over never touches the program's
+    /// record), otherwise what it last said it waits for.
+    fn waits(&self) -> Vec<Wait> {
+        let mut waits: Vec<Wait> = self.programs.iter().map(|p| p.wait).collect();
+        for node in &self.nodes {
+            for &(p, filter) in &node.waiters {
+                waits[p as usize] = Wait::Message(filter);
+            }
+        }
+        waits
+    }
+
     pub fn net(&self) -> Option<&Network> {
         self.net.as_ref()
     }
@@ -624,5 +678,38 @@ impl<M: Payload> State<M> {
             seed: self.seed,
             source,
         }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn envelope(src: NodeId) -> Envelope<u32> {
+        Envelope {
+            src,
+            dst: 0,
+            tag: 0,
+            bytes: Bytes::ZERO,
+            payload: src,
+            arrived: SimTime::ZERO,
+        }
+    }
+
+    /// Each program takes the message handed to it and no other, whichever of a node's
+    /// programs runs first, and a program nothing was handed to takes nothing.
+    #[test]
+    fn each_program_takes_its_own_handoff() {
+        let mut h = Handoffs::default();
+        h.put(7, envelope(1));
+        h.put(3, envelope(2));
+        h.put(5, envelope(3));
+        assert!(h.take(4).is_none());
+        assert_eq!(h.take(5).map(|e| e.payload), Some(3));
+        assert_eq!(h.take(7).map(|e| e.payload), Some(1));
+        h.put(4, envelope(4));
+        assert_eq!(h.take(4).map(|e| e.payload), Some(4));
+        assert_eq!(h.take(3).map(|e| e.payload), Some(2));
+        assert!(h.take(3).is_none() && h.take(7).is_none());
     }
 }

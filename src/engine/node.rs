@@ -369,25 +369,22 @@ impl<M: Payload> Future for Receive<'_, M> {
                 Poll::Pending
             };
         }
-        let env = match st.meta().handoff.take() {
+        let p = st.current;
+        let filter = this.filter;
+        let node = &mut st.nodes[this.node.id as usize];
+        let env = match node.handoffs.take(p) {
             Some(env) => env,
-            None => {
-                let p = st.current;
-                let filter = this.filter;
-                let node = &mut st.nodes[this.node.id as usize];
-                match node.mailbox.iter().position(|e| filter.matches(e)) {
-                    Some(i) => node.mailbox.remove(i).expect("position is in range"),
-                    None => {
-                        // Not registered yet, or woken for a message another program took.
-                        if !this.registered || !node.waiters.iter().any(|&(w, _)| w == p) {
-                            node.waiters.push((p, filter));
-                            st.meta().wait = Wait::Message(filter);
-                            this.registered = true;
-                        }
-                        return Poll::Pending;
+            None => match node.mailbox.iter().position(|e| filter.matches(e)) {
+                Some(i) => node.mailbox.remove(i).expect("position is in range"),
+                None => {
+                    // Not registered yet, or woken for a message another program took.
+                    if !this.registered || !node.waiters.iter().any(|&(w, _)| w == p) {
+                        node.waiters.push((p, filter));
+                        this.registered = true;
                     }
+                    return Poll::Pending;
                 }
-            }
+            },
         };
         let cost = st.cpu.recv_cost(env.bytes);
         if cost == SimTime::ZERO {

@@ -7,8 +7,13 @@ use crate::machine::PoolStats;
 use crate::net::{LinkStats, NodeId};
 use crate::units::{Bytes, SimTime};
 
+/// The received counters come first: every delivery updates them, next to the node's waiters
+/// (see the engine's `NodeState`).
 #[derive(Clone, Debug, Default, PartialEq, Eq)]
+#[repr(C)]
 pub struct NodeStats {
+    pub bytes_received: Bytes,
+    pub messages_received: u64,
     /// Busy time per phase label, in the order the labels first appeared.
     pub busy_by_phase: Vec<(&'static str, SimTime)>,
     /// Part of the busy time spent on message overheads (and, without overlap, on waiting for
@@ -16,8 +21,6 @@ pub struct NodeStats {
     pub comm: SimTime,
     pub bytes_sent: Bytes,
     pub messages_sent: u64,
-    pub bytes_received: Bytes,
-    pub messages_received: u64,
     /// When the node's last program that must finish did finish.
     pub finish: SimTime,
 }
