@@ -37,8 +37,14 @@ impl NetWakes {
 
     /// The wake-up that does the network's work next: the first pending at the armed
     /// instant. Places before `passed` (the last event taken) are dropped first.
+    #[inline]
     pub fn due(&mut self, passed: Place) -> Option<Place> {
+        // Nothing armed is the rule in a run without a network: decided where it is asked.
         let armed = self.armed?;
+        self.first_pending_at(armed, passed)
+    }
+
+    fn first_pending_at(&mut self, armed: SimTime, passed: Place) -> Option<Place> {
         while self.pending.first().is_some_and(|&p| p < passed) {
             self.pending.pop_first();
         }
