@@ -96,8 +96,9 @@ pub fn phold_engine(cfg: &PholdConfig) -> Result<PholdOutcome, SimError> {
     use std::cell::Cell;
     use std::rc::Rc;
     let mut sim: Sim<Phold> = Sim::bare(cfg.lps, cfg.seed);
-    let log = Rc::new(Cell::new((0u64, 0u64, 0u64))); // events, last time, hash
-                                                      // One configuration read by every LP, as the baseline reads its one.
+    // Events, last time, hash.
+    let log = Rc::new(Cell::new((0u64, 0u64, 0u64)));
+    // One configuration read by every LP, as the baseline reads its one.
     let shared = Rc::new(cfg.clone());
     for lp in 0..cfg.lps {
         let node = sim.node(lp);

@@ -42,6 +42,11 @@ impl Place {
     }
 }
 
+/// The slot of the side slab a key's event body is in.
+fn slot_of(key: u128) -> usize {
+    (key as u64 & ((1 << SLOT_BITS) - 1)) as usize
+}
+
 /// Pending events, earliest first, FIFO among equal times.
 pub struct EventQueue<E> {
     keys: Keys,
@@ -134,7 +139,7 @@ impl<E> EventQueue<E> {
             return None;
         };
         let &Reverse(key) = h.peek()?;
-        self.slots[(key as u64 & ((1 << SLOT_BITS) - 1)) as usize].as_ref()
+        self.slots[slot_of(key)].as_ref()
     }
 
     /// Takes the earliest event if it is due at or before `horizon` and comes before `place`
@@ -143,11 +148,11 @@ impl<E> EventQueue<E> {
         let key = self.keys.pop_if(|key| {
             (key >> 64) as u64 <= horizon.ps() && place.is_none_or(|Place(first)| key < first)
         })?;
-        let slot = (key as u64 & ((1 << SLOT_BITS) - 1)) as u32;
-        let event = self.slots[slot as usize]
+        let slot = slot_of(key);
+        let event = self.slots[slot]
             .take()
             .expect("a queued slot holds its event");
-        self.free.push(slot);
+        self.free.push(slot as u32);
         Some((SimTime::from_ps((key >> 64) as u64), event))
     }
 
