@@ -74,18 +74,21 @@ const PATTERNS: &[(&str, u64)] = &[
 struct Case {
     name: String,
     spec: RunSpec,
+    /// The scene as the hashes name it: its shipped path, also where a frozen copy stands in.
+    scene: String,
 }
 
-/// The machine a case runs on: the copy frozen under tests/answers_unchanged/ when there is
-/// one (the Delta as it was before its costs were fitted to all of paper 002: a fit moves
-/// answers on purpose, and these hashes prove only that speed-ups do not), else the shipped
-/// file.
-fn frozen_or_shipped(machine: &str) -> PathBuf {
-    let frozen = PathBuf::from("tests/answers_unchanged").join(machine);
+/// The machine or scene a case runs on: the copy frozen under tests/answers_unchanged/ when
+/// there is one (the Delta as it was before its costs were fitted to all of paper 002, the
+/// Cube stand-in before its footprint was fitted to paper 003: a fit moves answers on
+/// purpose, and these hashes prove only that speed-ups do not), else the shipped file in
+/// `folder`.
+fn frozen_or_shipped(folder: &str, file: &str) -> PathBuf {
+    let frozen = PathBuf::from("tests/answers_unchanged").join(file);
     if frozen.is_file() {
         frozen
     } else {
-        PathBuf::from("machines").join(machine)
+        PathBuf::from(folder).join(file)
     }
 }
 
@@ -112,14 +115,15 @@ fn case(
                 ),
                 spec: RunSpec {
                     schema: None,
-                    machine: frozen_or_shipped(machine),
-                    scene: PathBuf::from("scenes").join(scene),
+                    machine: frozen_or_shipped("machines", machine),
+                    scene: frozen_or_shipped("scenes", scene),
                     algo: algo.into(),
                     procs,
                     frames: Some(frames.into()),
                     seed: 1,
                     set: options,
                 },
+                scene: format!("scenes/{scene}"),
             }
         })
         .collect()
@@ -245,6 +249,7 @@ fn runs_give_the_answers_recorded_before_the_speed_up() {
         // How many events the engine took is a count of its own work, not a simulated answer:
         // dropping wake-ups that do nothing lowers it and must move nothing else.
         summary.machine_metrics.events = 0;
+        summary.run.scene = c.scene.clone();
         let summary = to_json(&summary);
         actual.push((c.name, fnv1a64(summary.as_bytes()), result.image.hash()));
     }

@@ -1,7 +1,9 @@
 //! `sortsim calibrate` end to end on paper 001's uniprocessor times (the cheapest paper to
 //! run): the fit never ends worse than it started, stays inside its ranges, writes a machine
 //! that `sortsim check` accepts with its source updated, lists every target, and is
-//! reproducible. A spec naming a row the paper does not have is bad input.
+//! reproducible. A spec naming a row the paper does not have is bad input. A stand-in scene
+//! is fitted the same way (paper 003's Brooks footprint), and every shipped fit is recorded
+//! by the file it produced.
 
 mod common;
 
@@ -163,7 +165,8 @@ fn a_machine_the_papers_do_not_use_is_refused_unless_it_names_the_one_it_replace
         serde_json::from_str(&std::fs::read_to_string(out_dir.join("calibration.json")).unwrap())
             .unwrap();
     // The candidates stood in for the bundled machine the paper's experiments use.
-    assert_eq!(c["machine"], "multicluster-pipeline.json", "{c}");
+    assert_eq!(c["file"], "multicluster-pipeline.json", "{c}");
+    assert_eq!(c["subject"], "machine", "{c}");
 }
 
 #[test]
@@ -287,33 +290,117 @@ fn held_out_targets_leave_the_cost_and_are_reported_on_the_fitted_machine() {
     common::assert_refused(&out, "holding out every target", "no target to fit");
 }
 
-/// Every shipped calibration spec's targets are recorded, under that spec, by the bundled
-/// machine it fitted, so `papers/NNN.json` marks them fitted (checked when it is loaded).
+/// A scene fit: Brooks' footprint to its reduction, started from the even scatter, on a
+/// budget of three runs of paper 003 (quick). The fit moves the footprint toward the paper's
+/// reduction (the even scatter gives 1.93, the paper 3.3), writes a scene `sortsim check`
+/// accepts with the fit recorded in `fitted_to` and its description, naming its schema from
+/// scenes/.
 #[test]
-fn every_shipped_fit_is_recorded_by_the_machine_it_produced() {
+fn a_stand_in_scene_is_fitted_like_a_machine() {
+    let dir = tempfile::tempdir().unwrap();
+    let root = Path::new(env!("CARGO_MANIFEST_DIR"));
+    let spec = serde_json::json!({
+        "scene": root.join("scenes/fits/p003-brooks-start.json"),
+        "replaces": "p003-brooks.json",
+        "paper": "003",
+        "targets": ["reduction-brooks"],
+        "parameters": [{"name": "footprint", "fields": ["geometry.0.generator.footprint"],
+                        "range": [0.05, 1.0]}],
+        "quick": true,
+        "max_evaluations": 3
+    });
+    let file = dir.path().join("fit.json");
+    std::fs::write(&file, spec.to_string()).unwrap();
+    let out = dir.path().join("o");
+    let c = calibrate_ok(file.to_str().unwrap(), &[], &out, "calibration.json");
+    assert_eq!(c["subject"], "scene", "{c}");
+    let row = &c["rows"][0];
+    let (start, fitted) = (
+        row["start"].as_f64().unwrap(),
+        row["fitted"].as_f64().unwrap(),
+    );
+    assert!(start < 2.0 && fitted > start, "{row}");
+    let scene = out.join("p003-brooks.json");
+    let check = sortsim(&["check", scene.to_str().unwrap()]);
+    assert!(
+        check.status.success(),
+        "{}",
+        String::from_utf8_lossy(&check.stderr)
+    );
+    let s: Value = serde_json::from_str(&std::fs::read_to_string(&scene).unwrap()).unwrap();
+    let footprint = s["geometry"][0]["generator"]["footprint"].as_f64().unwrap();
+    assert!((0.05..1.0).contains(&footprint), "{footprint}");
+    assert_eq!(s["fitted_to"][0]["rows"][0], "reduction-brooks", "{s}");
+    assert_eq!(s["$schema"], "../schemas/scene.schema.json");
+    assert!(s["description"]
+        .as_str()
+        .unwrap()
+        .contains("Fitted by sortsim calibrate to paper 003"));
+}
+
+#[test]
+fn a_spec_fits_a_machine_or_a_scene_not_both() {
+    let dir = tempfile::tempdir().unwrap();
+    let root = Path::new(env!("CARGO_MANIFEST_DIR"));
+    let mut spec = serde_json::json!({
+        "machine": pipeline(),
+        "scene": root.join("scenes/p003-brooks.json"),
+        "paper": "003",
+        "targets": ["reduction-brooks"],
+        "parameters": [{"name": "f", "fields": ["geometry.0.generator.footprint"], "range": [0.5, 1.0]}]
+    });
+    let file = dir.path().join("fit.json");
+    std::fs::write(&file, spec.to_string()).unwrap();
+    common::assert_refused(
+        &sortsim(&["calibrate", file.to_str().unwrap()]),
+        "both",
+        "not both",
+    );
+    spec.as_object_mut().unwrap().remove("machine");
+    spec.as_object_mut().unwrap().remove("scene");
+    std::fs::write(&file, spec.to_string()).unwrap();
+    common::assert_refused(
+        &sortsim(&["calibrate", file.to_str().unwrap()]),
+        "neither",
+        "give \"machine\" or \"scene\"",
+    );
+}
+
+/// Every shipped calibration spec's targets are recorded, under that spec, by the bundled
+/// machine or scene it fitted, so `papers/NNN.json` marks them fitted (checked when it is
+/// loaded).
+#[test]
+fn every_shipped_fit_is_recorded_by_the_file_it_produced() {
     let root = Path::new(env!("CARGO_MANIFEST_DIR"));
     let mut specs = 0;
-    for entry in std::fs::read_dir(root.join("machines/fits")).unwrap() {
-        let path = entry.unwrap().path();
-        let spec: Value = serde_json::from_str(&std::fs::read_to_string(&path).unwrap()).unwrap();
-        let Some(targets) = spec["targets"].as_array() else {
-            continue; // an intermediate machine, not a spec
-        };
-        specs += 1;
-        let name = format!("fits/{}", path.file_name().unwrap().to_str().unwrap());
-        let recorded = std::fs::read_dir(root.join("machines"))
-            .unwrap()
-            .map(|e| e.unwrap().path())
-            .filter(|p| p.extension().is_some_and(|x| x == "json"))
-            .any(|p| {
-                let m: Value = serde_json::from_str(&std::fs::read_to_string(&p).unwrap()).unwrap();
-                m["fitted_to"].as_array().is_some_and(|records| {
-                    records.iter().any(|r| {
-                        r["spec"] == name.as_str() && r["rows"].as_array() == Some(targets)
+    for folder in ["machines", "scenes"] {
+        for entry in std::fs::read_dir(root.join(folder).join("fits")).unwrap() {
+            let path = entry.unwrap().path();
+            let spec: Value =
+                serde_json::from_str(&std::fs::read_to_string(&path).unwrap()).unwrap();
+            let Some(targets) = spec["targets"].as_array() else {
+                continue; // an intermediate machine, not a spec
+            };
+            specs += 1;
+            let name = format!("fits/{}", path.file_name().unwrap().to_str().unwrap());
+            let recorded = std::fs::read_dir(root.join(folder))
+                .unwrap()
+                .map(|e| e.unwrap().path())
+                .filter(|p| p.extension().is_some_and(|x| x == "json"))
+                .any(|p| {
+                    let m: Value =
+                        serde_json::from_str(&std::fs::read_to_string(&p).unwrap()).unwrap();
+                    m["fitted_to"].as_array().is_some_and(|records| {
+                        records.iter().any(|r| {
+                            r["spec"] == name.as_str() && r["rows"].as_array() == Some(targets)
+                        })
                     })
-                })
-            });
-        assert!(recorded, "no bundled machine records the fit {name}");
+                });
+            assert!(
+                recorded,
+                "no bundled file in {folder}/ records the fit {name}"
+            );
+        }
     }
-    assert_eq!(specs, 5);
+    assert_eq!(specs, 7);
 }

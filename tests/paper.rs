@@ -315,8 +315,12 @@ fn paper_003_snooping() {
     hold(
         &json,
         5,
-        3,
+        2,
         &[
+            // Fitted rows: Brooks' and Cube's footprints (scenes/fits/) still give the
+            // reductions they were fitted to.
+            ("reduction-brooks", "within-tolerance"),
+            ("reduction-cube", "within-tolerance"),
             ("t1-bike-area", "exact"),
             ("t1-roses-depth", "exact"),
             ("direct-send-is-dA", "shape-holds"),

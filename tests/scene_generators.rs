@@ -104,6 +104,7 @@ fn triangle_counts_follow_the_stated_formulas() {
         sigma: 1.0,
         seed: 3,
         background_fraction: 0.2,
+        footprint: 1.0,
     };
     assert_eq!(count(scatter), 1000);
     // Teapot: 2 n^2 per patch, less the triangles collapsed at the lid knob and bottom centre
@@ -147,6 +148,7 @@ fn generators_are_deterministic_per_seed_and_differ_across_seeds() {
             sigma: 0.8,
             seed: s,
             background_fraction: 0.0,
+            footprint: 1.0,
         },
     ];
     for make in seeded {

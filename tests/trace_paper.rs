@@ -2,10 +2,12 @@
 //! snooping traffic against the expectation A sum p_d H_d, the reductions against d*A the
 //! paper reports, and the Zinnia background-first pathology and its two fixes.
 //!
-//! The stand-ins match Table 1 in primitives, mean size and depth complexity, but their
-//! depth order is random (independent of database order), which is exactly equation 3's
-//! assumption. Where the paper's real scenes beat that assumption (Brooks, Cube) the tests
-//! say so and pin the stand-in's own expectation instead. Measured values are in the
+//! The stand-ins match Table 1 in primitives, mean size and depth complexity, with depth
+//! order random (independent of database order), which is exactly equation 3's assumption.
+//! Table 1 does not say how each scene's depth is spread over the screen; six stand-ins
+//! scatter it evenly, and Brooks' and Cube's fall in a share of the screen (their
+//! `footprint`) fitted to the reductions section 7.2 gives for them, so those two reductions
+//! are checked as fits still holding, not as predictions. Measured values are in the
 //! comments next to each tolerance (seed 1, release build).
 
 use std::collections::BTreeMap;
@@ -35,15 +37,23 @@ const ALL: [&str; 8] = [
     "bike", "cube", "zinnia", "roses", "washht", "brooks", "capitol", "rad",
 ];
 
+/// The stand-ins whose footprint is fitted (scenes/fits/): their depth piles up.
+const PILED: [&str; 2] = ["brooks", "cube"];
+
 /// "In all but one of the simulations, expected traffic is close to observed traffic", and
 /// observed "grows initially as a function of number of processors before reaching a
 /// plateau, while expected traffic is flat" (local z-buffering removes pixels on small
 /// machines). With random assignment on 64 processors, observed is within 3% of expected on
-/// every stand-in (measured: -1.8% Cube and Brooks to +2.0% Zinnia), never more than 3%
-/// above it at any n, and equal to the minimum (active pixels) at n = 1 (exact).
+/// every evenly scattered stand-in (measured -1.1% Roses to +2.0% Zinnia); never more than
+/// 3% above it at any n, and equal to the minimum (active pixels) at n = 1 (exact). Where
+/// depth piles up (Brooks 8.5 deep over 40% of the screen, Cube 11.6 over 69%) a
+/// processor's own primitives hide each other even on 64 processors, which the expectation
+/// ignores: observed is below it (the paper: ignoring local z-buffering "is conservative"),
+/// by less than 6% (measured -4.2% Brooks, -2.5% Cube).
 #[test]
 fn random_assignment_observed_is_close_to_expected() {
     for name in ALL {
+        let piled = PILED.contains(&name);
         let stats = replay(name).stats();
         let observed = replay(name).snooping_pixels(Assign::Random, &[1, 4, 16, 64], 1);
         let ratio = observed[3] as f64 / stats.expected;
@@ -51,7 +61,11 @@ fn random_assignment_observed_is_close_to_expected() {
             "{name}: observed/expected at n=64 {ratio:.4}, observed {observed:?}, expected {:.0}",
             stats.expected
         );
-        assert!((ratio - 1.0).abs() <= 0.03, "{name}: {ratio:.4}");
+        if piled {
+            assert!((0.94..1.0).contains(&ratio), "{name}: {ratio:.4}");
+        } else {
+            assert!((ratio - 1.0).abs() <= 0.03, "{name}: {ratio:.4}");
+        }
         assert_eq!(observed[0], stats.active, "{name}: n = 1 is the minimum");
         for (k, &o) in observed.iter().enumerate() {
             assert!(o as f64 <= 1.03 * stats.expected, "{name} [{k}]: {o}");
@@ -88,14 +102,14 @@ fn reduction(name: &str) -> f64 {
 /// "Traffic is reduced by factors of about 3.3, 4.0, 2.3 and 2.0" (Brooks, Cube, Roses,
 /// Wash.ht) and "by less than a factor of two" for Bike, Capitol and Rad.
 ///
-/// - Roses 2.3 and Wash.ht 2.0: within 10% (measured 2.32 and 1.85).
-/// - Cube 4.0: within 25% (measured 3.11). The stand-in's depth is independent of database
-///   order, so it cannot beat its own expectation d*A/ET = 3.06; the real Cube did.
-/// - Brooks 3.3: not reachable by any scene with independent depth: equation 4 allows at
-///   most a reduction of d / [(1-a) H_3 + a H_4] = 1.76 for d = 3.41 when depth is spread
-///   evenly (checked below), so the real Brooks had depth strongly correlated with database
-///   order. The stand-in is pinned to its own expectation instead: within 5% of d*A/ET
-///   (measured 1.93 against 1.92).
+/// - Roses 2.3 and Wash.ht 2.0, predicted by the even scatter: within 10% (measured 2.32
+///   and 1.85).
+/// - Cube 4.0 and Brooks 3.3, the targets their footprints were fitted to: the shipped fits
+///   still hold, within 10% (measured 4.00 and 3.29). Evenly spread, the same pixels give at
+///   least d / [(1-a) H_floor(d) + a H_ceil(d)] (equation 4 is the worst case for traffic,
+///   so a floor for the reduction: 1.76 for Brooks' d = 3.41), and each fitted reduction
+///   stays within 10% of its stand-in's own expectation d*A/ET (measured 3.29 against 3.24,
+///   4.00 against 3.91; local z-buffering on 64 processors is the rest).
 /// - Bike, Capitol, Rad below 2 for every n >= 4 (measured at 64: 1.63, 1.22, 1.31).
 /// - Every high-depth stand-in (d > 3) reduces more than every low-depth one.
 #[test]
@@ -110,21 +124,21 @@ fn reductions_against_d_times_a_are_in_the_papers_ranges() {
     };
     let roses = within("roses", 2.3, 0.10);
     let washht = within("washht", 2.0, 0.10);
-    let cube = within("cube", 4.0, 0.25);
-    let brooks = reduction("brooks");
-    let stats = replay("brooks").stats();
-    let own = stats.fragments as f64 / stats.expected;
-    assert!(
-        ((brooks - own) / own).abs() <= 0.05,
-        "{brooks:.3} vs {own:.3}"
-    );
-    let d: f64 = 3.41;
-    let a = d - d.floor();
-    let paper_bound = d / ((1.0 - a) * harmonic(3) + a * harmonic(4));
-    assert!(
-        paper_bound < 3.3 / 1.5,
-        "equation 4 bounds Brooks' reduction at {paper_bound:.2} for independent depth"
-    );
+    let cube = within("cube", 4.0, 0.10);
+    let brooks = within("brooks", 3.3, 0.10);
+    for (name, r) in [("cube", cube), ("brooks", brooks)] {
+        let stats = replay(name).stats();
+        let own = stats.fragments as f64 / stats.expected;
+        eprintln!("{name}: own d*A/ET = {own:.3}");
+        assert!(
+            ((r - own) / own).abs() <= 0.10,
+            "{name}: {r:.3} vs {own:.3}"
+        );
+        let d = stats.fragments as f64 / stats.area as f64;
+        let a = d - d.floor();
+        let even = d / ((1.0 - a) * harmonic(d.floor() as u64) + a * harmonic(d.ceil() as u64));
+        assert!(r > even, "{name}: {r:.3} against the even floor {even:.3}");
+    }
     let mut low = Vec::new();
     for name in ["bike", "capitol", "rad"] {
         for (n, o) in [4, 16, 64].into_iter().zip(replay(name).snooping_pixels(

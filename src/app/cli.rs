@@ -73,11 +73,11 @@ pub enum Command {
         after_help = "Examples:\n  sortsim paper 002 -o reports/paper\n  sortsim paper all --quick\n\nEach row holds the paper's number (papers/NNN.json: figure or table, section, quote),\nsortsim's, the deviation, the tolerance and a verdict: exact, within tolerance, shape\nholds (the number misses, the paper's claim holds) or differs (with the reason)."
     )]
     Paper(PaperArgs),
-    /// Fit a machine's cost parameters to a paper's numbers at once (least squares over the
-    /// targets, each in units of its tolerance; Nelder-Mead); write the fitted machine and
-    /// the residual table.
+    /// Fit a machine's cost parameters (or a stand-in scene's shape) to a paper's numbers at
+    /// once (least squares over the targets, each in units of its tolerance; Nelder-Mead);
+    /// write the fitted file and the residual table.
     #[command(
-        after_help = "Example:\n  sortsim calibrate sweeps/calibrate-multicluster.json -o reports/calibrate\n\nThe spec names the machine, the paper, the target rows of papers/NNN.json and the\nparameters: groups of machine fields (times or bandwidths) scaled by one factor each,\nwithin a range, e.g. {\"name\": \"cpu costs\", \"fields\": [\"cpu.costs.*\"], \"range\": [0.5, 2]}."
+        after_help = "Examples:\n  sortsim calibrate machines/fits/multicluster-to-001.json -o reports/calibrate\n  sortsim calibrate scenes/fits/p003-brooks-to-003.json\n\nThe spec names the machine (or the scene), the paper, the target rows of papers/NNN.json\nand the parameters: groups of fields (times, bandwidths or numbers) scaled by one factor\neach, within a range, e.g. {\"name\": \"cpu costs\", \"fields\": [\"cpu.costs.*\"], \"range\": [0.5, 2]}\nor {\"name\": \"footprint\", \"fields\": [\"geometry.0.generator.footprint\"], \"range\": [0.05, 1]}."
     )]
     Calibrate(CalibrateArgs),
     /// Check sortsim against independent programs: its `flow` network model against SimGrid's

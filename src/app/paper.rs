@@ -19,6 +19,7 @@ pub(super) fn paper(ctx: &Context, args: &PaperArgs) -> Result<(), Failure> {
         jobs: jobs(args.jobs),
         root: ctx.root.path.clone(),
         machines: None,
+        scenes: None,
     };
     let mut reports = Vec::new();
     for id in ids {
@@ -44,7 +45,8 @@ pub(super) fn paper(ctx: &Context, args: &PaperArgs) -> Result<(), Failure> {
     Ok(())
 }
 
-/// `sortsim calibrate`: fits, writes the fitted machine and the residual table, prints it.
+/// `sortsim calibrate`: fits, writes the fitted machine or scene and the residual table,
+/// prints it.
 pub(super) fn calibrate(ctx: &Context, args: &CalibrateArgs) -> Result<(), Failure> {
     use crate::calibrate::{calibrate, load_spec, CalibrationError};
     let to_failure = |e: CalibrationError| match e {
@@ -66,8 +68,9 @@ pub(super) fn calibrate(ctx: &Context, args: &CalibrateArgs) -> Result<(), Failu
     crate::report::calibration::write(&out, &result)?;
     print!("{}", crate::report::calibration::markdown(&result));
     println!(
-        "\nfitted machine: {}; page: {}",
-        out.join(&result.machine).display(),
+        "\nfitted {}: {}; page: {}",
+        result.subject,
+        out.join(&result.file).display(),
         out.join("index.html").display()
     );
     Ok(())

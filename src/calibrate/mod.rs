@@ -1,22 +1,23 @@
-//! `sortsim calibrate`: fit a machine's free cost parameters to every numeric target of a
-//! paper at once. A calibration spec names the machine, the paper, the rows of
-//! `papers/NNN.json` to fit and the parameters (groups of machine fields scaled by one
-//! factor each); the fit runs the paper's experiments (`paper::run_paper`) on candidate
-//! machines and minimises the sum of squared deviations, each measured in units of its row's
-//! tolerance, with Nelder-Mead (argmin) over the logarithms of the factors.
+//! `sortsim calibrate`: fit a machine's free cost parameters, or a stand-in scene's free
+//! shape parameters, to every numeric target of a paper at once. A calibration spec names
+//! the file it fits (`machine` or `scene`), the paper, the rows of `papers/NNN.json` to fit
+//! and the parameters (groups of the file's fields scaled by one factor each); the fit runs
+//! the paper's experiments (`paper::run_paper`) on candidate files and minimises the sum of
+//! squared deviations, each measured in units of its row's tolerance, with Nelder-Mead
+//! (argmin) over the logarithms of the factors.
 //!
 //! ```text
-//! spec ─> start machine ─> Nelder-Mead: factors ─> candidate machine file ─> run_paper ─> cost
-//!                                       best factors ─> fitted machine (source updated) + residual table
+//! spec ─> start file ─> Nelder-Mead: factors ─> candidate machine or scene ─> run_paper ─> cost
+//!                                 best factors ─> fitted file (source updated) + residual table
 //! ```
 //!
 //! A target must be a row the data file marks `fitted` (a refit) or, when told
 //! (`--allow-predicted`), `predicted`; inputs and definitions are never targets. The fitted
-//! machine's `fitted_to` gains a record of the rows the fit saw, which `sortsim paper` checks
+//! file's `fitted_to` gains a record of the rows the fit saw, which `sortsim paper` checks
 //! against the rows' roles. `--hold-out` leaves targets out of the fit and reports how the
-//! fitted machine does on them: a prediction of the fit, not a target of it.
+//! fitted file does on them: a prediction of the fit, not a target of it.
 //!
-//! Owns the objective and the scaling of machine fields. Must never change how a run
+//! Owns the objective and the scaling of spec fields. Must never change how a run
 //! simulates, nor invent a target: targets are the paper's rows, with their own tolerances.
 //! Deterministic: the same spec gives the same fit and the same files.
 
@@ -40,10 +41,15 @@ pub struct CalibrationSpec {
     pub schema: Option<String>,
     #[serde(default)]
     pub note: Option<String>,
-    /// The machine file to fit, relative to the spec's folder.
-    pub machine: PathBuf,
-    /// The bundled machine file (in `machines/`) the candidates stand in for in the paper's
-    /// experiments; the fitted machine's own file name when absent.
+    /// The machine file to fit, relative to the spec's folder (or give `scene`).
+    #[serde(default)]
+    pub machine: Option<PathBuf>,
+    /// The scene file to fit, relative to the spec's folder (or give `machine`): a stand-in
+    /// whose shape the paper does not give, pinned down by the rows it moves.
+    #[serde(default)]
+    pub scene: Option<PathBuf>,
+    /// The bundled file (in `machines/` or `scenes/`) the candidates stand in for in the
+    /// paper's experiments; the fitted file's own name when absent.
     #[serde(default)]
     pub replaces: Option<String>,
     /// The paper whose rows are the targets: "000" .. "003".
@@ -64,12 +70,56 @@ fn default_evaluations() -> u32 {
     24
 }
 
+/// What a calibration fits: the bundled machines or the bundled scenes.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Subject {
+    Machine,
+    Scene,
+}
+
+impl Subject {
+    /// The repository folder its bundled files live in.
+    pub fn folder(self) -> &'static str {
+        match self {
+            Subject::Machine => "machines",
+            Subject::Scene => "scenes",
+        }
+    }
+
+    fn noun(self) -> &'static str {
+        match self {
+            Subject::Machine => "machine",
+            Subject::Scene => "scene",
+        }
+    }
+
+    /// The free-text field a fit appends its summary to.
+    fn source_field(self) -> &'static str {
+        match self {
+            Subject::Machine => "source",
+            Subject::Scene => "description",
+        }
+    }
+}
+
+impl CalibrationSpec {
+    /// What the spec fits and the file, relative to the working folder.
+    pub fn subject(&self) -> (Subject, &Path) {
+        match (&self.machine, &self.scene) {
+            (_, Some(scene)) => (Subject::Scene, scene),
+            (Some(machine), None) => (Subject::Machine, machine),
+            (None, None) => unreachable!("load_spec requires one of machine and scene"),
+        }
+    }
+}
+
 /// One free parameter: every listed field multiplied by the same factor.
 #[derive(Clone, Debug, Deserialize, Serialize)]
 #[serde(deny_unknown_fields)]
 pub struct Parameter {
     pub name: String,
-    /// Dotted paths into the machine spec holding a time or a bandwidth ("cpu.send_overhead");
+    /// Dotted paths into the spec holding a time, a bandwidth or a number
+    /// ("cpu.send_overhead", "geometry.0.generator.footprint": a number indexes a list);
     /// `path.*` scales every entry of the object at `path` ("cpu.costs.*").
     pub fields: Vec<String>,
     /// The smallest and largest factor allowed.
@@ -97,12 +147,14 @@ pub struct FitOptions {
     pub allow_predicted: bool,
 }
 
-/// The outcome: the factors found, the fitted machine's JSON text, and the targets' rows at
+/// The outcome: the factors found, the fitted file's JSON text, and the targets' rows at
 /// the start and at the fit.
 #[derive(Debug, Serialize)]
 pub struct Calibration {
     pub paper: String,
-    pub machine: String,
+    /// The fitted file's name (a machine or a scene, as `subject` says).
+    pub file: String,
+    pub subject: &'static str,
     pub factors: Vec<(String, f64)>,
     pub evaluations: u32,
     pub start_cost: f64,
@@ -111,7 +163,7 @@ pub struct Calibration {
     /// The held-out targets: not in the cost, measured on the start and the fitted machine.
     pub held_out: Vec<Residual>,
     #[serde(skip)]
-    pub fitted_machine: String,
+    pub fitted_text: String,
 }
 
 /// One target before and after the fit.
@@ -137,7 +189,21 @@ pub fn load_spec(path: &Path) -> Result<CalibrationSpec, CalibrationError> {
     let de = &mut serde_json::Deserializer::from_str(&text);
     let mut spec: CalibrationSpec = serde_path_to_error::deserialize(de)
         .map_err(|e| fail(format!("at {}: {}", e.path(), e.inner())))?;
-    spec.machine = crate::spec::run::relative_to(path, &spec.machine);
+    match (&mut spec.machine, &mut spec.scene) {
+        (Some(file), None) | (None, Some(file)) => {
+            *file = crate::spec::run::relative_to(path, file)
+        }
+        (Some(_), Some(_)) => {
+            return Err(fail(
+                "give \"machine\" or \"scene\" (the file the fit changes), not both".into(),
+            ))
+        }
+        (None, None) => {
+            return Err(fail(
+                "give \"machine\" or \"scene\": the file the fit changes".into(),
+            ))
+        }
+    }
     if spec.parameters.is_empty() || spec.targets.is_empty() {
         return Err(fail("give at least one target and one parameter".into()));
     }
@@ -156,13 +222,14 @@ pub fn load_spec(path: &Path) -> Result<CalibrationSpec, CalibrationError> {
     Ok(spec)
 }
 
-/// The machine spec with each parameter's fields multiplied by its factor.
-pub fn scaled_machine(
-    machine: &serde_json::Value,
+/// The spec (a machine's or a scene's JSON) with each parameter's fields multiplied by its
+/// factor.
+pub fn scaled_spec(
+    spec: &serde_json::Value,
     parameters: &[Parameter],
     factors: &[f64],
 ) -> Result<serde_json::Value, String> {
-    let mut m = machine.clone();
+    let mut m = spec.clone();
     for (p, &f) in parameters.iter().zip(factors) {
         for field in &p.fields {
             let (path, all) = match field.strip_suffix(".*") {
@@ -171,9 +238,7 @@ pub fn scaled_machine(
             };
             let mut here = &mut m;
             for key in path.split('.') {
-                here = here
-                    .get_mut(key)
-                    .ok_or_else(|| format!("the machine has no field `{path}`"))?;
+                here = field_mut(here, key).ok_or_else(|| format!("there is no field `{path}`"))?;
             }
             if all {
                 let obj = here
@@ -190,11 +255,25 @@ pub fn scaled_machine(
     Ok(m)
 }
 
-/// A time or bandwidth string times `factor`, in integer picoseconds or bytes per second.
+/// The field `key` of an object, or the entry of a list a number names.
+fn field_mut<'v>(v: &'v mut serde_json::Value, key: &str) -> Option<&'v mut serde_json::Value> {
+    match v {
+        serde_json::Value::Array(items) => items.get_mut(key.parse::<usize>().ok()?),
+        _ => v.get_mut(key),
+    }
+}
+
+/// A time or bandwidth string times `factor`, in integer picoseconds or bytes per second; a
+/// number times `factor`.
 fn scale_quantity(v: &serde_json::Value, factor: f64) -> Result<serde_json::Value, String> {
+    if let Some(x) = v.as_f64() {
+        return serde_json::Number::from_f64(x * factor)
+            .map(serde_json::Value::Number)
+            .ok_or_else(|| format!("{x} x {factor} is not a finite number"));
+    }
     let text = v
         .as_str()
-        .ok_or_else(|| format!("{v} is not a time or a bandwidth"))?;
+        .ok_or_else(|| format!("{v} is not a time, a bandwidth or a number"))?;
     if let Ok(t) = text.parse::<SimTime>() {
         let ps = (t.ps() as f64 * factor).round() as u64;
         return Ok(format!("{ps}ps").into());
@@ -203,7 +282,7 @@ fn scale_quantity(v: &serde_json::Value, factor: f64) -> Result<serde_json::Valu
         let bps = (b.bytes_per_s_f64() * factor).round().max(1.0) as u64;
         return Ok(format!("{bps}B/s").into());
     }
-    Err(format!("{text:?} is not a time or a bandwidth"))
+    Err(format!("{text:?} is not a time, a bandwidth or a number"))
 }
 
 /// How far a row is from its paper value, in units of its tolerance (0 inside a bound or
@@ -235,9 +314,11 @@ struct Objective<'a> {
     /// The targets in the cost: the spec's, less the held-out ones.
     fitting: Vec<String>,
     held_out: Vec<String>,
-    /// The spec as the machine's fit record names it (relative to machines/ when under it).
+    /// The spec as the fitted file's record names it (relative to its folder when under it).
     spec_name: String,
-    machine: serde_json::Value,
+    subject: Subject,
+    /// The file being fitted, as JSON.
+    start: serde_json::Value,
     id: PaperId,
     options: PaperOptions,
     work: PathBuf,
@@ -256,8 +337,8 @@ impl Objective<'_> {
     }
 
     fn report(&self, factors: &[f64]) -> Result<PaperReport, String> {
-        let machine = scaled_machine(&self.machine, &self.spec.parameters, factors)?;
-        let text = serde_json::to_string_pretty(&machine).map_err(|e| e.to_string())?;
+        let candidate = scaled_spec(&self.start, &self.spec.parameters, factors)?;
+        let text = serde_json::to_string_pretty(&candidate).map_err(|e| e.to_string())?;
         std::fs::write(self.work.join(&self.file_name), text).map_err(|e| e.to_string())?;
         *self.evaluations.lock().unwrap_or_else(|e| e.into_inner()) += 1;
         run_paper(self.id, &self.options).map_err(|e| e.to_string())
@@ -305,12 +386,13 @@ impl CostFunction for Problem<'_, '_> {
     }
 }
 
-/// What a spec fits, checked against the paper's data and the machine before any run.
+/// What a spec fits, checked against the paper's data and the fitted file before any run.
 struct Prepared {
     id: PaperId,
     data: crate::paper::PaperData,
-    machine: serde_json::Value,
-    /// The bundled machine the candidates stand in for.
+    subject: Subject,
+    start: serde_json::Value,
+    /// The bundled file the candidates stand in for.
     file_name: String,
 }
 
@@ -358,16 +440,19 @@ pub fn calibrate(
     let Prepared {
         id,
         data,
-        machine,
+        subject,
+        start,
         file_name,
     } = prepare(spec, spec_file, root, fit_options)?;
-    // The candidates live beside copies of every bundled machine, since a paper's experiments
-    // may use several.
-    let dir = tempdir_for_candidates(root).map_err(CalibrationError::Failed)?;
+    // The candidates live beside copies of every bundled file of their kind, since a paper's
+    // experiments may use several.
+    let dir =
+        tempdir_for_candidates(&root.join(subject.folder())).map_err(CalibrationError::Failed)?;
     let work = dir.path().to_path_buf();
     let objective = Objective {
         spec,
-        machine: machine.clone(),
+        subject,
+        start,
         id,
         fitting: spec
             .targets
@@ -376,12 +461,13 @@ pub fn calibrate(
             .cloned()
             .collect(),
         held_out: fit_options.hold_out.clone(),
-        spec_name: spec_name(spec_file, root),
+        spec_name: spec_name(spec_file, &root.join(subject.folder())),
         options: PaperOptions {
             quick: spec.quick,
             jobs: fit_options.jobs,
             root: root.to_path_buf(),
-            machines: Some(work.clone()),
+            machines: (subject == Subject::Machine).then(|| work.clone()),
+            scenes: (subject == Subject::Scene).then(|| work.clone()),
         },
         work: work.clone(),
         file_name,
@@ -439,38 +525,46 @@ fn prepare(
             "--hold-out leaves no target to fit; hold out fewer rows".into(),
         ));
     }
-    // The machine as `check` reads it (field paths), then as the candidates are built from.
-    crate::spec::machine::load_machine(&spec.machine).map_err(|e| bad(e.to_string()))?;
-    let text = crate::spec::read_input(&spec.machine)
-        .map_err(|e| bad(format!("{}: {e}", spec.machine.display())))?;
-    let machine: serde_json::Value =
-        crate::spec::parse_json(&spec.machine, &text).map_err(|e| bad(e.to_string()))?;
-    scaled_machine(
-        &machine,
-        &spec.parameters,
-        &vec![1.0; spec.parameters.len()],
-    )
-    .map_err(|e| bad(format!("{}: {e}", spec.machine.display())))?;
+    // The file as `check` reads it (field paths), then as the candidates are built from.
+    let (subject, file) = spec.subject();
+    match subject {
+        Subject::Machine => crate::spec::machine::load_machine(file).map(|_| ()),
+        Subject::Scene => crate::spec::scene::load(file).map(|_| ()),
+    }
+    .map_err(|e| bad(e.to_string()))?;
+    let text =
+        crate::spec::read_input(file).map_err(|e| bad(format!("{}: {e}", file.display())))?;
+    let start: serde_json::Value =
+        crate::spec::parse_json(file, &text).map_err(|e| bad(e.to_string()))?;
+    scaled_spec(&start, &spec.parameters, &vec![1.0; spec.parameters.len()])
+        .map_err(|e| bad(format!("{}: {e}", file.display())))?;
     let file_name = match &spec.replaces {
         Some(name) => name.clone(),
-        None => spec
-            .machine
+        None => file
             .file_name()
             .map(|n| n.to_string_lossy().into_owned())
-            .ok_or_else(|| bad("the machine has no file name".into()))?,
+            .ok_or_else(|| bad(format!("the {} has no file name", subject.noun())))?,
     };
-    // A candidate under any other name would sit unused beside the bundled machines, and the
+    // A candidate under any other name would sit unused beside the bundled files, and the
     // fit would search a flat cost.
-    if !root.join("machines").join(&file_name).is_file() {
+    let folder = subject.folder();
+    if !root.join(folder).join(&file_name).is_file() {
         return Err(bad(format!(
-            "{file_name} is not a machine in machines/, so the paper's experiments would not run on the candidates; \
-             name the bundled machine the fitted one stands in for with \"replaces\" (e.g. \"delta.json\")"
+            "{file_name} is not a {} in {folder}/, so the paper's experiments would not run on the candidates; \
+             name the bundled {} the fitted one stands in for with \"replaces\" (e.g. \"{}\")",
+            subject.noun(),
+            subject.noun(),
+            match subject {
+                Subject::Machine => "delta.json",
+                Subject::Scene => "p003-brooks.json",
+            }
         )));
     }
     Ok(Prepared {
         id,
         data,
-        machine,
+        subject,
+        start,
         file_name,
     })
 }
@@ -556,10 +650,11 @@ fn fit(
         .zip(&factors)
         .map(|(p, &f)| (p.name.clone(), f))
         .collect();
-    let mut machine =
-        scaled_machine(&objective.machine, &spec.parameters, &factors).map_err(failed)?;
-    let source = machine
-        .get("source")
+    let mut fitted_spec =
+        scaled_spec(&objective.start, &spec.parameters, &factors).map_err(failed)?;
+    let source_field = objective.subject.source_field();
+    let source = fitted_spec
+        .get(source_field)
         .and_then(|s| s.as_str())
         .unwrap_or("")
         .to_string();
@@ -581,9 +676,9 @@ fn fit(
                 .join(", ")
         )
     };
-    let mut records: Vec<FitRecord> = match machine.get("fitted_to") {
+    let mut records: Vec<FitRecord> = match fitted_spec.get("fitted_to") {
         Some(v) => serde_json::from_value(v.clone())
-            .map_err(|e| failed(format!("the machine's fitted_to: {e}")))?,
+            .map_err(|e| failed(format!("the fitted file's fitted_to: {e}")))?,
         None => Vec::new(),
     };
     // A refit from its own output replaces its record rather than repeating it.
@@ -593,8 +688,14 @@ fn fit(
         rows: objective.fitting.clone(),
         spec: Some(objective.spec_name.clone()),
     });
-    machine["fitted_to"] = serde_json::to_value(&records).map_err(|e| failed(e.to_string()))?;
-    machine["source"] = format!(
+    fitted_spec["fitted_to"] = serde_json::to_value(&records).map_err(|e| failed(e.to_string()))?;
+    // The fitted file stands in for a bundled one (in machines/ or scenes/), so it names its
+    // schema from there, wherever the start lay.
+    if fitted_spec.get("$schema").is_some() {
+        fitted_spec["$schema"] =
+            format!("../schemas/{}.schema.json", objective.subject.noun()).into();
+    }
+    fitted_spec[source_field] = format!(
         "{source} Fitted by sortsim calibrate to paper {} ({}): {}; cost {:.3} (start {:.3}) over {} runs.{held_out_text}",
         spec.paper,
         objective.fitting.join(", "),
@@ -609,19 +710,20 @@ fn fit(
     )
     .trim()
     .into();
-    let mut fitted_machine =
-        serde_json::to_string_pretty(&machine).map_err(|e| failed(e.to_string()))?;
-    fitted_machine.push('\n');
+    let mut fitted_text =
+        serde_json::to_string_pretty(&fitted_spec).map_err(|e| failed(e.to_string()))?;
+    fitted_text.push('\n');
     Ok(Calibration {
         paper: spec.paper.clone(),
-        machine: objective.file_name.clone(),
+        file: objective.file_name.clone(),
+        subject: objective.subject.noun(),
         factors: named,
         evaluations,
         start_cost,
         fitted_cost,
         rows,
         held_out,
-        fitted_machine,
+        fitted_text,
     })
 }
 
@@ -639,7 +741,7 @@ fn check_target_role(r: &Reference, paper: &str, options: &FitOptions) -> Result
             r.id, r.id
         )),
         Role::Input | Role::Definition => Err(format!(
-            "target {:?} is {} row of papers/{paper}.json (a machine's costs cannot move it); \
+            "target {:?} is {} row of papers/{paper}.json (no fit can move it); \
              fit fitted or predicted rows",
             r.id,
             if r.role == Role::Input {
@@ -651,29 +753,28 @@ fn check_target_role(r: &Reference, paper: &str, options: &FitOptions) -> Result
     }
 }
 
-/// The spec's path as a fit record names it: relative to `root/machines` when it lies there.
-fn spec_name(spec_file: &Path, root: &Path) -> String {
-    let machines = root.join("machines");
+/// The spec's path as a fit record names it: relative to `folder` (the fitted file's bundled
+/// folder) when it lies there.
+fn spec_name(spec_file: &Path, folder: &Path) -> String {
     let absolute = |p: &Path| std::fs::canonicalize(p).unwrap_or_else(|_| p.to_path_buf());
-    let (file, machines) = (absolute(spec_file), absolute(&machines));
-    file.strip_prefix(&machines)
+    let (file, folder) = (absolute(spec_file), absolute(folder));
+    file.strip_prefix(&folder)
         .unwrap_or(&file)
         .to_string_lossy()
         .replace('\\', "/")
 }
 
-/// A fresh temporary folder holding a copy of every bundled machine, deleted when dropped
-/// (also when the fit fails).
-fn tempdir_for_candidates(root: &Path) -> Result<tempfile::TempDir, String> {
+/// A fresh temporary folder holding a copy of every file of `bundled` (the machines or the
+/// scenes, with the meshes scenes name beside them), deleted when dropped (also when the fit
+/// fails).
+fn tempdir_for_candidates(bundled: &Path) -> Result<tempfile::TempDir, String> {
     let dir = tempfile::Builder::new()
         .prefix("sortsim-calibrate-")
         .tempdir()
         .map_err(|e| format!("cannot make a temporary folder: {e}"))?;
-    let machines = root.join("machines");
-    let entries =
-        std::fs::read_dir(&machines).map_err(|e| format!("{}: {e}", machines.display()))?;
+    let entries = std::fs::read_dir(bundled).map_err(|e| format!("{}: {e}", bundled.display()))?;
     for e in entries.filter_map(|e| e.ok()) {
-        if e.path().extension().is_some_and(|x| x == "json") {
+        if e.path().is_file() {
             std::fs::copy(e.path(), dir.path().join(e.file_name()))
                 .map_err(|err| format!("{}: {err}", e.path().display()))?;
         }
@@ -706,12 +807,12 @@ mod tests {
                 range: [0.5, 2.0],
             },
         ];
-        let s = scaled_machine(&m, &params, &[0.5, 2.0, 0.25]).unwrap();
+        let s = scaled_spec(&m, &params, &[0.5, 2.0, 0.25]).unwrap();
         assert_eq!(s["cpu"]["send_overhead"], "61000000ps");
         assert_eq!(s["cpu"]["costs"]["a"], "4000000ps");
         assert_eq!(s["cpu"]["costs"]["b"], "20000ps");
         assert_eq!(s["network"]["link_bandwidth"], "4250000B/s");
-        assert!(scaled_machine(
+        assert!(scaled_spec(
             &m,
             &[Parameter {
                 name: "x".into(),
@@ -721,6 +822,32 @@ mod tests {
             &[1.0]
         )
         .is_err());
+    }
+
+    #[test]
+    fn numbers_scale_and_list_entries_are_named_by_their_index() {
+        let scene = serde_json::json!({"geometry": [{"generator": {"footprint": 1.0}},
+                                                   {"generator": {"footprint": 0.5}}]});
+        let params = vec![Parameter {
+            name: "f".into(),
+            fields: vec!["geometry.1.generator.footprint".into()],
+            range: [0.1, 1.0],
+        }];
+        let s = scaled_spec(&scene, &params, &[0.4]).unwrap();
+        assert_eq!(s["geometry"][1]["generator"]["footprint"], 0.2);
+        assert_eq!(s["geometry"][0]["generator"]["footprint"], 1.0);
+        for bad in [
+            "geometry.2.generator.footprint",
+            "geometry.x.generator.footprint",
+        ] {
+            let params = vec![Parameter {
+                name: "f".into(),
+                fields: vec![bad.into()],
+                range: [0.1, 1.0],
+            }];
+            let e = scaled_spec(&scene, &params, &[1.0]).unwrap_err();
+            assert!(e.contains("no field"), "{bad}: {e}");
+        }
     }
 
     fn reference(value: f64, tolerance: Option<Tolerance>, relation: Relation) -> Reference {

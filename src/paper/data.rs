@@ -4,12 +4,12 @@
 //! to differ, why.
 //!
 //! Every row says what it is (`role`): an `input` read back, a `definition` true by
-//! construction, a `fitted` calibration target naming the machine fitted to it, or a
-//! `predicted` number nothing was tuned to. The fitted rows are exactly those that the
-//! bundled machines' `fitted_to` records list, checked at load, so roles cannot drift from
-//! the fits.
+//! construction, a `fitted` calibration target naming the machine (or stand-in scene) fitted
+//! to it, or a `predicted` number nothing was tuned to. The fitted rows are exactly those
+//! that the bundled machines' and scenes' `fitted_to` records list, checked at load, so roles
+//! cannot drift from the fits.
 //!
-//! Owns the file format, the roles' consistency with the machines, and how a row prints its
+//! Owns the file format, the roles' consistency with the fits, and how a row prints its
 //! claim and deviation. Must never hold a measured value.
 
 use std::path::Path;
@@ -17,7 +17,7 @@ use std::path::Path;
 use serde::{Deserialize, Serialize};
 
 use super::{PaperError, PaperId};
-use crate::spec::machine::MachineSpec;
+use crate::spec::machine::FitRecord;
 
 /// A paper's data file.
 #[derive(Clone, Debug, Deserialize)]
@@ -43,7 +43,8 @@ pub struct Reference {
     pub quantity: String,
     /// What kind of evidence the row is: only `predicted` rows make a paper's headline.
     pub role: Role,
-    /// For a `fitted` row: the bundled machine file (in `machines/`) whose `fitted_to`
+    /// For a `fitted` row: the bundled machine file (in `machines/`, by its name:
+    /// `delta.json`) or stand-in scene (`scenes/p003-brooks.json`) whose `fitted_to`
     /// records list it. Only fitted rows name one.
     #[serde(default)]
     pub fit: Option<String>,
@@ -244,18 +245,25 @@ pub fn load_file(
             _ => {}
         }
     }
-    let fits = machine_fits(&root.join("machines"))?;
+    let mut fits = bundled_fits(&root.join("machines"), "")?;
+    fits.extend(bundled_fits(&root.join("scenes"), "scenes/")?);
     check_roles(&data, &fits).map_err(fail)?;
     Ok(data)
 }
 
-/// (machine file, paper, row) for every row a bundled machine says it was fitted to.
+/// (fitted file as a row's `fit` names it, paper, row) for every row a bundled machine or
+/// scene says it was fitted to.
 pub type FitList = Vec<(String, String, String)>;
 
-/// Reads the `fitted_to` records of every machine in `dir` (not its subfolders: the
+/// Reads the `fitted_to` records of every spec in `dir` (not its subfolders: the
 /// intermediate machines under `machines/fits/` are a fit's history, carried forward in the
-/// records of the machine it produced).
-pub fn machine_fits(dir: &Path) -> Result<FitList, PaperError> {
+/// records of the machine it produced), each named `prefix` + its file name.
+pub fn bundled_fits(dir: &Path, prefix: &str) -> Result<FitList, PaperError> {
+    #[derive(Deserialize)]
+    struct Fits {
+        #[serde(default)]
+        fitted_to: Vec<FitRecord>,
+    }
     let entries = std::fs::read_dir(dir).map_err(|e| PaperError::Data {
         path: dir.to_path_buf(),
         message: e.to_string(),
@@ -267,13 +275,13 @@ pub fn machine_fits(dir: &Path) -> Result<FitList, PaperError> {
     files.sort();
     let mut fits = FitList::new();
     for path in files {
-        let spec: MachineSpec = crate::spec::load_json(&path).map_err(|e| PaperError::Data {
+        let spec: Fits = crate::spec::load_json(&path).map_err(|e| PaperError::Data {
             path: path.clone(),
             message: e.to_string(),
         })?;
         let name = path
             .file_name()
-            .map(|n| n.to_string_lossy().into_owned())
+            .map(|n| format!("{prefix}{}", n.to_string_lossy()))
             .unwrap_or_default();
         for record in &spec.fitted_to {
             for row in &record.rows {
@@ -284,9 +292,18 @@ pub fn machine_fits(dir: &Path) -> Result<FitList, PaperError> {
     Ok(fits)
 }
 
-/// A row is `fitted`, naming machine M, exactly when M's `fitted_to` lists it: a fit that
-/// used a row the data file calls predicted, or a fitted row no machine was fitted to, is a
-/// mistake in one of the two files.
+/// Where a fit's file lives, for messages: a machine under `machines/`, a scene as named.
+fn bundled(file: &str) -> String {
+    if file.starts_with("scenes/") {
+        file.to_string()
+    } else {
+        format!("machines/{file}")
+    }
+}
+
+/// A row is `fitted`, naming file M, exactly when M's `fitted_to` lists it: a fit that used a
+/// row the data file calls predicted, or a fitted row nothing was fitted to, is a mistake in
+/// one of the two files.
 pub fn check_roles(data: &PaperData, fits: &FitList) -> Result<(), String> {
     let listed = |machine: &str, row: &str| {
         fits.iter()
@@ -296,8 +313,9 @@ pub fn check_roles(data: &PaperData, fits: &FitList) -> Result<(), String> {
         if let (Role::Fitted, Some(machine)) = (r.role, &r.fit) {
             if !listed(machine, &r.id) {
                 return Err(format!(
-                    "row {} is marked fitted to {machine}, but machines/{machine} lists no fit to it in \"fitted_to\"",
-                    r.id
+                    "row {} is marked fitted to {machine}, but {} lists no fit to it in \"fitted_to\"",
+                    r.id,
+                    bundled(machine)
                 ));
             }
         }
@@ -305,13 +323,15 @@ pub fn check_roles(data: &PaperData, fits: &FitList) -> Result<(), String> {
     for (machine, paper, row) in fits.iter().filter(|(_, p, _)| p == &data.paper) {
         let Some(r) = data.rows.iter().find(|r| &r.id == row) else {
             return Err(format!(
-                "machines/{machine} says it was fitted to paper {paper}'s row {row}, which the data file does not list"
+                "{} says it was fitted to paper {paper}'s row {row}, which the data file does not list",
+                bundled(machine)
             ));
         };
         if r.role != Role::Fitted || r.fit.as_deref() != Some(machine) {
             return Err(format!(
-                "row {row} is marked {}, but machines/{machine} was fitted to it: mark it \"role\": \"fitted\", \"fit\": \"{machine}\"",
-                r.role.label()
+                "row {row} is marked {}, but {} was fitted to it: mark it \"role\": \"fitted\", \"fit\": \"{machine}\"",
+                r.role.label(),
+                bundled(machine)
             ));
         }
     }
@@ -378,5 +398,29 @@ mod tests {
         )
         .unwrap_err();
         assert!(e.contains("row z"), "{e}");
+    }
+
+    #[test]
+    fn a_fitted_scene_is_named_by_its_path_under_the_repository() {
+        let d = data(serde_json::json!([row(
+            "a",
+            "fitted",
+            Some("scenes/p003-x.json")
+        )]));
+        assert!(check_roles(&d, &fits(&[("scenes/p003-x.json", "002", "a")])).is_ok());
+        let e = check_roles(&d, &fits(&[])).unwrap_err();
+        assert!(e.contains("but scenes/p003-x.json lists no fit"), "{e}");
+        let e = check_roles(
+            &d,
+            &fits(&[
+                ("scenes/p003-x.json", "002", "a"),
+                ("delta.json", "002", "a"),
+            ]),
+        )
+        .unwrap_err();
+        assert!(
+            e.contains("but machines/delta.json was fitted to it"),
+            "{e}"
+        );
     }
 }

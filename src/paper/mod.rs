@@ -82,6 +82,9 @@ pub struct PaperOptions {
     /// Where machine files are read from instead of `root/machines` (a calibration's
     /// candidate machines).
     pub machines: Option<PathBuf>,
+    /// Where scene files are read from instead of `root/scenes` (a calibration's candidate
+    /// scenes).
+    pub scenes: Option<PathBuf>,
 }
 
 impl PaperOptions {
@@ -90,6 +93,14 @@ impl PaperOptions {
         self.machines
             .clone()
             .unwrap_or_else(|| self.root.join("machines"))
+            .join(name)
+    }
+
+    /// The scene file `name` (e.g. `polio-standin.json`).
+    pub fn scene(&self, name: &str) -> PathBuf {
+        self.scenes
+            .clone()
+            .unwrap_or_else(|| self.root.join("scenes"))
             .join(name)
     }
 }

@@ -6,8 +6,6 @@
 //! Owns which renders and runs answer which row of papers/000.json. Must never hold a paper
 //! value.
 
-use std::path::Path;
-
 use crate::algo::reference::render_adaptive_sequence;
 use crate::algo::RunResult;
 use crate::output::plot::{ChartOptions, Series};
@@ -29,7 +27,7 @@ pub fn measure(options: &PaperOptions, data: &PaperData) -> Result<Measurements,
     memory_layout_rows(&mut m)?;
     pool_share_rows(&mut m)?;
     reclaim_rule_row(&mut m);
-    figure_6_rows(&options.root, data, &mut m)?;
+    figure_6_rows(options, data, &mut m)?;
     parallel_rows(options, data, &mut m)?;
     Ok(m)
 }
@@ -133,8 +131,8 @@ fn reclaim_rule_row(m: &mut Measurements) {
     );
 }
 
-fn frames_of(root: &Path, name: &str) -> Result<Vec<FrameGeometry>, String> {
-    let scene = Scene::load(&root.join("scenes").join(name)).map_err(|e| e.to_string())?;
+fn frames_of(options: &PaperOptions, name: &str) -> Result<Vec<FrameGeometry>, String> {
+    let scene = Scene::load(&options.scene(name)).map_err(|e| e.to_string())?;
     (0..scene.frame_count())
         .map(|f| scene.frame(f).map_err(|e| e.to_string()))
         .collect()
@@ -148,8 +146,12 @@ fn mb(s: &AaStats) -> f64 {
     s.memory_used().get() as f64 / MB
 }
 
-fn figure_6_rows(root: &Path, data: &PaperData, m: &mut Measurements) -> Result<(), String> {
-    let b = frames_of(root, "p000-letter-b.json")?;
+fn figure_6_rows(
+    options: &PaperOptions,
+    data: &PaperData,
+    m: &mut Measurements,
+) -> Result<(), String> {
+    let b = frames_of(options, "p000-letter-b.json")?;
     let (b_plain, b_reclaimed) = (
         render_adaptive_sequence(&b, false),
         render_adaptive_sequence(&b, true),
@@ -192,7 +194,7 @@ fn figure_6_rows(root: &Path, data: &PaperData, m: &mut Measurements) -> Result<
         .fold(0.0, f64::max);
     m.put("letter-b-most-reclaimed", Measured::value(most, note));
 
-    let t = frames_of(root, "p000-tetra-500.json")?;
+    let t = frames_of(options, "p000-tetra-500.json")?;
     let (plain, reclaimed) = (
         render_adaptive_sequence(&t, false),
         render_adaptive_sequence(&t, true),
@@ -254,7 +256,7 @@ fn figure_6_rows(root: &Path, data: &PaperData, m: &mut Measurements) -> Result<
         },
     });
 
-    let many = frames_of(root, "p000-tetra-3000.json")?;
+    let many = frames_of(options, "p000-tetra-3000.json")?;
     let mut most = 0.0f64;
     let mut runs = Vec::new();
     for reclaim in [false, true] {

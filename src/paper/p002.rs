@@ -5,8 +5,6 @@
 //!
 //! Owns which runs answer which row of papers/002.json. Must never hold a paper value.
 
-use std::path::Path;
-
 use crate::algo::image_space::assign::Assignment;
 use crate::algo::image_space::regions::RegionGrid;
 use crate::algo::image_space::two_step::Groups;
@@ -62,19 +60,22 @@ fn ellsworth(scene: &str, procs: u32, two_step: &str, frames: &str) -> Job {
 }
 
 pub fn measure(options: &PaperOptions, data: &PaperData) -> Result<Measurements, String> {
-    let root = &options.root;
     let machine = load_machine(&options.machine(DELTA)).map_err(|e| e.to_string())?;
     let mut m = Measurements::default();
-    delta_rows(&machine, root, &mut m)?;
-    model_rows(root, &mut m)?;
+    delta_rows(&machine, options, &mut m)?;
+    model_rows(options, &mut m)?;
     two_step_rows(&mut m);
-    assignment_rows(&machine, root, &mut m)?;
+    assignment_rows(&machine, options, &mut m)?;
     utilization_rows(options, &machine, &mut m)?;
     figure_9_rows(options, &machine, data, &mut m)?;
     Ok(m)
 }
 
-fn delta_rows(machine: &MachineConfig, root: &Path, m: &mut Measurements) -> Result<(), String> {
+fn delta_rows(
+    machine: &MachineConfig,
+    options: &PaperOptions,
+    m: &mut Measurements,
+) -> Result<(), String> {
     let net = &machine.network;
     m.put(
         "delta-nodes",
@@ -133,7 +134,7 @@ fn delta_rows(machine: &MachineConfig, root: &Path, m: &mut Measurements) -> Res
     );
     let mut screens = Vec::new();
     for name in [PLB, POLIO, "terrain-standin.json", "ct-head-standin.json"] {
-        let scene = Scene::load(&root.join("scenes").join(name)).map_err(|e| e.to_string())?;
+        let scene = Scene::load(&options.scene(name)).map_err(|e| e.to_string())?;
         let s = summary(&scene, 0).map_err(|e| e.to_string())?;
         screens.push((name, s.width, s.height));
     }
@@ -151,14 +152,14 @@ fn delta_rows(machine: &MachineConfig, root: &Path, m: &mut Measurements) -> Res
     Ok(())
 }
 
-fn model_rows(root: &Path, m: &mut Measurements) -> Result<(), String> {
+fn model_rows(options: &PaperOptions, m: &mut Measurements) -> Result<(), String> {
     for (key, file) in [
         ("plb", PLB),
         ("polio", POLIO),
         ("terrain", "terrain-standin.json"),
         ("ct", "ct-head-standin.json"),
     ] {
-        let scene = Scene::load(&root.join("scenes").join(file)).map_err(|e| e.to_string())?;
+        let scene = Scene::load(&options.scene(file)).map_err(|e| e.to_string())?;
         let s = summary(&scene, 0).map_err(|e| e.to_string())?;
         let where_ = format!("scenes/{file}, frame 0");
         m.put(
@@ -188,11 +189,11 @@ fn model_rows(root: &Path, m: &mut Measurements) -> Result<(), String> {
 /// runs use (ratio 8) and, for the greedy packing, on a real frame's polygon counts.
 fn assignment_rows(
     machine: &MachineConfig,
-    root: &Path,
+    options: &PaperOptions,
     m: &mut Measurements,
 ) -> Result<(), String> {
     const RATIO: u32 = 8;
-    let scene = Scene::load(&root.join("scenes").join(PLB)).map_err(|e| e.to_string())?;
+    let scene = Scene::load(&options.scene(PLB)).map_err(|e| e.to_string())?;
     let vp = viewport(&scene.frame(1).map_err(|e| e.to_string())?);
     let grid = |n: u32| {
         RegionGrid::with_count(vp, n * RATIO).ok_or(format!("{} regions on the screen", n * RATIO))
@@ -275,7 +276,6 @@ fn utilization_rows(
 ) -> Result<(), String> {
     const UPROCS: [u32; 10] = [1, 2, 4, 8, 16, 32, 64, 128, 256, 512];
     const GRANULARITIES: [u32; 6] = [1, 2, 4, 6, 8, 12];
-    let root = &options.root;
     let step = if options.quick { 16 } else { 4 };
     let plb_frames: Vec<u32> = (1..80).step_by(step).collect();
     let polio_frames: Vec<u32> = if options.quick {
@@ -288,7 +288,7 @@ fn utilization_rows(
                     granularities: &[u32],
                     frames: &[u32]|
      -> Result<utilization::Outcome, String> {
-        let scene = Scene::load(&root.join("scenes").join(file)).map_err(|e| e.to_string())?;
+        let scene = Scene::load(&options.scene(file)).map_err(|e| e.to_string())?;
         let cfg =
             utilization::Config::new(procs, granularities, frames).map_err(|e| e.to_string())?;
         utilization::simulate(&scene, machine, &cfg).map_err(|e| e.to_string())

@@ -44,18 +44,21 @@ struct Standin {
 }
 
 impl Standin {
-    fn load(root: &Path, key: &'static str, name: &'static str) -> Result<Standin, String> {
-        let scene = Scene::load(&root.join("scenes").join(file(key))).map_err(|e| e.to_string())?;
+    fn load(
+        options: &PaperOptions,
+        key: &'static str,
+        name: &'static str,
+    ) -> Result<Standin, String> {
+        let scene = Scene::load(&options.scene(&file(key))).map_err(|e| e.to_string())?;
         let trace = record_scene(&scene, 0).map_err(|e| e.to_string())?;
         Ok(Standin { key, name, trace })
     }
 }
 
 pub fn measure(options: &PaperOptions, data: &PaperData) -> Result<Measurements, String> {
-    let root = &options.root;
     let standins: Vec<Standin> = TRACES
         .iter()
-        .map(|&(key, name)| Standin::load(root, key, name))
+        .map(|&(key, name)| Standin::load(options, key, name))
         .collect::<Result<_, _>>()?;
     let mut m = Measurements::default();
     let mut curves = Vec::new();

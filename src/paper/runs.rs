@@ -61,12 +61,11 @@ pub fn run_jobs_keeping<T: Send>(
     jobs: &[Job],
     keep: impl Fn(RunResult) -> T + Sync,
 ) -> Result<Vec<T>, String> {
-    let (root, threads) = (&options.root, options.jobs);
+    let threads = options.jobs;
     let mut scenes: BTreeMap<&str, Arc<Scene>> = BTreeMap::new();
     for job in jobs {
         if !scenes.contains_key(job.scene.as_str()) {
-            let scene =
-                Scene::load(&root.join("scenes").join(&job.scene)).map_err(|e| e.to_string())?;
+            let scene = Scene::load(&options.scene(&job.scene)).map_err(|e| e.to_string())?;
             scenes.insert(&job.scene, Arc::new(scene));
         }
     }
@@ -80,7 +79,7 @@ pub fn run_jobs_keeping<T: Send>(
                 let spec = RunSpec {
                     schema: None,
                     machine: options.machine(&job.machine),
-                    scene: root.join("scenes").join(&job.scene),
+                    scene: options.scene(&job.scene),
                     algo: job.algo.clone(),
                     procs: job.procs,
                     frames: job.frames.clone(),

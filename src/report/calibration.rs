@@ -13,7 +13,7 @@ use crate::output::plot::PlotError;
 use crate::output::{to_json, write_text};
 
 pub fn markdown(c: &Calibration) -> String {
-    let mut md = format!("# Calibration of {} to paper {}\n\n", c.machine, c.paper);
+    let mut md = format!("# Calibration of {} to paper {}\n\n", c.file, c.paper);
     let _ = writeln!(
         md,
         "Cost (squared deviations in tolerances, summed): {:.3} at the start, {:.3} fitted, after {} runs of the paper's experiments.\n",
@@ -57,12 +57,12 @@ fn residual_table(md: &mut String, first: &str, rows: &[Residual]) {
 }
 
 pub fn write(dir: &Path, c: &Calibration) -> Result<(), PlotError> {
-    write_text(dir, &c.machine, &c.fitted_machine)?;
+    write_text(dir, &c.file, &c.fitted_text)?;
     write_text(dir, "calibration.json", &to_json(c))?;
     let md = markdown(c);
     write_text(dir, "calibration.md", &md)?;
-    Page::new(format!("Calibration of {}", c.machine))
+    Page::new(format!("Calibration of {}", c.file))
         .markdown(&md)
-        .files(&[c.machine.as_str(), "calibration.json", "calibration.md"])
+        .files(&[c.file.as_str(), "calibration.json", "calibration.md"])
         .write(dir)
 }

@@ -33,7 +33,7 @@ pub struct MachineSpec {
     pub fitted_to: Vec<FitRecord>,
 }
 
-/// One fit a machine went through.
+/// One fit a machine (or a stand-in scene) went through.
 #[derive(Deserialize, serde::Serialize, Debug, Clone, schemars::JsonSchema)]
 #[serde(deny_unknown_fields)]
 pub struct FitRecord {
@@ -41,8 +41,8 @@ pub struct FitRecord {
     pub paper: String,
     /// Row ids of `papers/NNN.json` the fit's cost included.
     pub rows: Vec<String>,
-    /// The calibration spec that reproduces the fit, relative to `machines/`; absent for a
-    /// value chosen by hand, which `source` explains.
+    /// The calibration spec that reproduces the fit, relative to `machines/` (a scene's:
+    /// `scenes/`); absent for a value chosen by hand, which `source` explains.
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub spec: Option<String>,
 }

@@ -56,6 +56,11 @@ pub struct SceneSpec {
     #[serde(default)]
     pub shading: ShadingSpec,
     pub geometry: Vec<ObjectSpec>,
+    /// The fits this scene went through (`sortsim calibrate` with a `scene`): a stand-in
+    /// whose shape a paper does not give, pinned down by rows it moves. `sortsim paper`
+    /// checks them against the rows' roles.
+    #[serde(default, skip_serializing_if = "Vec::is_empty")]
+    pub fitted_to: Vec<crate::spec::machine::FitRecord>,
 }
 
 fn one() -> u32 {
@@ -334,7 +339,10 @@ pub enum GeneratorSpec {
     /// Screen-space scatter for paper 003 stand-ins (use with the `screen` camera): `count`
     /// triangles with log-normal areas rescaled to a mean of exactly `mean_area_px`, placed
     /// uniformly inside the screen at random depths; optionally a first large "background"
-    /// quad covering `background_fraction` of the screen (paper 003's Zinnia).
+    /// quad covering `background_fraction` of the screen (paper 003's Zinnia). With
+    /// `footprint` below 1 the triangles fall inside a centred rectangle of that share of the
+    /// screen (the screen's aspect), so depth piles up to `count * mean / (footprint * A)`
+    /// there and the rest of the screen stays empty.
     ScreenScatter {
         #[schemars(range(min = 1, max = 50_000_000))]
         count: u32,
@@ -347,7 +355,14 @@ pub enum GeneratorSpec {
         #[serde(default)]
         #[schemars(range(min = 0.0, max = 1.0))]
         background_fraction: f64,
+        #[serde(default = "whole_screen")]
+        #[schemars(range(min = 0.001, max = 1.0))]
+        footprint: f64,
     },
+}
+
+fn whole_screen() -> f64 {
+    1.0
 }
 
 fn sigma() -> f64 {
@@ -653,12 +668,14 @@ impl GeneratorSpec {
                 mean_area_px,
                 sigma,
                 background_fraction,
+                footprint,
                 ..
             } => {
                 count("count", *c, 1, 50_000_000)?;
                 real("mean_area_px", *mean_area_px, 0.01, 1e7)?;
                 real("sigma", *sigma, 0.0, 3.0)?;
-                real("background_fraction", *background_fraction, 0.0, 1.0)
+                real("background_fraction", *background_fraction, 0.0, 1.0)?;
+                real("footprint", *footprint, 0.001, 1.0)
             }
         }
     }

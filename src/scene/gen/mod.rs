@@ -81,12 +81,16 @@ pub fn build(spec: &GeneratorSpec, ctx: GenContext) -> Mesh {
             sigma,
             seed,
             background_fraction,
+            footprint,
         } => screen_scatter::build(
-            *count,
-            *mean_area_px,
-            *sigma,
-            *seed,
-            *background_fraction,
+            screen_scatter::Scatter {
+                count: *count,
+                mean_area_px: *mean_area_px,
+                sigma: *sigma,
+                seed: *seed,
+                background_fraction: *background_fraction,
+                footprint: *footprint,
+            },
             ctx,
         ),
     }

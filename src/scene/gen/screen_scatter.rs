@@ -11,6 +11,12 @@
 //! its largest primitive first in database order, which is what made round-robin snooping
 //! exceed its expected traffic. The quad counts towards `count` and towards the mean.
 //!
+//! With `footprint` f < 1 the scattered triangles fall wholly inside a centred rectangle of
+//! the screen's aspect and f of its area: the same pixels generated, piled f^-1 times as deep
+//! over a share f of the screen. Traced scenes seldom fill their window evenly, and how their
+//! depth piles up is what snooping's traffic depends on (paper 003, equation 3); f = 1 is
+//! the even scatter, drawn exactly as before the option existed.
+//!
 //! Owns this shape only. Must never place or light it.
 
 use glam::Vec3;
@@ -21,16 +27,28 @@ use rand_distr::{Distribution, LogNormal};
 use super::GenContext;
 use crate::scene::mesh::Mesh;
 
-pub fn build(
-    count: u32,
-    mean_area_px: f64,
-    sigma: f64,
-    seed: u64,
-    background_fraction: f64,
-    ctx: GenContext,
-) -> Mesh {
+/// The generator's parameters, as the scene spec gives them.
+pub struct Scatter {
+    pub count: u32,
+    pub mean_area_px: f64,
+    pub sigma: f64,
+    pub seed: u64,
+    pub background_fraction: f64,
+    pub footprint: f64,
+}
+
+pub fn build(scatter: Scatter, ctx: GenContext) -> Mesh {
+    let Scatter {
+        count,
+        mean_area_px,
+        sigma,
+        seed,
+        background_fraction,
+        footprint,
+    } = scatter;
     let mut rng = ChaCha8Rng::seed_from_u64(seed);
     let (w, h) = (ctx.width as f64, ctx.height as f64);
+    let region = Region::centred(w, h, footprint);
     let mut m = Mesh::new();
     let mut colors = Vec::new();
     let mut total = count as f64 * mean_area_px;
@@ -50,10 +68,10 @@ pub fn build(
         total -= w * background_fraction * h;
         n -= 2;
     }
-    let areas = areas(&mut rng, n, total.max(0.0), sigma, w.min(h));
+    let areas = areas(&mut rng, n, total.max(0.0), sigma, region.w.min(region.h));
     for a in areas {
         let color = Vec3::new(rng.gen(), rng.gen(), rng.gen());
-        let tri = place(&mut rng, a, w, h);
+        let tri = place(&mut rng, a, &region);
         push_tri(&mut m, &mut colors, tri, color);
     }
     m.colors = Some(colors);
@@ -78,9 +96,39 @@ fn areas(rng: &mut ChaCha8Rng, n: usize, total: f64, sigma: f64, side: f64) -> V
     a
 }
 
+/// The rectangle the scattered triangles fall in, in pixels.
+struct Region {
+    x0: f64,
+    y0: f64,
+    w: f64,
+    h: f64,
+}
+
+impl Region {
+    /// A rectangle of the screen's aspect and `share` of its area, centred; the whole screen
+    /// (exactly, so that an even scatter draws what it always drew) when `share` is 1.
+    fn centred(w: f64, h: f64, share: f64) -> Region {
+        if share >= 1.0 {
+            return Region {
+                x0: 0.0,
+                y0: 0.0,
+                w,
+                h,
+            };
+        }
+        let side = share.sqrt();
+        Region {
+            x0: 0.5 * w * (1.0 - side),
+            y0: 0.5 * h * (1.0 - side),
+            w: w * side,
+            h: h * side,
+        }
+    }
+}
+
 /// An equilateral-ish triangle of area `area`, randomly turned and stretched, wholly inside
-/// the screen, front-facing (negative signed area with y down).
-fn place(rng: &mut ChaCha8Rng, area: f64, w: f64, h: f64) -> [Vec3; 3] {
+/// the region, front-facing (negative signed area with y down).
+fn place(rng: &mut ChaCha8Rng, area: f64, region: &Region) -> [Vec3; 3] {
     let stretch: f64 = rng.gen_range(0.7..1.4);
     let turn: f64 = rng.gen_range(0.0..std::f64::consts::TAU);
     let r = (4.0 * area / (3.0 * 3f64.sqrt())).sqrt(); // circumradius of the equilateral one
@@ -102,8 +150,8 @@ fn place(rng: &mut ChaCha8Rng, area: f64, w: f64, h: f64) -> [Vec3; 3] {
     let (lo_y, hi_y) = pts
         .iter()
         .fold((f64::MAX, f64::MIN), |(l, hh), p| (l.min(p.1), hh.max(p.1)));
-    let cx = pick(rng, -lo_x, w - hi_x);
-    let cy = pick(rng, -lo_y, h - hi_y);
+    let cx = region.x0 + pick(rng, -lo_x, region.w - hi_x);
+    let cy = region.y0 + pick(rng, -lo_y, region.h - hi_y);
     let z: f32 = rng.gen_range(0.02..0.98);
     let p = pts
         .iter()
