@@ -37,23 +37,16 @@ pub struct Scatter {
     pub footprint: f64,
 }
 
-pub fn build(scatter: Scatter, ctx: GenContext) -> Mesh {
-    let Scatter {
-        count,
-        mean_area_px,
-        sigma,
-        seed,
-        background_fraction,
-        footprint,
-    } = scatter;
-    let mut rng = ChaCha8Rng::seed_from_u64(seed);
+pub fn build(s: Scatter, ctx: GenContext) -> Mesh {
+    let mut rng = ChaCha8Rng::seed_from_u64(s.seed);
     let (w, h) = (ctx.width as f64, ctx.height as f64);
-    let region = Region::centred(w, h, footprint);
+    let region = Region::centred(w, h, s.footprint);
     let mut m = Mesh::new();
     let mut colors = Vec::new();
-    let mut total = count as f64 * mean_area_px;
-    let mut n = count as usize;
-    if background_fraction > 0.0 && count >= 2 {
+    let mut total = s.count as f64 * s.mean_area_px;
+    let mut n = s.count as usize;
+    let background_fraction = s.background_fraction;
+    if background_fraction > 0.0 && s.count >= 2 {
         let top = (h * (1.0 - background_fraction)) as f32;
         let grey = Vec3::splat(0.3);
         let quad = [
@@ -68,7 +61,7 @@ pub fn build(scatter: Scatter, ctx: GenContext) -> Mesh {
         total -= w * background_fraction * h;
         n -= 2;
     }
-    let areas = areas(&mut rng, n, total.max(0.0), sigma, region.w.min(region.h));
+    let areas = areas(&mut rng, n, total.max(0.0), s.sigma, region.w.min(region.h));
     for a in areas {
         let color = Vec3::new(rng.gen(), rng.gen(), rng.gen());
         let tri = place(&mut rng, a, &region);
