@@ -13,6 +13,7 @@ use crate::algo::reference::viewport;
 use crate::algo::sort_middle::utilization::{self, CountsMode};
 use crate::algo::{FrameRecord, RunResult};
 use crate::machine::{MachineConfig, Op};
+use crate::net::Fidelity;
 use crate::output::plot::{ChartOptions, Series};
 use crate::scene::summary::summary;
 use crate::scene::Scene;
@@ -69,6 +70,35 @@ pub fn measure(options: &PaperOptions, data: &PaperData) -> Result<Measurements,
     utilization_rows(options, &machine, &mut m)?;
     figure_9_rows(options, &machine, data, &mut m)?;
     Ok(m)
+}
+
+/// Buffers in the stream `buffer-stream-rate` times: enough that the first buffer's latency
+/// is a small part of the whole.
+const STREAM_BUFFERS: u32 = 64;
+
+/// MB/s one link carries for a stream of full polygon buffers from node 0 to node 1 (their
+/// neighbour on the mesh), neither doing anything else: each buffer pays the sender's
+/// overhead, the wire and the receiver's overhead, as the machine's cpu overlaps them.
+fn buffer_stream_mb_per_s(machine: &MachineConfig) -> Result<f64, String> {
+    use crate::engine::{Filter, Sim};
+    let mut sim: Sim<()> = Sim::new(machine, 1).map_err(|e| e.to_string())?;
+    let sender = sim.node(0);
+    sim.spawn(0, "sender", async move {
+        for _ in 0..STREAM_BUFFERS {
+            sender.send(1, DEFAULT_BUFFER, ()).await;
+        }
+        Ok(())
+    });
+    let receiver = sim.node(1);
+    sim.spawn(1, "receiver", async move {
+        for _ in 0..STREAM_BUFFERS {
+            receiver.recv(Filter::ANY).await;
+        }
+        Ok(())
+    });
+    let stats = sim.run().map_err(|e| e.to_string())?;
+    let bytes = DEFAULT_BUFFER.get() as f64 * f64::from(STREAM_BUFFERS);
+    Ok(bytes / stats.end.as_secs_f64() / 1e6)
 }
 
 fn delta_rows(
@@ -129,6 +159,26 @@ fn delta_rows(
                 overhead * 1e6,
                 copy * 1e6,
                 wire * 1e6
+            ),
+        ),
+    );
+    let at = |fidelity: Fidelity, overlap: bool| {
+        let mut variant = machine.clone();
+        variant.network.fidelity = fidelity;
+        variant.cpu.overlap = overlap;
+        buffer_stream_mb_per_s(&variant)
+    };
+    let (packets, flows, blocking) = (
+        at(Fidelity::Packet, machine.cpu.overlap)?,
+        at(Fidelity::Flow, machine.cpu.overlap)?,
+        at(Fidelity::Packet, false)?,
+    );
+    m.put(
+        "buffer-stream-rate",
+        Measured::value(
+            packets,
+            format!(
+                "{STREAM_BUFFERS} full buffers from node 0 to its neighbour, node 1, at packet fidelity (the Delta's wormhole packets, first come first served on the link); {flows:.1} MB/s at flow fidelity, whose flows share the link and so arrive together; {blocking:.1} MB/s if each send waited for its delivery (cpu.overlap false)"
             ),
         ),
     );
