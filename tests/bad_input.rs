@@ -179,9 +179,11 @@ fn every_bad_calibration_spec_is_refused_by_check_and_calibrate_alike() {
         check_refusal(&out, &file, &fragment);
         refused_writing_nothing("calibrate", &file, &fragment, &out_dir);
     }
-    // And every shipped calibration spec checks out, as what it is.
-    let fits = Path::new(env!("CARGO_MANIFEST_DIR")).join("machines/fits");
-    for e in std::fs::read_dir(&fits).unwrap() {
+    // And every shipped calibration spec checks out, as what it is (beside the machines and
+    // scenes the fits start from).
+    let root = Path::new(env!("CARGO_MANIFEST_DIR"));
+    let fits = ["machines/fits", "scenes/fits"].map(|f| root.join(f));
+    for e in fits.iter().flat_map(|dir| std::fs::read_dir(dir).unwrap()) {
         let path = e.unwrap().path();
         let out = sortsim(&["check", path.to_str().unwrap()]);
         let stdout = String::from_utf8_lossy(&out.stdout);

@@ -103,12 +103,13 @@ impl Subject {
 }
 
 impl CalibrationSpec {
-    /// What the spec fits and the file, relative to the working folder.
-    pub fn subject(&self) -> (Subject, &Path) {
+    /// What the spec fits and the file, relative to the working folder; `None` unless it
+    /// names exactly one of `machine` and `scene` (`load_spec` refuses such a spec).
+    pub fn subject(&self) -> Option<(Subject, &Path)> {
         match (&self.machine, &self.scene) {
-            (_, Some(scene)) => (Subject::Scene, scene),
-            (Some(machine), None) => (Subject::Machine, machine),
-            (None, None) => unreachable!("load_spec requires one of machine and scene"),
+            (None, Some(scene)) => Some((Subject::Scene, scene)),
+            (Some(machine), None) => Some((Subject::Machine, machine)),
+            _ => None,
         }
     }
 }
@@ -264,8 +265,11 @@ fn field_mut<'v>(v: &'v mut serde_json::Value, key: &str) -> Option<&'v mut serd
 }
 
 /// A time or bandwidth string times `factor`, in integer picoseconds or bytes per second; a
-/// number times `factor`.
+/// number times `factor`, rounded when the number was a whole one (a count stays a count).
 fn scale_quantity(v: &serde_json::Value, factor: f64) -> Result<serde_json::Value, String> {
+    if let Some(n) = v.as_u64() {
+        return Ok(((n as f64 * factor).round() as u64).into());
+    }
     if let Some(x) = v.as_f64() {
         return serde_json::Number::from_f64(x * factor)
             .map(serde_json::Value::Number)
@@ -526,7 +530,9 @@ fn prepare(
         ));
     }
     // The file as `check` reads it (field paths), then as the candidates are built from.
-    let (subject, file) = spec.subject();
+    let (subject, file) = spec.subject().ok_or_else(|| {
+        bad("give \"machine\" or \"scene\": the file the fit changes, one of them".into())
+    })?;
     match subject {
         Subject::Machine => crate::spec::machine::load_machine(file).map(|_| ()),
         Subject::Scene => crate::spec::scene::load(file).map(|_| ()),
@@ -836,6 +842,17 @@ mod tests {
         let s = scaled_spec(&scene, &params, &[0.4]).unwrap();
         assert_eq!(s["geometry"][1]["generator"]["footprint"], 0.2);
         assert_eq!(s["geometry"][0]["generator"]["footprint"], 1.0);
+        // A count stays a whole number.
+        let counts = serde_json::json!({"count": 9345});
+        let params = vec![Parameter {
+            name: "n".into(),
+            fields: vec!["count".into()],
+            range: [0.5, 2.0],
+        }];
+        assert_eq!(
+            scaled_spec(&counts, &params, &[0.5]).unwrap()["count"],
+            4673
+        );
         for bad in [
             "geometry.2.generator.footprint",
             "geometry.x.generator.footprint",
