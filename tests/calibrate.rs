@@ -52,6 +52,17 @@ fn spec_of(
     file.to_str().unwrap().to_string()
 }
 
+/// `sortsim check FILE` accepts the file a fit wrote.
+fn checks_out(file: &Path) {
+    let check = sortsim(&["check", file.to_str().unwrap()]);
+    assert!(
+        check.status.success(),
+        "{}: {}",
+        file.display(),
+        String::from_utf8_lossy(&check.stderr)
+    );
+}
+
 fn fit(dir: &Path, out: &str) -> Value {
     let file = spec(
         dir,
@@ -86,12 +97,7 @@ fn a_fit_improves_or_keeps_its_start_and_writes_a_valid_machine() {
     assert!((0.5..=2.0).contains(&factor), "{factor}");
     assert_eq!(c["rows"].as_array().unwrap().len(), 3);
     let machine = a.join("multicluster-pipeline.json");
-    let check = sortsim(&["check", machine.to_str().unwrap()]);
-    assert!(
-        check.status.success(),
-        "{}",
-        String::from_utf8_lossy(&check.stderr)
-    );
+    checks_out(&machine);
     let text = std::fs::read_to_string(&machine).unwrap();
     assert!(
         text.contains("Fitted by sortsim calibrate to paper 001"),
@@ -321,12 +327,7 @@ fn a_stand_in_scene_is_fitted_like_a_machine() {
     );
     assert!(start < 2.0 && fitted > start, "{row}");
     let scene = out.join("p003-brooks.json");
-    let check = sortsim(&["check", scene.to_str().unwrap()]);
-    assert!(
-        check.status.success(),
-        "{}",
-        String::from_utf8_lossy(&check.stderr)
-    );
+    checks_out(&scene);
     let s: Value = serde_json::from_str(&std::fs::read_to_string(&scene).unwrap()).unwrap();
     let footprint = s["geometry"][0]["generator"]["footprint"].as_f64().unwrap();
     assert!((0.05..1.0).contains(&footprint), "{footprint}");
