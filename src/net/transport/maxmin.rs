@@ -139,7 +139,9 @@ struct Link {
 /// their routes.
 #[derive(Default)]
 struct Group {
-    members: u32,
+    /// The members' slots, in no order (each flow knows its place: `Flow::member_at`), so
+    /// that marking the link dirty or popping it visits its group, not every flow on it.
+    slots: Vec<u32>,
     links: Vec<GroupLink>,
 }
 
@@ -164,6 +166,8 @@ struct Flow {
     swept_epoch: u64,
     settled: bool,
     live: bool,
+    /// Its place in its group's `slots` (while it has a group).
+    member_at: u32,
     route: Vec<LinkId>,
 }
 
@@ -298,6 +302,7 @@ impl MaxMin {
                 swept_epoch: 0,
                 settled: false,
                 live: false,
+                member_at: 0,
                 route: Vec::new(),
             });
         }
@@ -355,7 +360,7 @@ impl MaxMin {
             return false;
         }
         let g = link_of(f.key);
-        self.groups[g as usize].members == 1
+        self.groups[g as usize].slots.len() == 1
             && f.route
                 .iter()
                 .all(|&l| l == g || self.keys[l as usize] == NONE)
@@ -471,8 +476,9 @@ impl MaxMin {
     /// without a search.
     fn join(&mut self, slot: u32, g: LinkId) {
         let group = &mut self.groups[g as usize];
-        let fresh = group.members == 0;
-        group.members += 1;
+        let fresh = group.slots.is_empty();
+        self.flows[slot as usize].member_at = group.slots.len() as u32;
+        group.slots.push(slot);
         for &l in &self.flows[slot as usize].route {
             let entries = &mut self.group_entries[l as usize];
             // A new group's entries are the last of their links' lists.
@@ -498,8 +504,12 @@ impl MaxMin {
     /// group's links with it without a search: they are its route's.
     fn leave(&mut self, slot: u32, g: LinkId) {
         let group = &mut self.groups[g as usize];
-        group.members -= 1;
-        if group.members == 0 {
+        let at = self.flows[slot as usize].member_at as usize;
+        group.slots.swap_remove(at);
+        if let Some(&moved) = group.slots.get(at) {
+            self.flows[moved as usize].member_at = at as u32;
+        }
+        if group.slots.is_empty() {
             let mut links = std::mem::take(&mut group.links);
             for gl in links.drain(..) {
                 self.drop_entry(gl.link, gl.entry);
@@ -562,7 +572,7 @@ impl MaxMin {
 
     /// The rate of the flows link `g` fixed in the last solve; `None` if it fixed none.
     pub fn group_rate(&self, g: LinkId) -> Option<u64> {
-        (self.groups[g as usize].members > 0).then(|| share_of(self.keys[g as usize]).max(1))
+        (!self.groups[g as usize].slots.is_empty()).then(|| share_of(self.keys[g as usize]).max(1))
     }
 
     /// Brings every rate up to date with the adds and removes since the last solve; appends
@@ -758,16 +768,12 @@ impl MaxMin {
             "link {link} turned dirty after its old key had passed"
         );
         let start = self.sweep.unsettled.len() as u32;
-        // A link that fixed nothing last time is nobody's bottleneck.
-        let fixed_some = if old == NONE {
-            0
-        } else {
-            self.links[l].flows.len()
-        };
-        for i in 0..fixed_some {
-            let slot = self.links[l].flows[i];
+        // The flows it fixed last time are its group (a link that fixed nothing has none).
+        for i in 0..self.groups[l].slots.len() {
+            let slot = self.groups[l].slots[i];
             let f = &mut self.flows[slot as usize];
-            if f.swept_epoch != epoch && f.key == old {
+            debug_assert_eq!(f.key, old, "a member has its bottleneck's key");
+            if f.swept_epoch != epoch {
                 #[cfg(feature = "counters")]
                 {
                     self.swept.0 += 1;
@@ -783,7 +789,7 @@ impl MaxMin {
             }
         }
         let end = self.sweep.unsettled.len() as u32;
-        if end - start == self.groups[l].members {
+        if (end - start) as usize == self.groups[l].slots.len() {
             // The whole group: its links once each.
             for i in 0..self.groups[l].links.len() {
                 let other = self.groups[l].links[i].link;
@@ -901,14 +907,11 @@ impl MaxMin {
         let rate = share_of(at).max(1);
         let old = self.keys[link as usize];
         // If every flow it fixed last time is still unfixed, they are fixed again together.
-        let members = self.groups[link as usize].members;
-        let whole = members > 0 && {
-            let flows = &self.links[link as usize].flows;
-            let unfixed = flows.iter().filter(|&&slot| {
-                self.flows[slot as usize].key == old && self.fixed_rate(slot, at).is_none()
-            });
-            unfixed.count() as u32 == members
-        };
+        let members = &self.groups[link as usize].slots;
+        let whole = !members.is_empty()
+            && members
+                .iter()
+                .all(|&slot| self.fixed_rate(slot, at).is_none());
         for i in 0..self.links[link as usize].flows.len() {
             let slot = self.links[link as usize].flows[i];
             if self.fixed_rate(slot, at).is_some() {
@@ -1006,7 +1009,7 @@ impl MaxMin {
             .iter()
             .filter(|&&slot| !self.flows[slot as usize].settled)
             .count();
-        if unfixed as u32 == self.groups[link as usize].members {
+        if unfixed == self.groups[link as usize].slots.len() {
             // The whole group is still unfixed: its links once each.
             for i in 0..self.groups[link as usize].links.len() {
                 let l = self.groups[link as usize].links[i].link;
@@ -1093,7 +1096,11 @@ impl MaxMin {
                     .iter()
                     .map(|gl| (gl.link, gl.crossing))
                     .collect();
-                group.members == members[g]
+                group.slots.len() == members[g] as usize
+                    && group.slots.iter().enumerate().all(|(i, &slot)| {
+                        let f = &self.flows[slot as usize];
+                        f.live && link_of(f.key) == g as LinkId && f.member_at == i as u32
+                    })
                     && have == want[g]
                     && group.links.len() == have.len()
                     && group.links.iter().all(|gl| {
