@@ -24,6 +24,7 @@ fn torus_512(fidelity: Fidelity) -> NetworkConfig {
         switching: Switching::Wormhole,
         packet_size: Bytes::new(1024),
         fidelity,
+        message_gap: SimTime::ZERO,
         node: None,
     }
 }

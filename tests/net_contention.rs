@@ -47,6 +47,7 @@ fn cfg(
         switching,
         packet_size: Bytes::new(1024),
         fidelity,
+        message_gap: SimTime::ZERO,
         node: None,
     }
 }

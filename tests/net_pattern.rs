@@ -17,6 +17,7 @@ fn cfg(topology: TopologyKind, dims: &[u32], fidelity: Fidelity) -> NetworkConfi
         switching: Switching::StoreAndForward,
         packet_size: Bytes::new(512),
         fidelity,
+        message_gap: SimTime::ZERO,
         node: None,
     }
 }

@@ -43,6 +43,7 @@ fn config(shape: usize, packet: bool, wormhole: bool) -> NetworkConfig {
         } else {
             Fidelity::Flow
         },
+        message_gap: SimTime::ZERO,
         node: None,
     }
 }
@@ -69,7 +70,7 @@ fn check(cfg: &NetworkConfig, raw: &[(u32, u32, u64, u64)]) {
         let earliest = if m.src == d {
             m.start
         } else {
-            m.start + timing.contention_free(net.hops(m.src, d), m.bytes)
+            m.start + cfg.message_gap + timing.contention_free(net.hops(m.src, d), m.bytes)
         };
         assert!(
             at >= earliest,
@@ -93,6 +94,24 @@ proptest! {
         raw in prop::collection::vec((0u32..64, 0u32..64, 1u64..1_000_000, 0u64..6), 1000..2500),
     ) {
         check(&config(shape, packet, wormhole), &raw);
+    }
+
+    /// With a gap of 1 ns to 5 ms a message at each node's interface, at flow and packet:
+    /// every message is delivered, never before its send plus the gap plus the formula, and
+    /// each link carries exactly its routes' bytes.
+    #[test]
+    fn messages_waiting_at_their_interfaces_are_all_delivered_never_early(
+        shape in 0..SHAPES.len(),
+        packet in any::<bool>(),
+        wormhole in any::<bool>(),
+        gap_ns in 1u64..5_000_000,
+        raw in prop::collection::vec((0u32..64, 0u32..64, 1u64..1_000_000, 0u64..6), 200..800),
+    ) {
+        let cfg = NetworkConfig {
+            message_gap: SimTime::from_ns(gap_ns),
+            ..config(shape, packet, wormhole)
+        };
+        check(&cfg, &raw);
     }
 
     /// Nodes of 3 processors and 2 NICs on a 10x faster switch, at flow (packet takes one

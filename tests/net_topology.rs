@@ -13,6 +13,7 @@ fn net(topology: TopologyKind, dims: &[u32]) -> Network {
         switching: Switching::Wormhole,
         packet_size: Bytes::new(1024),
         fidelity: Fidelity::Hops,
+        message_gap: SimTime::ZERO,
         node: None,
     })
     .unwrap()
@@ -145,6 +146,7 @@ fn invalid_configs_are_rejected_with_what_is_valid() {
         switching: Switching::Wormhole,
         packet_size: Bytes::new(1024),
         fidelity: Fidelity::Flow,
+        message_gap: SimTime::ZERO,
         node: None,
     };
     let reject = |cfg: NetworkConfig, needle: &str| {

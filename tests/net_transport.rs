@@ -26,6 +26,7 @@ fn cfg(
         switching,
         packet_size: Bytes::new(PACKET),
         fidelity,
+        message_gap: SimTime::ZERO,
         node: None,
     }
 }

@@ -429,10 +429,12 @@ fn torus_wall(
     fidelity: Fidelity,
 ) -> Result<(f64, SolveCounters), String> {
     let delta = crate::spec::machine::load_machine(machine).map_err(|e| e.to_string())?;
+    // The transports alone: the Delta's links wired as a torus, without its interfaces' gap.
     let network = NetworkConfig {
         topology: TopologyKind::Torus,
         dims: vec![16, 32],
         fidelity,
+        message_gap: SimTime::ZERO,
         ..delta.network
     };
     let sizes = [Bytes::new(4096), Bytes::new(65536)];

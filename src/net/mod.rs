@@ -27,6 +27,7 @@
 //! floating point for a time.
 
 pub mod fidelity;
+mod interface;
 mod occupancy;
 pub mod pattern;
 mod routes;
@@ -220,6 +221,10 @@ pub struct NetworkConfig {
     pub switching: Switching,
     pub packet_size: Bytes,
     pub fidelity: Fidelity,
+    /// Time a node's network interface spends on each message before its first byte leaves,
+    /// sending one message at a time (LogGP's gap; `interface.rs`). Zero: a message leaves
+    /// at its send.
+    pub message_gap: SimTime,
     /// Nodes of several processors: each node's processors and NICs on a switch of their
     /// own, the NICs being the hosts of the topology above (`None`: one processor a host).
     pub node: Option<NodeConfig>,
@@ -299,6 +304,7 @@ pub enum NetError {
 ///     switching: Switching::Wormhole,
 ///     packet_size: Bytes::new(1024),
 ///     fidelity: Fidelity::Flow,
+///     message_gap: SimTime::ZERO,
 ///     node: None,
 /// };
 /// let mut net = Network::new(&cfg).unwrap();
@@ -324,6 +330,8 @@ pub struct Network {
     routes: routes::Routes,
     /// Per-message link occupancy, when a timeline is recorded.
     occupancy: Option<occupancy::Occupancy>,
+    /// The nodes' interfaces, when they cost a gap per message.
+    interfaces: Option<interface::Interfaces>,
 }
 
 pub use occupancy::LinkSpan;
@@ -380,6 +388,7 @@ impl Network {
             carried: vec![(Bytes::ZERO, 0); links],
             routes: routes::Routes::new(nodes),
             occupancy: None,
+            interfaces: interface::Interfaces::new(cfg.message_gap, nodes),
         })
     }
 
@@ -410,6 +419,11 @@ impl Network {
 
     pub fn timing(&self) -> Timing {
         self.timing
+    }
+
+    /// The time each node's interface spends on a message before its first byte leaves.
+    pub fn message_gap(&self) -> SimTime {
+        self.interfaces.as_ref().map_or(SimTime::ZERO, |i| i.gap())
     }
 
     /// Whether a message from `src` to `dst` has a route (false only for a pipeline run
@@ -484,9 +498,10 @@ impl Network {
         }
     }
 
-    /// Starts a message at `now`. Returns the delivery time when the model already knows it
-    /// (ideal, hops, and a message to self at every level); otherwise the delivery comes out
-    /// of [`Network::advance`].
+    /// Sends a message at `now`. Returns the delivery time when the model already knows it
+    /// (ideal, hops, and a message to self at every level, all without a message gap);
+    /// otherwise the delivery comes out of [`Network::advance`]. With a message gap the
+    /// message first waits for its sender's interface (`interface.rs`).
     ///
     /// Panics if [`Network::check_message`] would fail: that is the caller's bug.
     pub fn inject(
@@ -507,6 +522,50 @@ impl Network {
         if dst == Dest::Node(src) && src < self.nodes() {
             return Some(now);
         }
+        if self.interfaces.is_some() {
+            let rate = self.first_link_rate(msg, src, dst);
+            if let Some(interfaces) = &mut self.interfaces {
+                interfaces.send(now, msg, src, dst, bytes, rate);
+            }
+            return None;
+        }
+        self.start(now, msg, src, dst, bytes)
+    }
+
+    /// The rate of the first link `msg` crosses from `src` to `dst` (not to itself): the pace
+    /// at which its bytes leave the sender's interface.
+    ///
+    /// Panics if [`Network::check_message`] would fail: that is the caller's bug.
+    fn first_link_rate(&mut self, msg: MsgId, src: NodeId, dst: Dest) -> Bandwidth {
+        let first = match dst {
+            Dest::Broadcast => self.topology.broadcast_link(),
+            Dest::Node(d) if src < self.nodes() && d < self.nodes() => self
+                .routes
+                .get(self.topology.as_ref(), src, d)
+                .and_then(|route| route.first().copied()),
+            Dest::Node(_) => None,
+        };
+        let Some(first) = first else {
+            panic!(
+                "Network::inject of message {msg}: {}",
+                self.check_message(src, dst).unwrap_err()
+            )
+        };
+        match self.timing.node_links {
+            Some(n) if self.topology.is_node_link(first) => n.bandwidth,
+            _ => self.timing.bandwidth,
+        }
+    }
+
+    /// Hands a message that leaves its sender at `now` to the transport.
+    fn start(
+        &mut self,
+        now: SimTime,
+        msg: MsgId,
+        src: NodeId,
+        dst: Dest,
+        bytes: Bytes,
+    ) -> Option<SimTime> {
         let broadcast = match dst {
             Dest::Broadcast => self.topology.broadcast_link(),
             Dest::Node(_) => None,
@@ -542,16 +601,46 @@ impl Network {
 
     /// The earliest instant at which `advance` has something to do.
     pub fn next_event_time(&self) -> Option<SimTime> {
-        self.transport.next_event_time()
+        let held = self.interfaces.as_ref().and_then(|i| i.next_time());
+        match (self.transport.next_event_time(), held) {
+            (Some(a), Some(b)) => Some(a.min(b)),
+            (a, b) => a.or(b),
+        }
     }
 
     /// Processes the model's internal events at `now`, appending messages delivered at `now`.
     pub fn advance(&mut self, now: SimTime, delivered: &mut Vec<Delivered>) {
         let before = delivered.len();
+        self.release_held(now, delivered);
         self.transport.advance(now, delivered);
         if let Some(o) = &mut self.occupancy {
             for d in &delivered[before..] {
                 o.delivered(d.msg, d.at);
+            }
+        }
+    }
+
+    /// Starts the messages that leave their interfaces at `now` (before the transport
+    /// advances, so that they join the rate computation or queues of `now`) and delivers those
+    /// whose known arrival is `now`.
+    fn release_held(&mut self, now: SimTime, delivered: &mut Vec<Delivered>) {
+        while let Some((at, due)) = self.interfaces.as_mut().and_then(|i| i.pop_due(now)) {
+            match due {
+                interface::Due::Start {
+                    msg,
+                    src,
+                    dst,
+                    bytes,
+                } => match self.start(at, msg, src, dst, bytes) {
+                    Some(arrival) if arrival <= now => delivered.push(Delivered { msg, at }),
+                    Some(arrival) => self
+                        .interfaces
+                        .as_mut()
+                        .expect("held messages come from interfaces")
+                        .arrive_at(arrival, msg),
+                    None => {}
+                },
+                interface::Due::Arrive { msg } => delivered.push(Delivered { msg, at }),
             }
         }
     }

@@ -171,8 +171,8 @@ fn check_packet_budget(net: &Network, messages: &[ParsedMessage]) -> Result<(), 
 }
 
 /// Refuses a pattern that could end past the largest simulated time: its last start plus
-/// every message sent one after another over one link, each paying a hop latency per node
-/// and a serialization per packet on the way (more than any transport can take), must fit in
+/// every message sent one after another over one link, each paying its interface's gap, a
+/// hop latency per node and a serialization per packet on the way (more than any transport can take), must fit in
 /// u64 picoseconds. The message that contributes most is named.
 fn check_horizon(net: &Network, messages: &[ParsedMessage]) -> Result<(), NetError> {
     let timing = net.timing();
@@ -189,7 +189,10 @@ fn check_horizon(net: &Network, messages: &[ParsedMessage]) -> Result<(), NetErr
                 .div_ceil(timing.packet_size.get().max(1))
                 .max(1),
         );
-        2 * transfer + per_hop * packets.min(u128::from(u32::MAX)) + 1
+        2 * transfer
+            + per_hop * packets.min(u128::from(u32::MAX))
+            + u128::from(net.message_gap().ps())
+            + 1
     };
     let last_start = messages
         .iter()

@@ -78,7 +78,8 @@ const STREAM_BUFFERS: u32 = 64;
 
 /// MB/s one link carries for a stream of full polygon buffers from node 0 to node 1 (their
 /// neighbour on the mesh), neither doing anything else: each buffer pays the sender's
-/// overhead, the wire and the receiver's overhead, as the machine's cpu overlaps them.
+/// overhead, its interface's gap, the wire and the receiver's overhead, as the machine's cpu
+/// and interfaces overlap them.
 fn buffer_stream_mb_per_s(machine: &MachineConfig) -> Result<f64, String> {
     use crate::engine::{Filter, Sim};
     let mut sim: Sim<()> = Sim::new(machine, 1).map_err(|e| e.to_string())?;

@@ -7,6 +7,7 @@ use std::path::Path;
 use super::run::{RunSpec, RunSpecError};
 use super::{load_json, machine::load_machine, SpecError, SpecKind};
 use crate::scene::{Scene, SceneError};
+use crate::units::SimTime;
 
 /// Why a spec did not check out.
 #[derive(Debug, thiserror::Error)]
@@ -49,8 +50,12 @@ pub fn check(path: &Path) -> Result<String, CheckError> {
                 ),
                 None => format!("{} nodes,", m.nodes),
             };
+            let gap = match m.network.message_gap {
+                SimTime::ZERO => String::new(),
+                gap => format!(" and {gap} a message at each interface"),
+            };
             Ok(format!(
-                "machine '{}': {nodes} {} {}, links {} with {} per hop, {} switching, fidelity {}{}",
+                "machine '{}': {nodes} {} {}, links {} with {} per hop{gap}, {} switching, fidelity {}{}",
                 m.name,
                 m.network.topology.name(),
                 crate::net::shape_text(m.network.topology, &m.network.dims),

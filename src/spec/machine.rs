@@ -87,6 +87,11 @@ pub struct NetworkSpec {
     pub switching: SwitchingSpec,
     pub packet_size: Bytes,
     pub fidelity: FidelitySpec,
+    /// Time each node's network interface spends on a message before its first byte leaves,
+    /// sending one message at a time (LogGP's gap): a stream of messages from one node runs
+    /// at `bytes / (message_gap + bytes / link_bandwidth)`. Omitted: no gap.
+    #[serde(default)]
+    pub message_gap: SimTime,
     /// A reconfigurable network (the MultiCluster's) wires a torus of any size a run asks
     /// for; a fixed torus must be used whole.
     #[serde(default)]
@@ -522,6 +527,7 @@ fn network_config(path: &Path, nodes: u32, net: &NetworkSpec) -> Result<NetworkC
         },
         packet_size: net.packet_size,
         fidelity: net.fidelity.into(),
+        message_gap: net.message_gap,
         node,
     })
 }

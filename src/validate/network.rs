@@ -109,6 +109,7 @@ fn config(topology: TopologyKind, dims: &[u32]) -> NetworkConfig {
         switching: Switching::Wormhole,
         packet_size: Bytes::new(4096),
         fidelity: Fidelity::Flow,
+        message_gap: SimTime::ZERO,
         node: None,
     }
 }
