@@ -403,5 +403,5 @@ fn every_shipped_fit_is_recorded_by_the_file_it_produced() {
             );
         }
     }
-    assert_eq!(specs, 7);
+    assert_eq!(specs, 8);
 }

@@ -57,7 +57,9 @@ fn made_images(page: &Path) -> Vec<(PathBuf, String)> {
 
 /// `TRYCMD=overwrite`: trycmd has rewritten the copies' outputs; the pages and the images their
 /// commands drew are copied back over the originals (a model change that moves answers on
-/// purpose re-records them this way, and the diff shows what moved).
+/// purpose re-records them this way, and the diff shows what moved). The pages are copied as
+/// they were when the test began, so edits made while it runs are overwritten; trycmd writes
+/// what it saw in place of `[..]` and `...`, which must be put back by hand.
 fn rerecord(scratch: &Path) {
     for page in pages() {
         std::fs::copy(scratch.join(page.file_name().unwrap()), &page).unwrap();
