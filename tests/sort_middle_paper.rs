@@ -49,6 +49,8 @@ const FAST_NETWORK: (&str, &str) = ("machine.network.fidelity", "hops");
 fn polio_triangles_per_second_peak_then_fall_on_the_delta() {
     // Paper 002, Figure 9: the polio model peaks at 2.8 M triangles/s on 256 processors and
     // falls at 512. Frames 0..3: frames 1 and 2 are balanced on the previous frame's counts.
+    // Two-step on, the faster mode from 128 processors on (the paper's curve is the better of
+    // the two; with two-step off alone the peak is at 128: 2.01 M against 1.91 M at 256).
     let polio = scene("polio-standin.json");
     let rate = |n| {
         triangles_per_s(&simulate(
@@ -57,7 +59,7 @@ fn polio_triangles_per_second_peak_then_fall_on_the_delta() {
             "sort-middle/ellsworth",
             n,
             "0..3",
-            &[FAST_NETWORK],
+            &[FAST_NETWORK, ("two-step", "on")],
         ))
     };
     let curve: Vec<(u32, f64)> = [64, 128, 256, 512]
@@ -75,9 +77,8 @@ fn polio_triangles_per_second_peak_then_fall_on_the_delta() {
     // Its height misses the paper's 2.8 M (tolerance 10%): the Delta's fit to all of paper
     // 002 (machines/fits/delta-to-002-fig9.json) trades it against the PLB head's 19
     // frames/s at 128 processors, which these stand-ins pull apart. Held here is today's
-    // value, 2.0 to 2.3 M (1.9 M at `hops`, 2.14 M at `flow`), so a change that moves it
-    // is seen.
-    assert!((1.7e6..=2.35e6).contains(&peak), "peak {peak:.0}");
+    // value, 2.61 M at `hops` over these three frames, so a change that moves it is seen.
+    assert!((2.4e6..=2.8e6).contains(&peak), "peak {peak:.0}");
     // It falls by at least 15% from the peak to 512 processors.
     assert!(curve[3].1 <= 0.85 * peak, "{curve:?}");
     assert!(curve[0].1 < peak, "rises before the peak: {curve:?}");
