@@ -27,16 +27,25 @@ use sortsim::units::{Bytes, SimTime};
 const FIDELITIES: [&str; 4] = ["ideal", "hops", "flow", "packet"];
 
 /// (case, hash of summary.json without its event count, hash of the image), recorded at
-/// d25ffe7, where the hashes of the whole summary.json recorded before the speed-up still held.
+/// d25ffe7, where the hashes of the whole summary.json recorded before the speed-up still held;
+/// the cases with the interfaces' message gap at 66f8e72, where the gap came in.
 const RUNS: &[(&str, u64, u64)] = &[
     ("sort-middle/ellsworth delta.json plb-head-standin.json n=64 frames=0..2 two-step=on ideal", 0x2f8e692975a4c6fc, 0x8c3aa80857f938f7),
     ("sort-middle/ellsworth delta.json plb-head-standin.json n=64 frames=0..2 two-step=on hops", 0x943e2d430415bb15, 0x8c3aa80857f938f7),
     ("sort-middle/ellsworth delta.json plb-head-standin.json n=64 frames=0..2 two-step=on flow", 0x914432dd521ae6ad, 0x8c3aa80857f938f7),
     ("sort-middle/ellsworth delta.json plb-head-standin.json n=64 frames=0..2 two-step=on packet", 0x31c8c7847f4cdf65, 0x8c3aa80857f938f7),
+    ("sort-middle/ellsworth delta.json plb-head-standin.json n=64 frames=0..2 two-step=on machine.network.message_gap=168.66us ideal", 0xb2879d41fb688ed0, 0x8c3aa80857f938f7),
+    ("sort-middle/ellsworth delta.json plb-head-standin.json n=64 frames=0..2 two-step=on machine.network.message_gap=168.66us hops", 0x735c8e92ed011663, 0x8c3aa80857f938f7),
+    ("sort-middle/ellsworth delta.json plb-head-standin.json n=64 frames=0..2 two-step=on machine.network.message_gap=168.66us flow", 0xa6f9d0182e4d9eda, 0x8c3aa80857f938f7),
+    ("sort-middle/ellsworth delta.json plb-head-standin.json n=64 frames=0..2 two-step=on machine.network.message_gap=168.66us packet", 0xa4c89499f99ff3c1, 0x8c3aa80857f938f7),
     ("sort-middle/ellsworth delta.json polio-standin.json n=512 frames=0 ideal", 0xae15d5ceffd7fb70, 0x0681af2dce78a65e),
     ("sort-middle/ellsworth delta.json polio-standin.json n=512 frames=0 hops", 0xdd6d581230f76d25, 0x0681af2dce78a65e),
     ("sort-middle/ellsworth delta.json polio-standin.json n=512 frames=0 flow", 0x5e46e1fcb09a430d, 0x0681af2dce78a65e),
     ("sort-middle/ellsworth delta.json polio-standin.json n=512 frames=0 packet", 0xdf2fd08eac8d92d7, 0x0681af2dce78a65e),
+    ("sort-middle/ellsworth delta.json polio-standin.json n=512 frames=0 machine.network.message_gap=168.66us ideal", 0xce3186ceca2f9f9d, 0x0681af2dce78a65e),
+    ("sort-middle/ellsworth delta.json polio-standin.json n=512 frames=0 machine.network.message_gap=168.66us hops", 0x13dafb4403e1b3f0, 0x0681af2dce78a65e),
+    ("sort-middle/ellsworth delta.json polio-standin.json n=512 frames=0 machine.network.message_gap=168.66us flow", 0x88e8f7f561d13c83, 0x0681af2dce78a65e),
+    ("sort-middle/ellsworth delta.json polio-standin.json n=512 frames=0 machine.network.message_gap=168.66us packet", 0xeaf0413e1c809455, 0x0681af2dce78a65e),
     ("sort-middle/static power-challenge.json p000-tetra-500.json n=8 frames=0..2 ideal", 0x22e7c5fa3af0078d, 0x0346fc8a424f6732),
     ("sort-middle/static power-challenge.json p000-tetra-500.json n=8 frames=0..2 hops", 0xcfd48abfcd604a4c, 0x0346fc8a424f6732),
     ("sort-middle/static power-challenge.json p000-tetra-500.json n=8 frames=0..2 flow", 0xb7b9184211cc7303, 0x0346fc8a424f6732),
@@ -59,12 +68,24 @@ const RUNS: &[(&str, u64, u64)] = &[
     ("sort-last/snooping snooping-bus.json p003-cube.json n=16 frames=0 assign=random packet", 0x99c50feeeea6ca32, 0xcc93046f41923d57),
 ];
 
-/// (case, hash of the netsim report), recorded before the speed-up.
+/// (case, hash of the netsim report), recorded before the speed-up; those with a gap at 66f8e72.
 const PATTERNS: &[(&str, u64)] = &[
+    (
+        "torus 16x32, 4096 staggered, 168.66us gap, hops",
+        0x5dc7b4a25e51d2c6,
+    ),
+    (
+        "torus 16x32, 4096 staggered, 168.66us gap, flow",
+        0xb909fe382426868b,
+    ),
     ("torus 16x32, 4096 staggered, flow", 0xfefedad2f36d95ba),
     ("mesh 16x32, 4096 staggered, flow", 0x32f075b4ce0d1d38),
     ("torus 4x4, all-to-all 64KiB, flow", 0x3bcbceee61ce98a3),
     ("mesh 8x8, hot spot 4KiB, flow", 0xca6639a17a590a2c),
+    (
+        "torus 16x32, 4096 staggered, 168.66us gap, packet",
+        0x1f99757ef4908d21,
+    ),
     ("torus 16x32, 4096 staggered, packet", 0x669673c4460ec0e8),
     ("mesh 16x32, 4096 staggered, packet", 0x498271c47f49fa39),
     ("torus 4x4, all-to-all 64KiB, packet", 0x6a0e8a7331f4ae95),
@@ -139,6 +160,18 @@ fn run_cases() -> Vec<Case> {
             "0..2",
             &[("two-step", "on")],
         ),
+        // The frozen Delta with the shipped Delta's interface gap (the held messages' order).
+        case(
+            "delta.json",
+            "plb-head-standin.json",
+            "sort-middle/ellsworth",
+            64,
+            "0..2",
+            &[
+                ("two-step", "on"),
+                ("machine.network.message_gap", "168.66us"),
+            ],
+        ),
         case(
             "delta.json",
             "polio-standin.json",
@@ -146,6 +179,14 @@ fn run_cases() -> Vec<Case> {
             512,
             "0",
             &[],
+        ),
+        case(
+            "delta.json",
+            "polio-standin.json",
+            "sort-middle/ellsworth",
+            512,
+            "0",
+            &[("machine.network.message_gap", "168.66us")],
         ),
         case(
             "power-challenge.json",
@@ -212,8 +253,20 @@ fn pattern_cases() -> Vec<(String, NetworkConfig, Pattern)> {
     let sizes = [Bytes::new(4096), Bytes::new(65536)];
     let staggered = random_staggered(512, 4096, &sizes, SimTime::from_ms(8), 7);
     let mut cases = Vec::new();
-    for fidelity in [Fidelity::Flow, Fidelity::Packet] {
+    for fidelity in [Fidelity::Hops, Fidelity::Flow, Fidelity::Packet] {
         let name = fidelity.name();
+        // The shipped Delta's interfaces, which hold every message until it leaves.
+        cases.push((
+            format!("torus 16x32, 4096 staggered, 168.66us gap, {name}"),
+            NetworkConfig {
+                message_gap: SimTime::from_ps(168_660_000),
+                ..delta_network(TopologyKind::Torus, &[16, 32], fidelity)
+            },
+            staggered.clone(),
+        ));
+        if fidelity == Fidelity::Hops {
+            continue;
+        }
         cases.push((
             format!("torus 16x32, 4096 staggered, {name}"),
             delta_network(TopologyKind::Torus, &[16, 32], fidelity),
