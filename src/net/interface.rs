@@ -10,7 +10,7 @@
 //! message arrives (the transport does) nor look at any link but the sender's first.
 
 use std::cmp::Reverse;
-use std::collections::BinaryHeap;
+use std::collections::{BinaryHeap, VecDeque};
 
 use super::{Dest, MsgId, NodeId};
 use crate::units::{Bandwidth, Bytes, SimTime};
@@ -29,37 +29,31 @@ pub(super) enum Due {
     Arrive { msg: MsgId },
 }
 
-/// A held message, ordered by (instant, order of holding): same-instant events keep the order
-/// they were made in, so the run is deterministic.
-#[derive(Debug)]
-struct Held {
-    at: SimTime,
-    seq: u64,
-    due: Due,
-}
+/// Where a held event sits in the one order they all come out in: its instant, then the order
+/// it was held in, so that same-instant events keep the order they were made in.
+type Key = (SimTime, u64);
 
-impl PartialEq for Held {
-    fn eq(&self, other: &Held) -> bool {
-        (self.at, self.seq) == (other.at, other.seq)
-    }
-}
-impl Eq for Held {}
-impl PartialOrd for Held {
-    fn partial_cmp(&self, other: &Held) -> Option<std::cmp::Ordering> {
-        Some(self.cmp(other))
-    }
-}
-impl Ord for Held {
-    fn cmp(&self, other: &Held) -> std::cmp::Ordering {
-        (self.at, self.seq).cmp(&(other.at, other.seq))
-    }
+/// A message waiting for its sender's interface.
+#[derive(Clone, Copy, Debug)]
+struct Waiting {
+    key: Key,
+    msg: MsgId,
+    dst: Dest,
+    bytes: Bytes,
 }
 
 pub(super) struct Interfaces {
     gap: SimTime,
     /// Per node: the instant its interface can start on another message.
     free_at: Vec<SimTime>,
-    held: BinaryHeap<Reverse<Held>>,
+    /// Per node: its messages waiting to leave, in the order they leave. A node's messages
+    /// leave one at a time, each at least a gap after the last, so each queue's keys rise and
+    /// only its first can be the next to leave.
+    waiting: Vec<VecDeque<Waiting>>,
+    /// The key of each non-empty queue's first message, with its node.
+    heads: BinaryHeap<Reverse<(Key, NodeId)>>,
+    /// Messages whose transport told their arrival when they left, until then.
+    arriving: BinaryHeap<Reverse<(Key, MsgId)>>,
     seq: u64,
 }
 
@@ -70,7 +64,9 @@ impl Interfaces {
         (gap > SimTime::ZERO).then(|| Interfaces {
             gap,
             free_at: vec![SimTime::ZERO; nodes as usize],
-            held: BinaryHeap::new(),
+            waiting: vec![VecDeque::new(); nodes as usize],
+            heads: BinaryHeap::new(),
+            arriving: BinaryHeap::new(),
             seq: 0,
         })
     }
@@ -94,41 +90,182 @@ impl Interfaces {
         let free_at = &mut self.free_at[src as usize];
         let leaves = now.max(*free_at) + self.gap;
         *free_at = leaves + rate.transfer_time(bytes);
-        self.hold(
-            leaves,
-            Due::Start {
-                msg,
-                src,
-                dst,
-                bytes,
-            },
-        );
+        let key = self.next_key(leaves);
+        let queue = &mut self.waiting[src as usize];
+        if queue.is_empty() {
+            self.heads.push(Reverse((key, src)));
+        }
+        queue.push_back(Waiting {
+            key,
+            msg,
+            dst,
+            bytes,
+        });
     }
 
     /// Holds a message whose transport told its arrival at `at` until then.
     pub(super) fn arrive_at(&mut self, at: SimTime, msg: MsgId) {
-        self.hold(at, Due::Arrive { msg });
+        let key = self.next_key(at);
+        self.arriving.push(Reverse((key, msg)));
     }
 
-    fn hold(&mut self, at: SimTime, due: Due) {
-        self.held.push(Reverse(Held {
-            at,
-            seq: self.seq,
-            due,
-        }));
+    fn next_key(&mut self, at: SimTime) -> Key {
         self.seq += 1;
+        (at, self.seq - 1)
+    }
+
+    fn next_start(&self) -> Option<(Key, NodeId)> {
+        self.heads.peek().map(|&Reverse(head)| head)
+    }
+
+    fn next_arrival(&self) -> Option<(Key, MsgId)> {
+        self.arriving.peek().map(|&Reverse(a)| a)
     }
 
     /// The earliest instant something held is due.
     pub(super) fn next_time(&self) -> Option<SimTime> {
-        self.held.peek().map(|Reverse(h)| h.at)
+        let start = self.next_start().map(|((at, _), _)| at);
+        let arrival = self.next_arrival().map(|((at, _), _)| at);
+        start.into_iter().chain(arrival).min()
     }
 
-    /// The next held message due at or before `now`, with its instant.
+    /// The next held message due at or before `now`, with its instant: of a leaving and an
+    /// arrival at the same instant, the one held first.
     pub(super) fn pop_due(&mut self, now: SimTime) -> Option<(SimTime, Due)> {
-        if self.next_time()? > now {
-            return None;
+        let start = self.next_start().filter(|&((at, _), _)| at <= now);
+        let arrival = self.next_arrival().filter(|&((at, _), _)| at <= now);
+        let leaves_first = match (start, arrival) {
+            (Some((key, _)), Some((other, _))) => key < other,
+            (Some(_), None) => true,
+            (None, Some(_)) => false,
+            (None, None) => return None,
+        };
+        if let (true, Some(((at, _), src))) = (leaves_first, start) {
+            return Some((at, self.leave(src)));
         }
-        self.held.pop().map(|Reverse(h)| (h.at, h.due))
+        let ((at, _), msg) = self.arriving.pop()?.0;
+        Some((at, Due::Arrive { msg }))
+    }
+
+    /// Takes `src`'s first waiting message off its queue (it is the next to leave).
+    fn leave(&mut self, src: NodeId) -> Due {
+        self.heads.pop();
+        let queue = &mut self.waiting[src as usize];
+        let w = queue
+            .pop_front()
+            .expect("a head stands for a waiting message");
+        if let Some(next) = queue.front() {
+            self.heads.push(Reverse((next.key, src)));
+        }
+        Due::Start {
+            msg: w.msg,
+            src,
+            dst: w.dst,
+            bytes: w.bytes,
+        }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use proptest::prelude::*;
+
+    /// What the interfaces did before each node kept its own queue: every held event in one
+    /// list, the least (instant, order held) taken first. The oracle of the queues above.
+    #[derive(Default)]
+    struct OneList {
+        free_at: Vec<SimTime>,
+        held: Vec<(SimTime, u64, Due)>,
+        seq: u64,
+    }
+
+    impl OneList {
+        fn hold(&mut self, at: SimTime, due: Due) {
+            self.held.push((at, self.seq, due));
+            self.seq += 1;
+        }
+
+        fn pop_due(&mut self, now: SimTime) -> Option<(SimTime, Due)> {
+            let (i, _) = self
+                .held
+                .iter()
+                .enumerate()
+                .min_by_key(|(_, (at, seq, _))| (*at, *seq))?;
+            (self.held[i].0 <= now).then(|| {
+                let (at, _, due) = self.held.swap_remove(i);
+                (at, due)
+            })
+        }
+    }
+
+    #[derive(Clone, Debug)]
+    enum Op {
+        Send { after: u64, src: u32, bytes: u64 },
+        Arrive { after: u64, late: u64 },
+        Pop { after: u64 },
+    }
+
+    fn op() -> impl Strategy<Value = Op> {
+        // Small steps and few nodes, so that instants tie often.
+        prop_oneof![
+            (0..3u64, 0..4u32, 1..3u64).prop_map(|(after, src, bytes)| Op::Send {
+                after,
+                src,
+                bytes: bytes * 1000
+            }),
+            (0..3u64, 0..4u64).prop_map(|(after, late)| Op::Arrive { after, late }),
+            (0..4u64).prop_map(|after| Op::Pop { after }),
+        ]
+    }
+
+    proptest! {
+        /// Held messages come out at the same instants and in the same order as from one list
+        /// ordered by (instant, order held), ties included.
+        #[test]
+        fn queues_per_node_keep_the_one_list_order(ops in proptest::collection::vec(op(), 1..200)) {
+            let gap = SimTime::from_us(1);
+            let rate = Bandwidth::from_bytes_per_s(1_000_000_000).unwrap();
+            let mut fast = Interfaces::new(gap, 4).unwrap();
+            let mut oracle = OneList { free_at: vec![SimTime::ZERO; 4], ..OneList::default() };
+            let mut now = SimTime::ZERO;
+            let mut msg = 0;
+            let drain = |fast: &mut Interfaces, oracle: &mut OneList, now| loop {
+                let got = fast.pop_due(now);
+                prop_assert_eq!(got, oracle.pop_due(now));
+                if got.is_none() {
+                    return Ok(());
+                }
+            };
+            for op in ops {
+                match op {
+                    Op::Send { after, src, bytes } => {
+                        now += SimTime::from_us(after);
+                        msg += 1;
+                        let (dst, bytes) = (Dest::Node(9), Bytes::new(bytes));
+                        fast.send(now, msg, src, dst, bytes, rate);
+                        let free_at = &mut oracle.free_at[src as usize];
+                        let leaves = now.max(*free_at) + gap;
+                        *free_at = leaves + rate.transfer_time(bytes);
+                        oracle.hold(leaves, Due::Start { msg, src, dst, bytes });
+                    }
+                    Op::Arrive { after, late } => {
+                        now += SimTime::from_us(after);
+                        msg += 1;
+                        fast.arrive_at(now + SimTime::from_us(late), msg);
+                        oracle.hold(now + SimTime::from_us(late), Due::Arrive { msg });
+                    }
+                    Op::Pop { after } => {
+                        now += SimTime::from_us(after);
+                        drain(&mut fast, &mut oracle, now)?;
+                    }
+                }
+                prop_assert_eq!(
+                    fast.next_time(),
+                    oracle.held.iter().map(|h| h.0).min()
+                );
+            }
+            drain(&mut fast, &mut oracle, SimTime::MAX)?;
+        }
     }
 }
