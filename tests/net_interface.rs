@@ -120,3 +120,18 @@ fn a_message_to_itself_pays_no_gap() {
         assert_eq!(at, [start], "{fidelity} {switching}");
     }
 }
+
+/// A message with no route is the caller's bug whether or not it waits for an interface: the
+/// panic names what would be valid, as `Network::check_message` does.
+#[test]
+#[should_panic(expected = "a pipeline only sends to higher node ids")]
+fn a_message_with_no_route_is_refused_at_the_interface_too() {
+    let pipeline = NetworkConfig {
+        topology: TopologyKind::Pipeline,
+        dims: vec![4],
+        ..cfg(Fidelity::Hops, Switching::Wormhole, GAP)
+    };
+    Network::new(&pipeline)
+        .unwrap()
+        .inject(SimTime::ZERO, 1, 3, Dest::Node(0), Bytes::new(64));
+}

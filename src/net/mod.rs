@@ -346,6 +346,37 @@ fn hops_of(topology: &dyn Topology, timing: Timing, route: &[LinkId]) -> Hops {
     Hops { network, node }
 }
 
+/// The links a message crosses: the bus, for a broadcast, or a pair's stored route.
+enum Route<'a> {
+    Bus(LinkId),
+    Links(&'a [LinkId]),
+}
+
+impl Route<'_> {
+    fn links(&self) -> &[LinkId] {
+        match self {
+            Route::Bus(link) => std::slice::from_ref(link),
+            Route::Links(links) => links,
+        }
+    }
+}
+
+/// The route from `src` to `dst` (not to itself); `None` when there is none (a broadcast off
+/// a bus, a node out of range, a pipeline run backwards).
+fn route_of<'a>(
+    topology: &dyn Topology,
+    routes: &'a mut routes::Routes,
+    src: NodeId,
+    dst: Dest,
+) -> Option<Route<'a>> {
+    let n = topology.nodes();
+    match dst {
+        Dest::Broadcast => topology.broadcast_link().map(Route::Bus),
+        Dest::Node(d) if src < n && d < n => routes.get(topology, src, d).map(Route::Links),
+        Dest::Node(_) => None,
+    }
+}
+
 impl Network {
     /// Builds the network, validating the configuration (dimensions and packet size).
     pub fn new(cfg: &NetworkConfig) -> Result<Network, NetError> {
@@ -537,27 +568,26 @@ impl Network {
     ///
     /// Panics if [`Network::check_message`] would fail: that is the caller's bug.
     fn first_link_rate(&mut self, msg: MsgId, src: NodeId, dst: Dest) -> Bandwidth {
-        let first = match dst {
-            Dest::Broadcast => self.topology.broadcast_link(),
-            Dest::Node(d) if src < self.nodes() && d < self.nodes() => self
-                .routes
-                .get(self.topology.as_ref(), src, d)
-                .and_then(|route| route.first().copied()),
-            Dest::Node(_) => None,
+        let Some(route) = route_of(self.topology.as_ref(), &mut self.routes, src, dst) else {
+            self.unroutable(msg, src, dst)
         };
-        let Some(first) = first else {
-            panic!(
-                "Network::inject of message {msg}: {}",
-                self.check_message(src, dst).unwrap_err()
-            )
-        };
+        let first = route.links()[0];
         match self.timing.node_links {
             Some(n) if self.topology.is_node_link(first) => n.bandwidth,
             _ => self.timing.bandwidth,
         }
     }
 
+    fn unroutable(&self, msg: MsgId, src: NodeId, dst: Dest) -> ! {
+        panic!(
+            "Network::inject of message {msg}: {}",
+            self.check_message(src, dst).unwrap_err()
+        )
+    }
+
     /// Hands a message that leaves its sender at `now` to the transport.
+    ///
+    /// Panics if [`Network::check_message`] would fail: that is the caller's bug.
     fn start(
         &mut self,
         now: SimTime,
@@ -566,26 +596,10 @@ impl Network {
         dst: Dest,
         bytes: Bytes,
     ) -> Option<SimTime> {
-        let broadcast = match dst {
-            Dest::Broadcast => self.topology.broadcast_link(),
-            Dest::Node(_) => None,
+        let Some(route) = route_of(self.topology.as_ref(), &mut self.routes, src, dst) else {
+            self.unroutable(msg, src, dst)
         };
-        let route: &[LinkId] = match (dst, &broadcast) {
-            (Dest::Broadcast, Some(link)) => std::slice::from_ref(link),
-            (Dest::Node(d), _) if src < self.nodes() && d < self.nodes() => {
-                match self.routes.get(self.topology.as_ref(), src, d) {
-                    Some(route) => route,
-                    None => panic!(
-                        "Network::inject of message {msg}: {}",
-                        self.check_message(src, dst).unwrap_err()
-                    ),
-                }
-            }
-            _ => panic!(
-                "Network::inject of message {msg}: {}",
-                self.check_message(src, dst).unwrap_err()
-            ),
-        };
+        let route = route.links();
         for &l in route {
             let carried = &mut self.carried[l as usize];
             carried.0 += bytes;
