@@ -104,7 +104,16 @@ impl fmt::Display for SimTime {
         if ps % div == 0 {
             write!(f, "{}{}", ps / div, unit)
         } else {
-            write!(f, "{:.6}{}", ps as f64 / div as f64, unit)
+            // Six decimals at most, without the zeros that say nothing (168.66us, 1.5ms); a
+            // time that rounds to a whole number keeps them, so it does not read as exact.
+            let fraction = format!("{:.6}", ps as f64 / div as f64);
+            let trimmed = fraction.trim_end_matches('0');
+            let shown = if trimmed.ends_with('.') {
+                &fraction
+            } else {
+                trimmed
+            };
+            write!(f, "{shown}{unit}")
         }
     }
 }
@@ -500,7 +509,11 @@ mod tests {
     #[test]
     fn display_is_compact() {
         assert_eq!(SimTime::from_us(60).to_string(), "60us");
-        assert_eq!(SimTime::from_ps(1_500_000_000).to_string(), "1.500000ms");
+        assert_eq!(SimTime::from_ps(1_500_000_000).to_string(), "1.5ms");
+        assert_eq!(SimTime::from_ps(168_660_000).to_string(), "168.66us");
+        assert_eq!(SimTime::from_ps(1_234_567).to_string(), "1.234567us");
+        // Below the sixth decimal a time is rounded, never shown as a whole number it is not.
+        assert_eq!(SimTime::from_ps(2_000_000_000_001).to_string(), "2.000000s");
         for (given, shown) in [
             ("17MB/s", "17MB/s"),
             ("17000000B/s", "17MB/s"),

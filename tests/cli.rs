@@ -44,7 +44,7 @@ fn every_bundled_machine_checks_ok() {
         "{stdout}"
     );
     assert!(
-        stdout.contains("machine 'delta': 512 nodes, mesh 16x32, links 17MB/s with 80ns per hop and 168.660000us a message at each interface, wormhole switching"),
+        stdout.contains("machine 'delta': 512 nodes, mesh 16x32, links 17MB/s with 80ns per hop and 168.66us a message at each interface, wormhole switching"),
         "{stdout}"
     );
     // Issue 32: today's machines, with nodes of several processors.
