@@ -198,8 +198,9 @@ pub(super) struct State<M> {
     pub programs: Vec<ProgramMeta>,
     pub spawned: Vec<Program>,
     pub nodes: Vec<NodeState<M>>,
-    /// Each node's first program, for the look ahead (`warm_for_next`).
-    first_program: Vec<Option<ProgramId>>,
+    /// Where each node's first program keeps its state, while it runs, for the look ahead
+    /// (`warm_for_next`).
+    first_program: Vec<Option<Warm>>,
     pub cpu: CpuConfig,
     net: Option<Network>,
     net_wakes: NetWakes,
@@ -280,7 +281,8 @@ impl<M: Payload> State<M> {
     }
 
     pub fn register_program(&mut self, node: NodeId, name: String, daemon: bool, program: Program) {
-        self.first_program[node as usize].get_or_insert(self.programs.len() as ProgramId);
+        let id = self.programs.len() as ProgramId;
+        self.first_program[node as usize].get_or_insert_with(|| Warm::of(id, &program));
         self.programs.push(ProgramMeta {
             name,
             node,
@@ -544,8 +546,8 @@ impl<M: Payload> Sim<M> {
                         p
                     }
                     None => {
-                        if let Some(p) = st.warm_for_next() {
-                            warm_program(&self.programs, p);
+                        if let Some(warm) = st.warm_for_next() {
+                            warm.prefetch();
                         }
                         let last = st.queue.last_taken();
                         let wake = st.net_wakes.due(last).filter(|w| w.time() <= horizon);
@@ -597,6 +599,10 @@ impl<M: Payload> Sim<M> {
         let meta = &mut st.programs[p as usize];
         meta.done = true;
         let (node, daemon) = (meta.node, meta.daemon);
+        let first = &mut st.first_program[node as usize];
+        if first.is_some_and(|w| w.program == p) {
+            *first = None;
+        }
         if !daemon {
             let stats = &mut st.nodes[node as usize].stats;
             stats.finish = stats.finish.max(now);
@@ -648,28 +654,41 @@ impl<M: Payload> Drop for Sim<M> {
     }
 }
 
-/// How much of a program's future `warm_program` asks for: PHOLD's program is 448 bytes, and
+/// How much of a program's future the look ahead asks for: PHOLD's program is 448 bytes, and
 /// fetching only its first four lines kept most of the misses.
 const WARM_BYTES: usize = 8 * 64;
 
-/// Asks the cpu to fetch program `p`'s state (its future: where it waits, its locals, such as
-/// PHOLD's random stream) while the queue takes out the event that will wake it: with many
-/// programs that state is a cache miss per event, which the program's poll would otherwise
-/// wait for. A hint only: it changes no memory and no answer.
-#[inline]
-fn warm_program(programs: &[Option<Program>], p: ProgramId) {
-    let Some(Some(program)) = programs.get(p as usize) else {
-        return;
-    };
-    let future: &dyn Future<Output = Result<(), SimError>> = &**program;
-    let start = (future as *const dyn Future<Output = Result<(), SimError>>).cast::<u8>();
-    // A poll reads the future's state word, its locals and the receive it waits in, spread
-    // over its lines; only a long future's tail is left cold.
-    let len = std::mem::size_of_val(future).min(WARM_BYTES);
-    let first_line = start.wrapping_sub(start as usize % 64);
-    let lines = (start as usize % 64 + len).div_ceil(64);
-    for line in 0..lines {
-        prefetch(first_line.wrapping_add(line * 64));
+/// Where a program keeps its state (its future: where it waits, its locals, such as PHOLD's
+/// random stream): the cache lines the look ahead asks the cpu for while the queue takes out
+/// the event that will wake the program. With many programs that state is a cache miss per
+/// event, which the program's poll would otherwise wait for. A hint only: it changes no
+/// memory and no answer, and the future is pinned, so the lines stay its own while it runs.
+#[derive(Clone, Copy)]
+struct Warm {
+    program: ProgramId,
+    first_line: *const u8,
+    lines: usize,
+}
+
+impl Warm {
+    fn of(program: ProgramId, future: &Program) -> Warm {
+        let future: &dyn Future<Output = Result<(), SimError>> = &**future;
+        let start = (future as *const dyn Future<Output = Result<(), SimError>>).cast::<u8>();
+        // A poll reads the future's state word, its locals and the receive it waits in,
+        // spread over its lines; only a long future's tail is left cold.
+        let len = std::mem::size_of_val(future).min(WARM_BYTES);
+        Warm {
+            program,
+            first_line: start.wrapping_sub(start as usize % 64),
+            lines: (start as usize % 64 + len).div_ceil(64),
+        }
+    }
+
+    #[inline]
+    fn prefetch(self) {
+        for line in 0..self.lines {
+            prefetch(self.first_line.wrapping_add(line * 64));
+        }
     }
 }
 
@@ -702,11 +721,11 @@ impl<M: Payload> State<M> {
 
     /// Reads the node record the next event's delivery will read first, before the queue
     /// takes the event out: in a run of many nodes that record is a cache miss, and the
-    /// queue's work hides it. Returns the node's first program, the one a delivery wakes as a
-    /// rule, whose own state is the next miss (see `warm_program`); taken from a small table
-    /// rather than the node's waiters, so the two misses overlap instead of one waiting for the
-    /// other. Changes nothing.
-    fn warm_for_next(&self) -> Option<ProgramId> {
+    /// queue's work hides it. Returns where the node's first program keeps its state (`Warm`):
+    /// that program is the one a delivery wakes as a rule, and its state is the next miss; it
+    /// is taken from a small table rather than from the node's waiters, so the two misses
+    /// overlap instead of one waiting for the other. Changes nothing.
+    fn warm_for_next(&self) -> Option<Warm> {
         let dst = match self.queue.peek_cheaply()? {
             &Event::Post { dst, .. } => dst,
             &Event::Arrive(id) => self.in_flight[id as usize].as_ref()?.env.dst,
