@@ -777,6 +777,38 @@ mod tests {
         }
     }
 
+    /// The look ahead asks for every line of a short program's future and the first 512
+    /// bytes of a long one, and for no line before the future starts.
+    #[test]
+    fn the_look_ahead_covers_a_programs_future() {
+        fn lines_of(program: &Program) -> (usize, usize, Warm) {
+            let future: &dyn Future<Output = Result<(), SimError>> = &**program;
+            let start = future as *const dyn Future<Output = Result<(), SimError>> as *const u8;
+            (start as usize, std::mem::size_of_val(future), Warm::of(7, program))
+        }
+        let short = [1u8; 300];
+        let long = [2u8; 3000];
+        let programs: [Program; 2] = [
+            Box::pin(async move {
+                std::hint::black_box(short);
+                Ok(())
+            }),
+            Box::pin(async move {
+                std::hint::black_box(long);
+                Ok(())
+            }),
+        ];
+        for program in &programs {
+            let (start, len, warm) = lines_of(program);
+            let first = warm.first_line as usize;
+            assert_eq!(warm.program, 7);
+            assert!(first <= start && start - first < 64, "starts on the future's first line");
+            assert!(first + 64 * warm.lines >= start + len.min(WARM_BYTES), "covers it");
+            assert!(64 * (warm.lines - 1) < start - first + len.min(WARM_BYTES), "no more");
+        }
+        assert!(lines_of(&programs[0]).1 >= 300 && lines_of(&programs[1]).1 >= 3000);
+    }
+
     /// Each program takes the message handed to it and no other, whichever of a node's
     /// programs runs first, and a program nothing was handed to takes nothing.
     #[test]
