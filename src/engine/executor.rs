@@ -784,7 +784,11 @@ mod tests {
         fn lines_of(program: &Program) -> (usize, usize, Warm) {
             let future: &dyn Future<Output = Result<(), SimError>> = &**program;
             let start = future as *const dyn Future<Output = Result<(), SimError>> as *const u8;
-            (start as usize, std::mem::size_of_val(future), Warm::of(7, program))
+            (
+                start as usize,
+                std::mem::size_of_val(future),
+                Warm::of(7, program),
+            )
         }
         let short = [1u8; 300];
         let long = [2u8; 3000];
@@ -802,9 +806,18 @@ mod tests {
             let (start, len, warm) = lines_of(program);
             let first = warm.first_line as usize;
             assert_eq!(warm.program, 7);
-            assert!(first <= start && start - first < 64, "starts on the future's first line");
-            assert!(first + 64 * warm.lines >= start + len.min(WARM_BYTES), "covers it");
-            assert!(64 * (warm.lines - 1) < start - first + len.min(WARM_BYTES), "no more");
+            assert!(
+                first <= start && start - first < 64,
+                "starts on the future's first line"
+            );
+            assert!(
+                first + 64 * warm.lines >= start + len.min(WARM_BYTES),
+                "covers it"
+            );
+            assert!(
+                64 * (warm.lines - 1) < start - first + len.min(WARM_BYTES),
+                "no more"
+            );
         }
         assert!(lines_of(&programs[0]).1 >= 300 && lines_of(&programs[1]).1 >= 3000);
     }
