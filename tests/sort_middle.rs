@@ -145,12 +145,32 @@ fn two_runs_write_byte_identical_summaries() {
     for f in ["summary.md", "cost.json", "timeline.json", "frame-0002.png"] {
         assert!(a.join(f).exists(), "{f} written");
     }
-    let timeline: serde_json::Value =
-        serde_json::from_slice(&std::fs::read(a.join("timeline.json")).unwrap()).unwrap();
-    assert!(
-        timeline["traceEvents"].as_array().unwrap().len() > 12,
-        "one track per node plus work"
+    let timeline_bytes = std::fs::read(a.join("timeline.json")).unwrap();
+    assert_eq!(
+        timeline_bytes,
+        std::fs::read(b.join("timeline.json")).unwrap()
     );
+    let timeline: serde_json::Value = serde_json::from_slice(&timeline_bytes).unwrap();
+    let events = timeline["traceEvents"].as_array().unwrap();
+    assert!(events.len() > 12, "one track per node plus work");
+    // Every stretch of cpu work is in the timeline: its spans add up to each node's busy time
+    // in summary.json (microseconds printed to six decimals, so to a nanosecond a span).
+    let summary: serde_json::Value = serde_json::from_slice(&summary).unwrap();
+    for node in summary["machine_metrics"]["nodes"].as_array().unwrap() {
+        let id = node["node"].as_u64().unwrap();
+        let spans: Vec<f64> = events
+            .iter()
+            .filter(|e| e["ph"] == "X" && e["pid"] == 0 && e["tid"].as_u64() == Some(id))
+            .map(|e| e["dur"].as_f64().unwrap())
+            .collect();
+        let busy_us = node["busy_s"].as_f64().unwrap() * 1e6;
+        let tolerance_us = 1e-3 * spans.len() as f64 + 1e-6 * busy_us;
+        assert!(
+            (spans.iter().sum::<f64>() - busy_us).abs() <= tolerance_us,
+            "node {id}: timeline spans {} us against busy {busy_us} us",
+            spans.iter().sum::<f64>()
+        );
+    }
     // The final frame's image is what `sortsim render` draws.
     let scene =
         Scene::load(&Path::new(env!("CARGO_MANIFEST_DIR")).join("scenes/plb-head-standin.json"))

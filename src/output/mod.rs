@@ -14,6 +14,16 @@ use std::path::Path;
 /// reader (or an interrupted run) never sees a partial file; temporaries of writers killed
 /// before their rename are removed once the file is whole again.
 pub fn write_atomic(path: &Path, bytes: &[u8]) -> std::io::Result<()> {
+    write_atomic_with(path, |out| out.write_all(bytes))
+}
+
+/// Writes what `fill` writes to `path`, atomically as [`write_atomic`] does, streamed through
+/// a buffer: a file larger than what its writer keeps in memory (a run's timeline) is never
+/// held whole.
+pub fn write_atomic_with(
+    path: &Path,
+    fill: impl FnOnce(&mut dyn Write) -> std::io::Result<()>,
+) -> std::io::Result<()> {
     if path.is_dir() {
         return Err(std::io::Error::new(
             std::io::ErrorKind::InvalidInput,
@@ -30,8 +40,12 @@ pub fn write_atomic(path: &Path, bytes: &[u8]) -> std::io::Result<()> {
         .map(|n| n.to_string_lossy().into_owned())
         .unwrap_or_default();
     let tmp = dir.join(format!(".{name}.tmp{}", std::process::id()));
-    let written = std::fs::File::create(&tmp).and_then(|mut file| {
-        file.write_all(bytes)?;
+    let written = std::fs::File::create(&tmp).and_then(|file| {
+        let mut out = std::io::BufWriter::new(file);
+        fill(&mut out)?;
+        let file = out
+            .into_inner()
+            .map_err(std::io::IntoInnerError::into_error)?;
         file.sync_all()?;
         drop(file);
         std::fs::rename(&tmp, path)
@@ -67,8 +81,6 @@ pub fn write_text(dir: &Path, name: &str, text: &str) -> Result<(), plot::PlotEr
     write_atomic(&path, text.as_bytes()).map_err(|source| plot::PlotError::Io { path, source })
 }
 
-/// Pretty JSON with a trailing newline; serde_json keeps struct field order, and every map in
-/// a report is a BTreeMap or a Vec, so the text is deterministic.
 /// The line every report command ends with: where the report went, what it cost (`detail`,
 /// may be empty) and, when the folder has one, the page to open.
 pub fn closing_line(dir: &Path, detail: &str) -> String {
@@ -84,8 +96,37 @@ pub fn closing_line(dir: &Path, detail: &str) -> String {
     }
 }
 
+/// Pretty JSON with a trailing newline; serde_json keeps struct field order, and every map in
+/// a report is a BTreeMap or a Vec, so the text is deterministic.
 pub fn to_json<T: serde::Serialize>(value: &T) -> String {
     let mut s = serde_json::to_string_pretty(value).expect("report types serialize");
     s.push('\n');
     s
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// A streamed write that fails halfway leaves neither the file nor its temporary, and
+    /// keeps the whole file an earlier write left; one that succeeds replaces it whole.
+    #[test]
+    fn a_failed_stream_leaves_nothing_half_written() {
+        let dir = tempfile::tempdir().unwrap();
+        let path = dir.path().join("timeline.json");
+        let fail_after = |bytes: &'static [u8]| {
+            move |out: &mut dyn Write| {
+                out.write_all(bytes)?;
+                Err(std::io::Error::other("the writer failed"))
+            }
+        };
+        assert!(write_atomic_with(&path, fail_after(b"{\"half\":")).is_err());
+        let left: Vec<_> = std::fs::read_dir(dir.path()).unwrap().collect();
+        assert!(left.is_empty(), "nothing stays behind: {left:?}");
+
+        write_atomic_with(&path, |out| out.write_all(b"whole\n")).unwrap();
+        assert!(write_atomic_with(&path, fail_after(b"par")).is_err());
+        assert_eq!(std::fs::read(&path).unwrap(), b"whole\n");
+        assert_eq!(std::fs::read_dir(dir.path()).unwrap().count(), 1);
+    }
 }

@@ -6,15 +6,17 @@
 //! Must never run a simulation; it only formats what a run measured.
 
 use std::fmt::Write as _;
+use std::io::{self, Write};
 use std::path::Path;
 
 use crate::algo::{RunConfig, RunResult};
+use crate::engine::CpuSpan;
 use crate::metrics::machine::NodeSummary;
 use crate::metrics::run::RunSummary;
 use crate::output::cost::Cost;
 use crate::output::page::{Page, PALETTE};
 use crate::output::plot::PlotError;
-use crate::output::{to_json, write_atomic, write_text};
+use crate::output::{to_json, write_atomic, write_atomic_with, write_text};
 use crate::raster::encode_png;
 use maud::{html, Markup};
 
@@ -44,9 +46,11 @@ pub fn write_report(
     write_text(dir, "summary.json", &to_json(&summary))?;
     write_text(dir, "summary.md", &summary.markdown())?;
     write_text(dir, "cost.json", &to_json(cost))?;
-    let timeline = timeline_json(result);
-    if let Some(timeline) = &timeline {
-        write_text(dir, "timeline.json", timeline)?;
+    let timeline = result.stats.timeline.as_deref();
+    if let Some(spans) = timeline {
+        let path = dir.join("timeline.json");
+        write_atomic_with(&path, |out| write_timeline(out, result, spans))
+            .map_err(|source| PlotError::Io { path, source })?;
     }
     let image = dir.join(format!("frame-{last:04}.png"));
     write_atomic(&image, &png).map_err(|source| PlotError::Io {
@@ -308,20 +312,34 @@ impl RunSummary {
 /// timeline.json in Chrome trace-event format: a process of node cpus (one track per node, a
 /// complete event per stretch of cpu work, named after its phase) and a process of links (one
 /// track per link that carried traffic, a span while at least one message was in flight over
-/// it). Times in microseconds.
-pub fn timeline_json(result: &RunResult) -> Option<String> {
-    let spans = result.stats.timeline.as_ref()?;
-    let nodes = result.stats.nodes.len();
-    let names = (0..nodes).map(|n| format!("{{\"name\":\"thread_name\",\"ph\":\"M\",\"pid\":0,\"tid\":{n},\"args\":{{\"name\":\"node {n} cpu\"}}}}"));
-    let work = spans.iter().map(|sp| {
-        format!(
-            "{{\"name\":\"{}\",\"ph\":\"X\",\"pid\":0,\"tid\":{},\"ts\":{:.6},\"dur\":{:.6}}}",
-            sp.phase,
-            sp.node,
-            sp.start.as_us_f64(),
-            (sp.end - sp.start).as_us_f64()
-        )
-    });
+/// it). Times in microseconds. Written event by event: a large run's timeline is gigabytes of
+/// text, which must not be built in memory first.
+fn write_timeline(out: &mut dyn Write, result: &RunResult, spans: &[CpuSpan]) -> io::Result<()> {
+    out.write_all(b"{\"displayTimeUnit\":\"ns\",\"traceEvents\":[\n")?;
+    let mut first = true;
+    let mut event = |out: &mut dyn Write, event: std::fmt::Arguments| {
+        if !std::mem::take(&mut first) {
+            out.write_all(b",\n")?;
+        }
+        out.write_fmt(event)
+    };
+    event(out, format_args!("{{\"name\":\"process_name\",\"ph\":\"M\",\"pid\":0,\"args\":{{\"name\":\"node cpus\"}}}}"))?;
+    event(out, format_args!("{{\"name\":\"process_name\",\"ph\":\"M\",\"pid\":1,\"args\":{{\"name\":\"busy links (messages in flight)\"}}}}"))?;
+    for n in 0..result.stats.nodes.len() {
+        event(out, format_args!("{{\"name\":\"thread_name\",\"ph\":\"M\",\"pid\":0,\"tid\":{n},\"args\":{{\"name\":\"node {n} cpu\"}}}}"))?;
+    }
+    for sp in spans {
+        event(
+            out,
+            format_args!(
+                "{{\"name\":\"{}\",\"ph\":\"X\",\"pid\":0,\"tid\":{},\"ts\":{:.6},\"dur\":{:.6}}}",
+                sp.phase,
+                sp.node,
+                sp.start.as_us_f64(),
+                (sp.end - sp.start).as_us_f64()
+            ),
+        )?;
+    }
     let links = result.stats.link_timeline.as_deref().unwrap_or_default();
     let link_name = |l: u32| {
         result
@@ -332,33 +350,21 @@ pub fn timeline_json(result: &RunResult) -> Option<String> {
     };
     let mut named: Vec<u32> = links.iter().map(|s| s.link).collect();
     named.dedup();
-    let link_names = named.into_iter().map(|l| {
-        format!("{{\"name\":\"thread_name\",\"ph\":\"M\",\"pid\":1,\"tid\":{l},\"args\":{{\"name\":\"{}\"}}}}", link_name(l))
-    });
-    let link_work = links.iter().map(|sp| {
-        format!(
-            "{{\"name\":\"in flight\",\"ph\":\"X\",\"pid\":1,\"tid\":{},\"ts\":{:.6},\"dur\":{:.6}}}",
-            sp.link,
-            sp.start.as_us_f64(),
-            (sp.end - sp.start).as_us_f64()
-        )
-    });
-    let processes = [
-        "{\"name\":\"process_name\",\"ph\":\"M\",\"pid\":0,\"args\":{\"name\":\"node cpus\"}}".to_string(),
-        "{\"name\":\"process_name\",\"ph\":\"M\",\"pid\":1,\"args\":{\"name\":\"busy links (messages in flight)\"}}".to_string(),
-    ];
-    let events: Vec<String> = processes
-        .into_iter()
-        .chain(names)
-        .chain(work)
-        .chain(link_names)
-        .chain(link_work)
-        .collect();
-    let out = format!(
-        "{{\"displayTimeUnit\":\"ns\",\"traceEvents\":[\n{}\n]}}\n",
-        events.join(",\n")
-    );
-    Some(out)
+    for l in named {
+        event(out, format_args!("{{\"name\":\"thread_name\",\"ph\":\"M\",\"pid\":1,\"tid\":{l},\"args\":{{\"name\":\"{}\"}}}}", link_name(l)))?;
+    }
+    for sp in links {
+        event(
+            out,
+            format_args!(
+                "{{\"name\":\"in flight\",\"ph\":\"X\",\"pid\":1,\"tid\":{},\"ts\":{:.6},\"dur\":{:.6}}}",
+                sp.link,
+                sp.start.as_us_f64(),
+                (sp.end - sp.start).as_us_f64()
+            ),
+        )?;
+    }
+    out.write_all(b"\n]}\n")
 }
 
 /// One horizontal bar per node: its busy time split by phase, then idle, to the run's end.
