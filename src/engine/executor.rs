@@ -672,8 +672,8 @@ struct Warm {
 
 impl Warm {
     fn of(program: ProgramId, future: &Program) -> Warm {
-        let future: &dyn Future<Output = Result<(), SimError>> = &**future;
-        let start = (future as *const dyn Future<Output = Result<(), SimError>>).cast::<u8>();
+        let future = &**future;
+        let start = std::ptr::from_ref(future).cast::<u8>();
         // A poll reads the future's state word, its locals and the receive it waits in,
         // spread over its lines; only a long future's tail is left cold.
         let len = std::mem::size_of_val(future).min(WARM_BYTES);
@@ -782,8 +782,8 @@ mod tests {
     #[test]
     fn the_look_ahead_covers_a_programs_future() {
         fn lines_of(program: &Program) -> (usize, usize, Warm) {
-            let future: &dyn Future<Output = Result<(), SimError>> = &**program;
-            let start = future as *const dyn Future<Output = Result<(), SimError>> as *const u8;
+            let future = &**program;
+            let start = std::ptr::from_ref(future).cast::<u8>();
             (
                 start as usize,
                 std::mem::size_of_val(future),
