@@ -300,3 +300,49 @@ fn ellsworth_frames_follow_each_other_and_count_the_summing_tree() {
         }
     }
 }
+
+#[test]
+fn rasterizers_wait_longer_for_polygons_over_slower_links() {
+    let run = |bandwidth: &str| {
+        let mut s = spec(
+            "delta.json",
+            "plb-head-standin.json",
+            "sort-middle/ellsworth",
+            64,
+            &[("machine.network.link_bandwidth", bandwidth)],
+        );
+        s.frames = Some("0..2".into());
+        simulate(&s)
+    };
+    let total_wait = |r: &RunResult| -> f64 {
+        r.frames
+            .iter()
+            .flat_map(|f| f.polygon_wait.iter())
+            .map(|w| w.as_secs_f64())
+            .sum()
+    };
+    // At the Delta's 17 MB/s every polygon of the PLB head is in before its rasterizer asks.
+    let (fast, slow) = (run("1.7MB/s"), run("0.17MB/s"));
+    for r in [&fast, &slow] {
+        for f in &r.frames {
+            for (node, (&wait, &finish)) in f.polygon_wait.iter().zip(&f.raster_finish).enumerate()
+            {
+                assert!(
+                    wait <= finish - f.start,
+                    "frame {}, node {node}: waited {wait} for polygons within a rasterization that ended {} after the frame began",
+                    f.frame,
+                    finish - f.start
+                );
+            }
+        }
+    }
+    let (fast_wait, slow_wait) = (total_wait(&fast), total_wait(&slow));
+    assert!(
+        fast_wait > 0.0,
+        "no rasterizer ever waited for a polygon message at 1.7 MB/s ({slow_wait} s at 0.17 MB/s)"
+    );
+    assert!(
+        slow_wait > 2.0 * fast_wait,
+        "links 10 times slower: the rasterizers waited {slow_wait} s against {fast_wait} s"
+    );
+}

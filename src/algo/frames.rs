@@ -129,6 +129,7 @@ impl FrameBook {
         let r = records.entry(frame).or_insert_with(|| FrameRecord {
             frame,
             raster_finish: vec![SimTime::ZERO; n],
+            polygon_wait: vec![SimTime::ZERO; n],
             ..FrameRecord::default()
         });
         f(r)

@@ -274,6 +274,10 @@ pub struct FrameRecord {
     pub messages: u64,
     /// When each node finished rasterizing (paper 001's load imbalance uses these).
     pub raster_finish: Vec<SimTime>,
+    /// Per node, how long its rasterizer waited for polygon messages to arrive (paper 002's
+    /// "waiting for polygons to arrive"): the time from asking for the next message to its
+    /// arrival, summed; zero for algorithms that do not rasterize streams of polygons.
+    pub polygon_wait: Vec<SimTime>,
     /// Sort-first: database records sent to processors that did not hold them.
     pub records_moved: Option<u64>,
     /// Per node, what anti-aliasing did this frame (supersampled, reclaimed and overflowed

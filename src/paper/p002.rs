@@ -669,13 +669,13 @@ fn figure_9_rows(
             format!("polio, 256 processors, two-step {mode_256}: bytes over the run's time, mean over links crossing the middle of the longest side"),
         ),
     );
-    let (centre, edge) = centre_and_edge_idle(machine, best_256)?;
+    let (centre, edge) = centre_and_edge_wait(machine, best_256)?;
     m.put(
         "centre-waits-longer",
         Measured::shape(
             centre > 1.1 * edge,
             format!(
-                "polio, 256 processors, two-step {mode_256}: mean idle time (run time less busy time) {:.1} ms in the central quarter, {:.1} ms on the border",
+                "polio, 256 processors, two-step {mode_256}: mean wait a frame for polygon messages to arrive while rasterizing {:.2} ms in the central quarter, {:.2} ms on the border",
                 centre * 1e3,
                 edge * 1e3
             ),
@@ -810,10 +810,10 @@ fn rate_list(rates: &[(u32, f64)], scale: f64) -> String {
         .join(", ")
 }
 
-/// Mean idle seconds (the run's end less the node's busy time) of the nodes in the central
-/// quarter of the mesh (within a quarter of each side from its middle) and of those on its
-/// border.
-fn centre_and_edge_idle(machine: &MachineConfig, r: &RunResult) -> Result<(f64, f64), String> {
+/// Mean seconds a frame that the nodes in the central quarter of the mesh (within a quarter
+/// of each side from its middle), and those on its border, waited for polygon messages to
+/// arrive while rasterizing.
+fn centre_and_edge_wait(machine: &MachineConfig, r: &RunResult) -> Result<(f64, f64), String> {
     let procs = r.stats.nodes.len() as u32;
     let dims = machine.with_nodes(procs)?.network.dims;
     let coords = |node: u32| {
@@ -826,18 +826,20 @@ fn centre_and_edge_idle(machine: &MachineConfig, r: &RunResult) -> Result<(f64, 
     };
     let central = |node: u32| coords(node).all(|(c, k)| (2 * c + 1).abs_diff(k) <= k / 2);
     let border = |node: u32| coords(node).any(|(c, k)| c == 0 || c + 1 == k);
-    let end = r.stats.end.as_secs_f64();
-    let idle = |keep: &dyn Fn(u32) -> bool| {
+    let waited = |node: usize| -> f64 {
+        r.frames
+            .iter()
+            .map(|f| f.polygon_wait[node].as_secs_f64())
+            .sum()
+    };
+    let mean_wait = |keep: &dyn Fn(u32) -> bool| {
         mean(
-            r.stats
-                .nodes
-                .iter()
-                .enumerate()
-                .filter(|(i, _)| keep(*i as u32))
-                .map(|(_, n)| end - n.busy().as_secs_f64()),
+            (0..procs)
+                .filter(|&i| keep(i))
+                .map(|i| waited(i as usize) / r.frames.len().max(1) as f64),
         )
     };
-    Ok((idle(&central), idle(&border)))
+    Ok((mean_wait(&central), mean_wait(&border)))
 }
 
 /// Mean bytes per second over the links that cross the middle of the partition's longest

@@ -542,8 +542,11 @@ pub(crate) async fn rasterize(
     match incoming {
         Incoming::Streams(streams) => {
             let mut arrivals = redistribute::Streams::new(ctx.n);
+            let mut waited = SimTime::ZERO;
             while arrivals.ended() < streams {
+                let asked = node.now();
                 let env = node.recv(Filter::tag(TAG_POLYGONS)).await;
+                waited += env.arrived.saturating_sub(asked);
                 let Msg::Polygons {
                     frame: f,
                     tris,
@@ -557,6 +560,7 @@ pub(crate) async fn rasterize(
                 node.compute(&charge::back_end(&c)).await;
                 arrivals.arrived(env.src, end);
             }
+            ctx.record(frame, |r| r.polygon_wait[me as usize] = waited);
         }
         Incoming::Records(messages) => {
             let geometry = ctx.geometry(node, frame)?;
