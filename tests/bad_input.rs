@@ -262,6 +262,27 @@ fn bad_flags_are_refused_with_exit_code_2() {
               "--algo", "sort-middle/static", "--procs", "4", "--frames", "5..2"],
             "'5..2' is an empty range",
         ),
+        // A timeline's frames lie within the run's, and there must be a timeline.
+        (
+            &["run", "--machine", "machines/delta.json", "--scene", "scenes/plb-head-standin.json",
+              "--algo", "sort-middle/static", "--procs", "4", "--frames", "0..2", "--timeline-frames", "1..3"],
+            "--timeline-frames 1..3: the run has frames 0..2 (--frames); the timeline can cover only frames within them",
+        ),
+        (
+            &["run", "--machine", "machines/delta.json", "--scene", "scenes/spd-teapot.json",
+              "--algo", "sort-middle/static", "--procs", "4", "--timeline-frames", "2..1"],
+            "--timeline-frames 2..1: '2..1' is an empty range",
+        ),
+        (
+            &["run", "--machine", "machines/delta.json", "--scene", "scenes/spd-teapot.json",
+              "--algo", "sort-middle/static", "--procs", "4", "--timeline-frames", "x"],
+            "--timeline-frames x: 'x' is not a frame range",
+        ),
+        (
+            &["run", "--machine", "machines/delta.json", "--scene", "scenes/spd-teapot.json",
+              "--algo", "sort-middle/static", "--procs", "4", "--no-timeline", "--timeline-frames", "0"],
+            "the argument '--no-timeline' cannot be used with '--timeline-frames <FRAMES>'",
+        ),
         // Slurm values are checked before they reach a batch script.
         (
             &["sweep", "sweeps/default.json", "--slurm", "--mem", "lots"],

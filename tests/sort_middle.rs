@@ -261,6 +261,64 @@ fn recording_a_timeline_changes_no_result() {
     assert_eq!(plain.image.hash(), watched.image.hash());
 }
 
+/// `--timeline-frames`: the timeline of some frames is the whole run's timeline cut where the
+/// first of them begins and where the frame after them begins (cpu spans in the order they
+/// were reserved), and the run is the same run.
+#[test]
+fn a_timeline_of_some_frames_is_the_whole_timeline_cut_at_their_beginnings() {
+    for (machine, algo, procs) in [
+        ("delta.json", "sort-middle/ellsworth", 6),
+        ("pixelflow-pipeline.json", "sort-last/pixelflow", 4),
+    ] {
+        let mut s = spec(machine, "plb-head-standin.json", algo, procs, &[]);
+        s.frames = Some("0..3".into());
+        let mut cfg = s.resolve(None).unwrap();
+        cfg.timeline = true;
+        let whole = run(&cfg).unwrap();
+        cfg.timeline_frames = Some(1..2);
+        let part = run(&cfg).unwrap();
+        assert_eq!(whole.frames, part.frames, "{algo}");
+        assert_eq!(whole.stats.nodes, part.stats.nodes, "{algo}");
+        assert_eq!(whole.image.hash(), part.image.hash(), "{algo}");
+
+        let (all, cut) = (
+            whole.stats.timeline.as_deref().unwrap(),
+            part.stats.timeline.as_deref().unwrap(),
+        );
+        assert!(
+            !cut.is_empty() && cut.len() < all.len(),
+            "{algo}: {} of {} spans",
+            cut.len(),
+            all.len()
+        );
+        let from = all
+            .iter()
+            .position(|s| *s == cut[0])
+            .expect("the cut's first span is in the whole");
+        let to = from + cut.len();
+        assert_eq!(
+            &all[from..to],
+            cut,
+            "{algo}: the cut is one stretch of the whole"
+        );
+        let (begins, next_begins) = (whole.frames[1].start, whole.frames[2].start);
+        assert!(
+            cut.iter().all(|s| s.start >= begins),
+            "{algo}: a span of the cut starts before frame 1 begins at {begins}"
+        );
+        assert!(
+            all[to..].iter().all(|s| s.start >= next_begins),
+            "{algo}: a span left out after the cut starts before frame 2 begins at {next_begins}"
+        );
+        if let Some(links) = part.stats.link_timeline.as_deref() {
+            assert!(
+                links.iter().all(|l| l.start >= begins),
+                "{algo}: link occupancy before frame 1"
+            );
+        }
+    }
+}
+
 /// Paper 002 measures a frame rate over a viewing sequence, so whatever processor 0 waits for
 /// between frames belongs to a frame: with the previous frame's counts each frame begins where
 /// the one before ended, and a summing tree slower than a frame lengthens the next frame (it

@@ -8,6 +8,7 @@
 
 use std::cell::RefCell;
 use std::collections::BTreeMap;
+use std::ops::Range;
 use std::rc::Rc;
 use std::sync::Arc;
 
@@ -25,6 +26,8 @@ pub(crate) struct FrameBook {
     viewport: Viewport,
     geometry: RefCell<BTreeMap<u32, Shared>>,
     records: RefCell<BTreeMap<u32, FrameRecord>>,
+    /// The frames a recorded timeline covers (all when `None`).
+    timeline_frames: Option<Range<u32>>,
 }
 
 /// One frame's geometry and the vertex preparation all processors share: preparing a vertex
@@ -66,6 +69,7 @@ impl FrameBook {
         viewport: Viewport,
         frame: u32,
         first: Rc<FrameGeometry>,
+        timeline_frames: Option<Range<u32>>,
     ) -> FrameBook {
         FrameBook {
             scene,
@@ -76,6 +80,20 @@ impl FrameBook {
                 Shared::new(first, viewport, None),
             )])),
             records: RefCell::default(),
+            timeline_frames,
+        }
+    }
+
+    /// `frame` begins now at `node` (the node that times frames), unless it has begun
+    /// already; a timeline limited to some frames is resumed or paused here.
+    pub fn begin<M: Payload>(&self, node: &Node<M>, frame: u32) {
+        let now = node.now();
+        let first = self.record(frame, |r| !std::mem::replace(&mut r.begun, true));
+        if first {
+            self.record(frame, |r| r.start = now);
+            if let Some(covered) = &self.timeline_frames {
+                node.record_timeline(covered.contains(&frame));
+            }
         }
     }
 

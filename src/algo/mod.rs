@@ -257,6 +257,10 @@ pub struct RunConfig {
     pub seed: u64,
     /// Record every cpu span for a timeline (costs host memory).
     pub timeline: bool,
+    /// Record the timeline only from the start of the first of these frames to the start of
+    /// the frame after the last (all of the run when `None`), so that a long run's timeline
+    /// costs the memory of a few frames.
+    pub timeline_frames: Option<Range<u32>>,
 }
 
 /// What one frame took.
@@ -362,6 +366,10 @@ where
         .map_err(|e| RunError::Unsupported(e.to_string()))?;
     if cfg.timeline {
         sim.record_timeline();
+        // A timeline of later frames starts paused; the frames' beginnings resume it.
+        if let Some(covered) = &cfg.timeline_frames {
+            sim.pause_timeline(covered.start > cfg.frames.start);
+        }
     }
     for p in 0..cfg.machine.nodes {
         sim.spawn(

@@ -264,8 +264,12 @@ pub struct RunArgs {
     #[arg(long, default_value_t = 1, allow_negative_numbers = true)]
     pub seed: u64,
     /// Skip timeline.json (recording it costs host memory on large runs).
-    #[arg(long)]
+    #[arg(long, conflicts_with = "timeline_frames")]
     pub no_timeline: bool,
+    /// Frames timeline.json covers, within --frames (A..B, A..=B or A); all when absent. A
+    /// long run's timeline then costs the memory of these frames only.
+    #[arg(long, value_name = "FRAMES", allow_negative_numbers = true)]
+    pub timeline_frames: Option<String>,
     /// Report folder (summary.json, summary.md, cost.json, timeline.json, frame PNG).
     #[arg(
         short,

@@ -19,6 +19,11 @@ pub(super) fn run(ctx: &Context, args: &RunArgs, verbose: bool) -> Result<(), Fa
     )?;
     let mut cfg = spec.resolve(None)?;
     cfg.timeline = !args.no_timeline;
+    cfg.timeline_frames = args
+        .timeline_frames
+        .as_deref()
+        .map(|text| timeline_frames(text, &cfg.frames, cfg.scene.frame_count()))
+        .transpose()?;
     let clock = Stopwatch::start();
     let result = crate::algo::run(&cfg)?;
     let cost = clock.cost(result.stats.events);
@@ -26,6 +31,23 @@ pub(super) fn run(ctx: &Context, args: &RunArgs, verbose: bool) -> Result<(), Fa
     print!("{}", summary.terminal(verbose));
     print!("\n{}", crate::report::run::closing_line(&args.out, &cost));
     Ok(())
+}
+
+/// `--timeline-frames`: frames of the scene, and of the run's `--frames`.
+fn timeline_frames(
+    text: &str,
+    run: &std::ops::Range<u32>,
+    scene_frames: u32,
+) -> Result<std::ops::Range<u32>, Failure> {
+    let bad = |why: String| Failure::BadInput(format!("--timeline-frames {text}: {why}"));
+    let covered = crate::spec::run::parse_frames(Some(text), scene_frames).map_err(bad)?;
+    if covered.start < run.start || covered.end > run.end {
+        return Err(bad(format!(
+            "the run has frames {}..{} (--frames); the timeline can cover only frames within them",
+            run.start, run.end
+        )));
+    }
+    Ok(covered)
 }
 
 /// The run spec that `run`'s and `accuracy`'s flags spell: (machine, scene, algo), (procs,

@@ -210,6 +210,8 @@ pub(super) struct State<M> {
     pub events: u64,
     /// Cpu spans, when the run records a timeline (off by default: it costs memory).
     timeline: Option<Vec<CpuSpan>>,
+    /// The timeline is recorded but paused (outside the frames it covers).
+    timeline_paused: bool,
     /// A charge that would end past the largest simulated time: the run stops with it at the
     /// next step (checked in the step's one borrow of the state), as the charging program
     /// cannot return an error from inside `compute`.
@@ -225,6 +227,14 @@ impl<M: Payload> State<M> {
     pub fn schedule(&mut self, at: SimTime, event: Event<M>) {
         debug_assert!(at >= self.now, "an event was scheduled in the past");
         self.queue.push(at, event);
+    }
+
+    /// Pauses or resumes a recorded timeline: its cpu spans and its links' occupancy.
+    pub fn pause_timeline(&mut self, paused: bool) {
+        self.timeline_paused = paused;
+        if let Some(net) = self.net.as_mut() {
+            net.pause_occupancy(paused);
+        }
     }
 
     pub fn meta(&mut self) -> &mut ProgramMeta {
@@ -268,7 +278,7 @@ impl<M: Payload> State<M> {
             n.stats.comm += t;
         }
         if let Some(spans) = &mut self.timeline {
-            if t > SimTime::ZERO {
+            if t > SimTime::ZERO && !self.timeline_paused {
                 spans.push(CpuSpan {
                     node,
                     phase,
@@ -456,6 +466,7 @@ impl<M: Payload> Sim<M> {
             delivered: Vec::new(),
             events: 0,
             timeline: None,
+            timeline_paused: false,
             overflow: None,
             overflow_cause: None,
             unpriced_used: 0,
@@ -477,6 +488,11 @@ impl<M: Payload> Sim<M> {
         if let Some(net) = st.net.as_mut() {
             net.record_occupancy();
         }
+    }
+
+    /// Pauses (or resumes) the recorded timeline from now on (see `Node::record_timeline`).
+    pub fn pause_timeline(&mut self, paused: bool) {
+        self.state.borrow_mut().pause_timeline(paused);
     }
 
     /// The handle through which programs on node `id` act.

@@ -120,6 +120,12 @@ impl<M: Payload> Node<M> {
         self.st.borrow().now
     }
 
+    /// Resumes (`true`) or pauses a recorded timeline from now on; nothing when the run
+    /// records none. Changes what the run reports, never what it simulates.
+    pub fn record_timeline(&self, on: bool) {
+        self.st.borrow_mut().pause_timeline(!on);
+    }
+
     /// Labels this program's following work for the per-phase busy-time report.
     pub fn phase(&self, label: &'static str) {
         self.st.borrow_mut().meta().phase = label;

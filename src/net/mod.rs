@@ -664,6 +664,14 @@ impl Network {
         self.occupancy.get_or_insert_with(Default::default);
     }
 
+    /// Stops (or resumes) recording the occupancy of messages injected from now on; those
+    /// already recorded are kept to their delivery.
+    pub fn pause_occupancy(&mut self, paused: bool) {
+        if let Some(o) = &mut self.occupancy {
+            o.paused = paused;
+        }
+    }
+
     /// The recorded link occupancy, merged per link; empty unless recording.
     pub fn link_spans(&self) -> Vec<LinkSpan> {
         self.occupancy

@@ -24,6 +24,8 @@ pub(super) struct Occupancy {
     pending: BTreeMap<MsgId, (SimTime, Vec<LinkId>)>,
     /// Per link, the intervals recorded so far (merged when read).
     intervals: BTreeMap<LinkId, Vec<(SimTime, SimTime)>>,
+    /// Messages injected now are not recorded.
+    pub paused: bool,
 }
 
 impl Occupancy {
@@ -34,6 +36,9 @@ impl Occupancy {
         route: &[LinkId],
         arrival: Option<SimTime>,
     ) {
+        if self.paused {
+            return;
+        }
         match arrival {
             Some(at) => self.occupy(route, now, at),
             None => {

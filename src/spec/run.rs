@@ -126,6 +126,7 @@ impl RunSpec {
             options,
             seed: self.seed,
             timeline: false,
+            timeline_frames: None,
         })
     }
 

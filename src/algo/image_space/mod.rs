@@ -265,15 +265,10 @@ impl Ctx {
         self.book.record(frame, f)
     }
 
-    /// `frame` begins at `now` at processor 0, unless it has begun already: a frame's time
-    /// runs from its beginning to its end, whatever processor 0 waits for in between.
-    pub(crate) fn begin_frame(&self, frame: u32, now: SimTime) {
-        self.record(frame, |r| {
-            if !r.begun {
-                r.start = now;
-                r.begun = true;
-            }
-        });
+    /// `frame` begins now at processor 0, unless it has begun already: a frame's time runs
+    /// from its beginning to its end, whatever processor 0 waits for in between.
+    pub(crate) fn begin_frame(&self, node: &Node<Msg>, frame: u32) {
+        self.book.begin(node, frame);
     }
 
     pub(crate) fn count_message(&self, frame: u32, bytes: Bytes) {
@@ -340,7 +335,7 @@ pub(crate) async fn start_frame(
         .await;
     }
     if me == 0 {
-        ctx.begin_frame(frame, node.now());
+        ctx.begin_frame(node, frame);
     }
     assignment
 }
@@ -726,6 +721,7 @@ where
             viewport,
             cfg.frames.start,
             Rc::new(first),
+            cfg.timeline.then(|| cfg.timeline_frames.clone()).flatten(),
         ),
         next_assignment: RefCell::default(),
         images: RefCell::new(vec![None; n as usize]),

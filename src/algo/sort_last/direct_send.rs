@@ -138,8 +138,7 @@ pub(crate) async fn processor<P: ShippedPixel>(
     let w = ctx.viewport.width();
     for frame in ctx.frames() {
         if me == 0 {
-            let now = node.now();
-            ctx.record(frame, |r| r.start = now);
+            ctx.book.begin(&node, frame);
         }
         ctx.begin_aa(&node, frame)?;
         let mut part = Part::<P>::new(&ctx, me);

@@ -145,8 +145,7 @@ pub async fn start_frame<P: ShippedPixel>(
         node.recv(Filter::tag(tag(START, frame))).await;
     }
     if node.id() == 0 {
-        let now = node.now();
-        ctx.record(frame, |r| r.start = now);
+        ctx.book.begin(node, frame);
     }
     ctx.begin_aa(node, frame)
 }

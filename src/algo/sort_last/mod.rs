@@ -824,6 +824,7 @@ pub fn run(cfg: &RunConfig, variant: Variant) -> Result<RunResult, RunError> {
             screen,
             cfg.frames.start,
             Rc::new(first),
+            cfg.timeline.then(|| cfg.timeline_frames.clone()).flatten(),
         ),
         image: RefCell::default(),
         shares: RefCell::default(),

@@ -53,8 +53,7 @@ pub(crate) async fn processor<P: ShippedPixel>(
     let (w, h) = (ctx.viewport.width(), ctx.viewport.height());
     for frame in ctx.frames() {
         if me == 0 {
-            let now = node.now();
-            ctx.record(frame, |r| r.start = now);
+            ctx.book.begin(&node, frame);
         }
         ctx.begin_aa(&node, frame)?;
         node.phase("render");

@@ -42,7 +42,7 @@ pub(super) async fn processor(node: Node<Msg>, ctx: Rc<Ctx>) -> Result<(), SimEr
     for frame in ctx.frames() {
         node.phase("synchronize");
         let update = if me == 0 {
-            ctx.begin_frame(frame, node.now());
+            ctx.begin_frame(&node, frame);
             ctx.next_assignment.borrow_mut().take()
         } else {
             None
@@ -117,7 +117,7 @@ pub(super) async fn processor(node: Node<Msg>, ctx: Rc<Ctx>) -> Result<(), SimEr
         if me == 0 && ctx.settings.counts == CountsFrom::Previous && !ctx.is_last(frame) {
             // Figure 6's loop starts with the assignment, so waiting for the summing tree
             // and processor 0's packing is the next frame's time, as in a frame rate.
-            ctx.begin_frame(frame + 1, node.now());
+            ctx.begin_frame(&node, frame + 1);
             node.recv(Filter::tag(crate::algo::image_space::TAG_ASSIGNED))
                 .await;
         }
