@@ -536,7 +536,17 @@ impl<M: Payload> Sim<M> {
             });
         }
         drop(st);
-        Ok(self.stats())
+        // The run is over: its timeline is handed over, not copied (it can be gigabytes).
+        let mut stats = self.counters();
+        let mut st = self.state.borrow_mut();
+        let st = &mut *st;
+        stats.timeline = st.timeline.take();
+        stats.link_timeline = stats
+            .timeline
+            .as_ref()
+            .and(st.net.as_mut())
+            .map(Network::take_link_spans);
+        Ok(stats)
     }
 
     /// Processes every event up to and including `horizon`; programs may still be waiting
@@ -637,6 +647,19 @@ impl<M: Payload> Sim<M> {
 
     /// What the run has measured so far.
     pub fn stats(&self) -> RunStats {
+        let mut stats = self.counters();
+        let st = self.state.borrow();
+        stats.timeline = st.timeline.clone();
+        stats.link_timeline = st
+            .timeline
+            .as_ref()
+            .and(st.net.as_ref())
+            .map(Network::link_spans);
+        stats
+    }
+
+    /// What the run has measured so far, its timeline aside.
+    fn counters(&self) -> RunStats {
         let st = self.state.borrow();
         RunStats {
             end: st.now,
@@ -645,13 +668,9 @@ impl<M: Payload> Sim<M> {
             nodes: st.nodes.iter().map(|n| n.stats.clone()).collect(),
             links: st.net.as_ref().map(Network::link_stats).unwrap_or_default(),
             memory: st.nodes.iter().map(|n| n.pool.stats()).collect(),
-            timeline: st.timeline.clone(),
+            timeline: None,
             unpriced_ops: crate::machine::Op::from_bits(st.unpriced_used),
-            link_timeline: st
-                .timeline
-                .as_ref()
-                .and(st.net.as_ref())
-                .map(Network::link_spans),
+            link_timeline: None,
         }
     }
 

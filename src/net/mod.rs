@@ -680,6 +680,14 @@ impl Network {
             .unwrap_or_default()
     }
 
+    /// [`Network::link_spans`], handing the record over (recording stops).
+    pub fn take_link_spans(&mut self) -> Vec<LinkSpan> {
+        self.occupancy
+            .take()
+            .map(occupancy::Occupancy::into_spans)
+            .unwrap_or_default()
+    }
+
     /// Traffic per link, in link index order.
     pub fn link_stats(&self) -> Vec<LinkStats> {
         self.topology

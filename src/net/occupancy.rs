@@ -65,28 +65,42 @@ impl Occupancy {
     pub fn spans(&self) -> Vec<LinkSpan> {
         let mut out = Vec::new();
         for (&link, intervals) in &self.intervals {
-            let mut sorted = intervals.clone();
-            sorted.sort_unstable();
-            let mut current: Option<(SimTime, SimTime)> = None;
-            for (s, e) in sorted {
-                current = match current {
-                    Some((cs, ce)) if s <= ce => Some((cs, ce.max(e))),
-                    Some((cs, ce)) => {
-                        out.push(LinkSpan {
-                            link,
-                            start: cs,
-                            end: ce,
-                        });
-                        Some((s, e))
-                    }
-                    None => Some((s, e)),
-                };
-            }
-            if let Some((start, end)) = current {
-                out.push(LinkSpan { link, start, end });
-            }
+            merge_into(&mut out, link, intervals.clone());
         }
         out
+    }
+
+    /// [`Occupancy::spans`], freeing each link's intervals as soon as they are merged, so
+    /// that the raw record and the merged spans are not both held whole.
+    pub fn into_spans(self) -> Vec<LinkSpan> {
+        let mut out = Vec::new();
+        for (link, intervals) in self.intervals {
+            merge_into(&mut out, link, intervals);
+        }
+        out
+    }
+}
+
+/// Appends `link`'s intervals, sorted and with overlapping ones merged, to `out`.
+fn merge_into(out: &mut Vec<LinkSpan>, link: LinkId, mut intervals: Vec<(SimTime, SimTime)>) {
+    intervals.sort_unstable();
+    let mut current: Option<(SimTime, SimTime)> = None;
+    for (s, e) in intervals {
+        current = match current {
+            Some((cs, ce)) if s <= ce => Some((cs, ce.max(e))),
+            Some((cs, ce)) => {
+                out.push(LinkSpan {
+                    link,
+                    start: cs,
+                    end: ce,
+                });
+                Some((s, e))
+            }
+            None => Some((s, e)),
+        };
+    }
+    if let Some((start, end)) = current {
+        out.push(LinkSpan { link, start, end });
     }
 }
 
@@ -105,25 +119,24 @@ mod tests {
         o.injected(2, t(5), &[4], None);
         o.injected(3, t(30), &[4], Some(t(40)));
         o.delivered(2, t(20));
-        assert_eq!(
-            o.spans(),
-            vec![
-                LinkSpan {
-                    link: 3,
-                    start: t(0),
-                    end: t(10)
-                },
-                LinkSpan {
-                    link: 4,
-                    start: t(0),
-                    end: t(20)
-                },
-                LinkSpan {
-                    link: 4,
-                    start: t(30),
-                    end: t(40)
-                },
-            ]
-        );
+        let expected = vec![
+            LinkSpan {
+                link: 3,
+                start: t(0),
+                end: t(10),
+            },
+            LinkSpan {
+                link: 4,
+                start: t(0),
+                end: t(20),
+            },
+            LinkSpan {
+                link: 4,
+                start: t(30),
+                end: t(40),
+            },
+        ];
+        assert_eq!(o.spans(), expected);
+        assert_eq!(o.into_spans(), expected, "the consuming merge");
     }
 }
