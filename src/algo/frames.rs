@@ -88,12 +88,15 @@ impl FrameBook {
     /// already; a timeline limited to some frames is resumed or paused here.
     pub fn begin<M: Payload>(&self, node: &Node<M>, frame: u32) {
         let now = node.now();
-        let first = self.record(frame, |r| !std::mem::replace(&mut r.begun, true));
-        if first {
-            self.record(frame, |r| r.start = now);
-            if let Some(covered) = &self.timeline_frames {
-                node.record_timeline(covered.contains(&frame));
+        let first = self.record(frame, |r| {
+            let first = !r.begun;
+            if first {
+                (r.start, r.begun) = (now, true);
             }
+            first
+        });
+        if let (true, Some(covered)) = (first, &self.timeline_frames) {
+            node.record_timeline(covered.contains(&frame));
         }
     }
 
