@@ -645,19 +645,6 @@ impl<M: Payload> Sim<M> {
         }
     }
 
-    /// What the run has measured so far.
-    pub fn stats(&self) -> RunStats {
-        let mut stats = self.counters();
-        let st = self.state.borrow();
-        stats.timeline = st.timeline.clone();
-        stats.link_timeline = st
-            .timeline
-            .as_ref()
-            .and(st.net.as_ref())
-            .map(Network::link_spans);
-        stats
-    }
-
     /// What the run has measured so far, its timeline aside.
     fn counters(&self) -> RunStats {
         let st = self.state.borrow();

@@ -672,15 +672,8 @@ impl Network {
         }
     }
 
-    /// The recorded link occupancy, merged per link; empty unless recording.
-    pub fn link_spans(&self) -> Vec<LinkSpan> {
-        self.occupancy
-            .as_ref()
-            .map(|o| o.spans())
-            .unwrap_or_default()
-    }
-
-    /// [`Network::link_spans`], handing the record over (recording stops).
+    /// The recorded link occupancy, merged per link, handed over (recording stops); empty
+    /// unless recording.
     pub fn take_link_spans(&mut self) -> Vec<LinkSpan> {
         self.occupancy
             .take()
