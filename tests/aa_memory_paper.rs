@@ -4,7 +4,7 @@
 //! are held to 25% of the paper's edge-pixel shares by tests/scene_standins.rs), so the
 //! scene-dependent figures are held to tolerances of that order, not to the paper's digits.
 
-mod common;
+use crate::common;
 
 use common::scene;
 

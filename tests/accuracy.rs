@@ -3,7 +3,7 @@
 //! it, the study's guaranteed fidelity relation, and the command end to end (files written,
 //! accuracy.json byte-identical across runs, modes the algorithm lacks refused with exit 2).
 
-mod common;
+use crate::common;
 
 use std::path::Path;
 use std::process::{Command, Output};

@@ -10,7 +10,7 @@
 //! move answers (a model fix, not a speed-up), the new hashes are printed for the commit
 //! that says why.
 
-mod common;
+use crate::common;
 
 use std::collections::BTreeMap;
 use std::path::PathBuf;

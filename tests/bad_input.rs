@@ -2,7 +2,7 @@
 //! binary with exit code 2, one message containing the fragment listed for it in that
 //! folder's EXPECTED.txt, no panic, and no output files written.
 
-mod common;
+use crate::common;
 
 use std::path::{Path, PathBuf};
 use std::process::{Command, Output};

@@ -5,7 +5,7 @@
 //! is fitted the same way (paper 003's Brooks footprint), and every shipped fit is recorded
 //! by the file it produced.
 
-mod common;
+use crate::common;
 
 use std::path::Path;
 use std::process::{Command, Output};

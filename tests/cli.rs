@@ -1,7 +1,7 @@
 //! The command line end to end: bundled specs validate, outputs are byte-identical across
 //! runs of the same inputs.
 
-mod common;
+use crate::common;
 
 use std::path::PathBuf;
 use std::process::{Command, Output};

@@ -1,7 +1,7 @@
 //! Node programs talking through each transport model: the engine hands messages to the
 //! network and back without adding or losing time.
 
-mod common;
+use crate::common;
 
 use std::cell::RefCell;
 use std::rc::Rc;

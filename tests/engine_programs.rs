@@ -1,7 +1,7 @@
 //! The engine seen by node programs: cpu queueing, send/receive costs, matching, blocking
 //! sends, deadlock reports, memory errors, broadcast, determinism.
 
-mod common;
+use crate::common;
 
 use std::cell::RefCell;
 use std::rc::Rc;

@@ -3,7 +3,7 @@
 //! list of the algorithm's options and their defaults, and a request-balancing option without
 //! request balancing is refused by name.
 
-mod common;
+use crate::common;
 
 use std::collections::BTreeMap;
 use std::sync::Arc;

@@ -7,7 +7,7 @@
 //! (`--allow-file-access-from-files` lets it read the frame's document) and prints its
 //! verdict into the DOM that `--dump-dom` returns.
 
-mod common;
+use crate::common;
 
 use std::path::Path;
 use std::process::{Command, Output};

@@ -1,7 +1,7 @@
 //! Coverage: the top-left fill rule on shared edges and exact pixel centres, and
 //! watertightness of fans, grids, closed meshes and huge meshes (every pixel exactly once).
 
-mod raster_common;
+use crate::raster_common;
 
 use glam::Vec3;
 use rand::Rng;

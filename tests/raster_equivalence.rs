@@ -2,7 +2,7 @@
 //! whole framebuffer, the sparse buffer vs the framebuffer, setup-then-scan (with a byte
 //! round trip) vs direct drawing; plus property tests of the fill rule and interpolation.
 
-mod raster_common;
+use crate::raster_common;
 
 use proptest::prelude::*;
 use rand::Rng;

@@ -3,7 +3,7 @@
 //! sliver the exact edge functions of the snapped vertices give it (integer arithmetic in
 //! `i128`, the top-left rule), with no clipping plane moving an edge on the way.
 
-mod raster_common;
+use crate::raster_common;
 
 use glam::{Vec3, Vec4};
 use raster_common::vp;

@@ -2,7 +2,7 @@
 //! triangles crossing the near plane or behind the eye (never a panic, always counted), depth
 //! exact at vertices and inside the triangle's range, flat colours exact.
 
-mod raster_common;
+use crate::raster_common;
 
 use glam::{Vec3, Vec4};
 use rand::Rng;

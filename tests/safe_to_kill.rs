@@ -3,7 +3,7 @@
 //! and renamed), and a sweep killed part way and run again into the same folder finishes with
 //! the table an uninterrupted sweep writes.
 
-mod common;
+use crate::common;
 
 use std::path::Path;
 use std::process::{Child, Command, Stdio};

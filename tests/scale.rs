@@ -5,7 +5,7 @@
 //! sequential renderer's, bit for bit, and binary swap sent exactly its messages; with blocks
 //! and bounds, the run fits the machine's own memory per process.
 
-mod common;
+use crate::common;
 
 use common::{run_frame0, scene};
 use sortsim::algo::reference;

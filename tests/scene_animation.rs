@@ -1,7 +1,7 @@
 //! Cameras and animation: orbit, recorded views, per-object spin and tumble move the
 //! geometry as specified, and a static transform places it.
 
-mod common;
+use crate::common;
 
 use sortsim::scene::{FrameGeometry, Scene};
 

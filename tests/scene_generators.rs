@@ -2,7 +2,7 @@
 //! parameters and seed, closed solids face outward, and `triangles` refinement is exact,
 //! conforming and area-preserving. Also the frame pipeline: winding convention and speed.
 
-mod common;
+use crate::common;
 
 use std::collections::BTreeMap;
 use std::path::Path;

@@ -2,7 +2,7 @@
 //! renderer) must produce the z-buffer's image bit for bit, and `sortsim render` must write
 //! that image as a PNG that decodes to the same pixels.
 
-mod common;
+use crate::common;
 
 use std::path::Path;
 

@@ -2,7 +2,7 @@
 //! colours and normals are kept, and bad coordinates or indices are refused with file and
 //! line. Also the `screen` camera: OBJ pixels and colours come out unchanged.
 
-mod common;
+use crate::common;
 
 use std::path::Path;
 

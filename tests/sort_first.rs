@@ -3,7 +3,7 @@
 //! no primitive after the first frame; on the PLB head's rotation every frame moves exactly
 //! the records the scene's own screen motion implies, worked out here from the frames.
 
-mod common;
+use crate::common;
 
 use std::sync::Arc;
 

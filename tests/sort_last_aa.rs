@@ -3,7 +3,7 @@
 //! sample, so every algorithm's image equals `sortsim render --aa supersample:N`, and the
 //! traffic of the merges grows with the samples they move.
 
-mod common;
+use crate::common;
 
 use std::collections::BTreeMap;
 use std::sync::Arc;

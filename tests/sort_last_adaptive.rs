@@ -3,7 +3,7 @@
 //! so images follow the sequential adaptive render, traffic grows with the super pixels
 //! moved, and the nodes' fixed pools bound what a frame may supersample.
 
-mod common;
+use crate::common;
 
 use std::sync::Arc;
 

@@ -2,7 +2,7 @@
 //! renderer's at every node count (with the fold of the extra nodes when N is not a power of
 //! two) on several topologies, and a frame moves exactly the closed form's bytes.
 
-mod common;
+use crate::common;
 
 use std::sync::Arc;
 

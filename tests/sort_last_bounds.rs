@@ -4,7 +4,7 @@
 //! are what makes bounds pay (a node's rectangle is small only when its primitives are close
 //! together in space).
 
-mod common;
+use crate::common;
 
 use std::sync::Arc;
 

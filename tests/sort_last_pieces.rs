@@ -3,7 +3,7 @@
 //! rle the bytes every node sends even out on a scene whose geometry sits in the middle of
 //! the screen.
 
-mod common;
+use crate::common;
 
 use common::{run_frame0, scene};
 use sortsim::algo::{reference, RunResult};

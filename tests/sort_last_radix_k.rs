@@ -3,7 +3,7 @@
 //! closed form's bytes and messages, and a factorization that does not multiply to the node
 //! count is refused with what would be valid.
 
-mod common;
+use crate::common;
 
 use std::process::Command;
 use std::sync::Arc;

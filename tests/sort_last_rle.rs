@@ -2,7 +2,7 @@
 //! the sequential renderer's, as with dense pieces, and fewer bytes travel where frames are
 //! sparse.
 
-mod common;
+use crate::common;
 
 use std::sync::Arc;
 

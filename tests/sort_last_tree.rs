@@ -2,7 +2,7 @@
 //! node count (powers of two or not) on several topologies, and a frame moves exactly N - 1
 //! full frames.
 
-mod common;
+use crate::common;
 
 use std::sync::Arc;
 

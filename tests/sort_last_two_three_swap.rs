@@ -2,7 +2,7 @@
 //! node count, dense and rle, on several topologies; on N = 2^a 3^b a frame moves exactly the
 //! closed form's bytes and messages; on powers of two it is binary swap's exchange.
 
-mod common;
+use crate::common;
 
 use std::sync::Arc;
 

@@ -2,7 +2,7 @@
 //! are what the algorithm's structure dictates, outputs are deterministic, and the event
 //! count follows messages, not pixels.
 
-mod common;
+use crate::common;
 
 use std::collections::BTreeMap;
 use std::path::Path;

@@ -2,7 +2,7 @@
 //! Delta, Figure 9) and paper 000 (static regions on the Power Challenge, Table 1). Each
 //! assertion names its figure and states its tolerance.
 
-mod common;
+use crate::common;
 
 use common::scene;
 

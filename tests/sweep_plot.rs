@@ -2,7 +2,7 @@
 //! byte-identical for identical input, a PNG is a real PNG of the stated size, and odd data
 //! (empty series, one point, NaN, x <= 0 on a log axis) draws without failing.
 
-mod common;
+use crate::common;
 
 use sortsim::output::plot::{line_chart, ChartOptions, LineChart, Series};
 

@@ -3,7 +3,7 @@
 //! finished points, and speedup is the triangles/s ratio to the one-processor point (run
 //! implicitly when the sweep does not list it).
 
-mod common;
+use crate::common;
 
 use std::path::{Path, PathBuf};
 

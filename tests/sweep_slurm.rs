@@ -4,7 +4,7 @@
 //! redoes only that shard's points. Also `--shard` and `--collect` by hand, and what they
 //! refuse (the flags' own bad values are in tests/bad_input.rs).
 
-mod common;
+use crate::common;
 
 use std::collections::BTreeMap;
 use std::path::{Path, PathBuf};

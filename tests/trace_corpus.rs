@@ -3,7 +3,7 @@
 //! and containing the fragment EXPECTED.txt lists for it, no panic and no report written.
 //! Bad command lines for `trace record` and `trace replay` get the same treatment.
 
-mod common;
+use crate::common;
 
 use std::path::{Path, PathBuf};
 use std::process::{Command, Output};

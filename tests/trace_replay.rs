@@ -4,7 +4,7 @@
 //! back-to-front planes worst case is n*A (section 7), snooping's merged image is the
 //! sequential z-buffer's, and replays are deterministic.
 
-mod common;
+use crate::common;
 
 use std::collections::BTreeSet;
 use std::path::Path;

@@ -3,7 +3,7 @@
 //!
 //! Must never check numbers (tests/utilization_paper.rs does): only the command's contract.
 
-mod common;
+use crate::common;
 
 use std::process::{Command, Output};
 

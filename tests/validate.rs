@@ -2,7 +2,7 @@
 //! for the `flow` network model and Mesa's llvmpipe (python3-moderngl over EGL) for the
 //! rasterizer. Both are installed by the tests themselves when missing (tests/common).
 
-mod common;
+use crate::common;
 
 use std::process::{Command, Output};
 
