@@ -10,8 +10,9 @@ fn manifest_dir() -> &'static Path {
 }
 
 /// Installs sortsim into `root` with cargo, as a user would. The build goes to a target folder
-/// of its own (the tests' cargo holds the lock on the usual one), kept between runs so that a
-/// second install only links.
+/// of its own, kept between runs so that a second install only links: in the tests' folder it
+/// would rebuild sortsim anyway (the dev-dependencies turn on features of some shared crates,
+/// which changes their hashes) and relink `target/release/sortsim` while other tests run it.
 fn install(root: &Path) -> PathBuf {
     let cargo = std::env::var("CARGO").unwrap_or_else(|_| "cargo".into());
     let out = Command::new(cargo)
