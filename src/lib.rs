@@ -23,6 +23,7 @@ pub mod app;
 pub mod bench;
 pub mod calibrate;
 pub mod engine;
+pub mod host;
 pub mod limits;
 pub mod machine;
 pub mod metrics;

@@ -7,13 +7,7 @@ use crate::common;
 use std::path::{Path, PathBuf};
 use std::process::{Command, Output};
 
-fn sortsim(args: &[&str]) -> Output {
-    Command::new(env!("CARGO_BIN_EXE_sortsim"))
-        .args(args)
-        .current_dir(env!("CARGO_MANIFEST_DIR"))
-        .output()
-        .expect("sortsim runs")
-}
+use common::sortsim;
 
 /// (file, expected fragment) pairs of one corpus folder; every .json file must be listed.
 fn corpus(kind: &str) -> Vec<(PathBuf, String)> {

@@ -8,17 +8,10 @@
 use crate::common;
 
 use std::path::Path;
-use std::process::{Command, Output};
 
 use serde_json::Value;
 
-fn sortsim(args: &[&str]) -> Output {
-    Command::new(env!("CARGO_BIN_EXE_sortsim"))
-        .args(args)
-        .current_dir(env!("CARGO_MANIFEST_DIR"))
-        .output()
-        .expect("sortsim runs")
-}
+use common::sortsim;
 
 fn pipeline() -> std::path::PathBuf {
     Path::new(env!("CARGO_MANIFEST_DIR")).join("machines/multicluster-pipeline.json")

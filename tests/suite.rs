@@ -20,6 +20,7 @@ mod engine_network;
 mod engine_programs;
 mod fuzz_corpus;
 mod install;
+mod instructions;
 mod net_contention;
 mod net_docs;
 mod net_interface;

@@ -6,15 +6,9 @@
 use crate::common;
 
 use std::path::{Path, PathBuf};
-use std::process::{Command, Output};
+use std::process::Output;
 
-fn sortsim(args: &[&str]) -> Output {
-    Command::new(env!("CARGO_BIN_EXE_sortsim"))
-        .args(args)
-        .current_dir(env!("CARGO_MANIFEST_DIR"))
-        .output()
-        .expect("sortsim runs")
-}
+use common::sortsim;
 
 /// (file, fragment) pairs; every file in the folder must be listed and every listed file exist.
 fn corpus() -> Vec<(PathBuf, String)> {

@@ -6,6 +6,7 @@ use std::sync::Arc;
 
 use super::cli::{BenchCommand, FidelityArg, PholdArgs};
 use super::{writable_folder, Context, Failure};
+use crate::bench::instructions::{available, needs_valgrind};
 use crate::bench::{phold_report, PholdConfig};
 use crate::net::Fidelity;
 use crate::output::to_json;
@@ -24,14 +25,21 @@ pub(super) fn run(ctx: &Context, cmd: &BenchCommand) -> Result<(), Failure> {
             procs,
             frame,
             fidelity,
+            instructions,
         } => bench_overhead(
+            ctx,
             &ctx.input(machine),
             &ctx.input(scene),
-            *procs,
-            *frame,
+            (*procs, *frame),
             fidelity,
+            *instructions,
         ),
-        BenchCommand::Scale { quick, frames, out } => bench_scale(ctx, *quick, *frames, out),
+        BenchCommand::Scale {
+            quick,
+            frames,
+            out,
+            instructions,
+        } => bench_scale(ctx, *quick, *frames, out, *instructions),
         BenchCommand::Replay {
             scene,
             frame,
@@ -42,14 +50,24 @@ pub(super) fn run(ctx: &Context, cmd: &BenchCommand) -> Result<(), Failure> {
     }
 }
 
+/// `--instructions` asked for on a machine without valgrind: refused before anything runs.
+fn valgrind_if(instructions: bool) -> Result<(), Failure> {
+    if instructions && !available() {
+        return Err(Failure::BadInput(needs_valgrind()));
+    }
+    Ok(())
+}
+
 fn bench_overhead(
+    ctx: &Context,
     machine: &Path,
-    scene: &Path,
-    procs: u32,
-    frame: u32,
+    scene_file: &Path,
+    (procs, frame): (u32, u32),
     fidelities: &[FidelityArg],
+    instructions: bool,
 ) -> Result<(), Failure> {
-    let scene = Arc::new(Scene::load(scene)?);
+    valgrind_if(instructions)?;
+    let scene = Arc::new(Scene::load(scene_file)?);
     let levels: Vec<Option<&str>> = if fidelities.is_empty() {
         vec![None]
     } else {
@@ -63,15 +81,35 @@ fn bench_overhead(
             .map(|l| ("machine.network.fidelity".to_string(), l.to_string()))
             .into_iter()
             .collect();
-        let report = crate::bench::overhead(machine, scene.clone(), procs, frame, set)
+        let mut report = crate::bench::overhead(machine, scene.clone(), procs, frame, set)
             .map_err(Failure::BadInput)?;
+        if instructions {
+            let line = crate::bench::overhead_command_line(
+                &ctx.root.path,
+                machine,
+                scene_file,
+                procs,
+                frame,
+                level,
+            );
+            report
+                .count_instructions(&line)
+                .map_err(Failure::Internal)?;
+        }
         print!("{}", to_json(&report));
     }
     Ok(())
 }
 
-fn bench_scale(ctx: &Context, quick: bool, frames: Option<u32>, out: &Path) -> Result<(), Failure> {
+fn bench_scale(
+    ctx: &Context,
+    quick: bool,
+    frames: Option<u32>,
+    out: &Path,
+    instructions: bool,
+) -> Result<(), Failure> {
     use crate::bench::scale::{scale, table, ScaleConfig};
+    valgrind_if(instructions)?;
     writable_folder(out)?;
     let root = &ctx.root.path;
     let mut cfg = if quick {
@@ -82,6 +120,7 @@ fn bench_scale(ctx: &Context, quick: bool, frames: Option<u32>, out: &Path) -> R
     if let Some(f) = frames {
         cfg.frames = f;
     }
+    cfg.instructions = instructions;
     let report =
         scale(&cfg, &mut |step| eprintln!("measuring: {step}")).map_err(Failure::Internal)?;
     let text = table(&report);
@@ -113,6 +152,7 @@ fn bench_replay(
 pub(super) fn bench_phold(
     args: &PholdArgs,
 ) -> Result<(crate::bench::PholdSummary, crate::bench::PholdCost), Failure> {
+    valgrind_if(args.instructions)?;
     let pending = u64::from(args.lps) * u64::from(args.events_per_lp);
     if pending > crate::limits::MAX_PENDING_EVENTS {
         return Err(Failure::BadInput(format!(
@@ -132,7 +172,10 @@ pub(super) fn bench_phold(
         end: args.end,
         seed: args.seed,
     };
-    let (summary, cost) = phold_report(&cfg)?;
+    let (summary, mut cost) = phold_report(&cfg)?;
+    if args.instructions {
+        cost.count_instructions(&cfg).map_err(Failure::Internal)?;
+    }
     if let Some(dir) = &args.out {
         crate::report::bench::write_phold(dir, &summary, &cost)?;
     }

@@ -490,12 +490,12 @@ pub enum FidelityArg {
 pub enum BenchCommand {
     /// PHOLD on the engine against a bare binary-heap loop, in the same run.
     #[command(
-        after_help = "Example:\n  sortsim bench phold --lps 1024 --events-per-lp 16 --end 2ms"
+        after_help = "Example:\n  sortsim bench phold --lps 1024 --events-per-lp 16 --end 2ms\n  sortsim bench phold --lps 64 --events-per-lp 16 --end 100us --instructions"
     )]
     Phold(PholdArgs),
     /// Simulating one frame of Ellsworth's algorithm against rendering it sequentially.
     #[command(
-        after_help = "Example:\n  sortsim bench overhead --scene scenes/polio-standin.json --procs 512 --fidelity hops"
+        after_help = "Example:\n  sortsim bench overhead --scene scenes/polio-standin.json --procs 512 --fidelity hops\n  sortsim bench overhead --procs 64 --fidelity hops --instructions"
     )]
     Overhead {
         /// Machine spec.
@@ -521,12 +521,17 @@ pub enum BenchCommand {
         /// Network fidelities to measure (the machine's own when absent).
         #[arg(long, value_enum, allow_negative_numbers = true)]
         fidelity: Vec<FidelityArg>,
+        /// Also count the instructions of each side under valgrind's callgrind, which the
+        /// host's noise does not move (needs valgrind; reruns the benchmark under it, tens of
+        /// times slower).
+        #[arg(long, allow_negative_numbers = true)]
+        instructions: bool,
     },
     /// How the simulator's cost grows: the whole Delta over a viewing sequence, one frame
     /// against drawing it sequentially, staggered torus traffic at hops and flow, PHOLD, and
     /// wall time against messages, processors and triangles, each beside its target.
     #[command(
-        after_help = "Example:\n  sortsim bench scale --quick -o reports/bench-scale\n  sortsim bench scale --frames 110"
+        after_help = "Example:\n  sortsim bench scale --quick -o reports/bench-scale\n  sortsim bench scale --frames 110\n  sortsim bench scale --quick --instructions"
     )]
     Scale {
         /// 3 frames, up to 16,384 messages and PHOLD up to 16,384 in flight (about 20 s here)
@@ -545,6 +550,11 @@ pub enum BenchCommand {
             allow_negative_numbers = true
         )]
         out: PathBuf,
+        /// Also count the instructions of PHOLD's two loops and of one polio frame simulated
+        /// at hops against drawn, under valgrind's callgrind: those comparisons without the
+        /// host's noise (needs valgrind; some minutes more).
+        #[arg(long, allow_negative_numbers = true)]
+        instructions: bool,
     },
     /// Trace replay (paper 003) of one recorded frame for many n, against one pass over the
     /// fragments in the same run.
@@ -600,6 +610,11 @@ pub struct PholdArgs {
     /// Also write DIR/summary.json (deterministic) and DIR/cost.json (wall times).
     #[arg(short, long, value_name = "DIR", allow_negative_numbers = true)]
     pub out: Option<PathBuf>,
+    /// Also count the instructions of each side under valgrind's callgrind, which the
+    /// host's noise does not move (needs valgrind; reruns the benchmark under it, tens of
+    /// times slower).
+    #[arg(long, allow_negative_numbers = true)]
+    pub instructions: bool,
 }
 
 fn probability(s: &str) -> Result<f64, String> {

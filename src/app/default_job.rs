@@ -34,6 +34,7 @@ pub(super) fn run(ctx: &Context) -> Result<(), Failure> {
         end: crate::units::SimTime::from_us(500),
         seed: 1,
         out: Some(out.join("phold")),
+        instructions: false,
     })?;
     println!(
         "\nThe Delta's 16x32 mesh, every node sends 64 KiB to its mirror node (bit complement):"

@@ -1,10 +1,13 @@
 //! Benchmarks reachable from the command line (`sortsim bench ...`): PHOLD on the engine,
 //! measured against a bare binary-heap PHOLD loop in the same run; trace replay (paper 003)
-//! against one pass over the fragments; and how the simulator's cost grows (`scale.rs`).
+//! against one pass over the fragments; how the simulator's cost grows (`scale.rs`); and the
+//! instruction counts of the same comparisons, which the host's noise does not move
+//! (`instructions.rs`).
 //!
 //! Owns workload definitions and wall-clock measurement. Wall-clock time is read here and in
 //! `report::cost` only, never inside a simulation.
 
+pub mod instructions;
 pub mod scale;
 
 use std::cmp::Reverse;
@@ -39,6 +42,33 @@ impl PholdConfig {
     /// Events in flight at any instant (PHOLD keeps the population constant).
     pub fn in_flight(&self) -> u64 {
         self.lps as u64 * self.events_per_lp as u64
+    }
+
+    /// The `sortsim` command line that runs this workload (`bench phold`, every parameter
+    /// given exactly: times in picoseconds, the probability in the shortest form that parses
+    /// back to it).
+    pub fn command_line(&self) -> Vec<String> {
+        let time = |t: SimTime| format!("{}ps", t.ps());
+        [
+            "bench",
+            "phold",
+            "--lps",
+            &self.lps.to_string(),
+            "--events-per-lp",
+            &self.events_per_lp.to_string(),
+            "--remote",
+            &self.remote.to_string(),
+            "--mean",
+            &time(self.mean),
+            "--lookahead",
+            &time(self.lookahead),
+            "--end",
+            &time(self.end),
+            "--seed",
+            &self.seed.to_string(),
+        ]
+        .map(String::from)
+        .to_vec()
     }
 }
 
@@ -91,7 +121,9 @@ fn mix(hash: u64, t: SimTime, lp: u32) -> u64 {
     (hash ^ t.ps().rotate_left(17) ^ lp as u64).wrapping_mul(0x0000_0100_0000_01b3)
 }
 
-/// PHOLD on the engine: one program per LP, events as posted messages.
+/// PHOLD on the engine: one program per LP, events as posted messages. Never inlined: its
+/// instructions are counted by name ([`instructions::Stretch::PholdEngine`]).
+#[inline(never)]
 pub fn phold_engine(cfg: &PholdConfig) -> Result<PholdOutcome, SimError> {
     use std::cell::Cell;
     use std::rc::Rc;
@@ -130,7 +162,8 @@ pub fn phold_engine(cfg: &PholdConfig) -> Result<PholdOutcome, SimError> {
 
 /// PHOLD as a bare loop over a `BinaryHeap` of (time, sequence, lp): the baseline the
 /// engine's overhead is measured against. Draws the same random numbers in the same order,
-/// so it must produce the same outcome.
+/// so it must produce the same outcome. Never inlined, as [`phold_engine`].
+#[inline(never)]
 pub fn phold_baseline(cfg: &PholdConfig) -> PholdOutcome {
     let mut draws: Vec<Draw> = (0..cfg.lps).map(|lp| Draw::new(cfg, lp)).collect();
     let mut heap = BinaryHeap::with_capacity(cfg.in_flight() as usize);
@@ -190,6 +223,30 @@ pub struct PholdCost {
     pub baseline_events_per_s: f64,
     /// Engine events/s over baseline events/s (1.0 = no overhead).
     pub ratio_to_baseline: f64,
+    /// With `--instructions`: the engine's instructions (`measured`) and the bare heap's
+    /// (`baseline`), counted by callgrind.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub instructions: Option<instructions::Counts>,
+    /// The bare heap's instructions over the engine's: the event-rate ratio's counterpart
+    /// without the host's noise (and without what cache misses cost).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub instruction_ratio: Option<f64>,
+}
+
+impl PholdCost {
+    /// Adds the instruction counts of `cfg`'s engine and bare heap (valgrind; this binary run
+    /// twice more under callgrind).
+    pub fn count_instructions(&mut self, cfg: &PholdConfig) -> Result<(), String> {
+        use instructions::{Counts, Stretch};
+        let counts = Counts::of(
+            &cfg.command_line(),
+            Stretch::PholdEngine,
+            Stretch::PholdBaseline,
+        )?;
+        self.instruction_ratio = Some(1.0 / counts.ratio());
+        self.instructions = Some(counts);
+        Ok(())
+    }
 }
 
 /// Runs PHOLD on the engine and on the baseline and reports both.
@@ -233,6 +290,8 @@ pub fn phold_report(cfg: &PholdConfig) -> Result<(PholdSummary, PholdCost), SimE
         } else {
             0.0
         },
+        instructions: None,
+        instruction_ratio: None,
     };
     Ok((summary, cost))
 }
@@ -290,6 +349,74 @@ pub struct OverheadReport {
     pub ratio: f64,
     pub events: u64,
     pub messages: u64,
+    /// With `--instructions`: the simulation's instructions (`measured`) and the sequential
+    /// render's (`baseline`), counted by callgrind.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub instructions: Option<instructions::Counts>,
+    /// Simulate over render by instructions: `ratio` without the host's noise.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub instruction_ratio: Option<f64>,
+}
+
+impl OverheadReport {
+    /// Adds the instruction counts of the same frame simulated and drawn, from `command_line`
+    /// (the `bench overhead` command that measures this report's frame).
+    pub fn count_instructions(&mut self, command_line: &[String]) -> Result<(), String> {
+        use instructions::{Counts, Stretch};
+        let counts = Counts::of(command_line, Stretch::Simulate, Stretch::Render)?;
+        self.instruction_ratio = Some(counts.ratio());
+        self.instructions = Some(counts);
+        Ok(())
+    }
+}
+
+/// The `sortsim` command line of one `bench overhead` measurement: the frame of `scene` on
+/// `procs` processors of `machine`, at `fidelity` (the machine's own when `None`), with the
+/// data root `root`.
+pub fn overhead_command_line(
+    root: &std::path::Path,
+    machine: &std::path::Path,
+    scene: &std::path::Path,
+    procs: u32,
+    frame: u32,
+    fidelity: Option<&str>,
+) -> Vec<String> {
+    let mut line: Vec<String> = vec![
+        "--root".into(),
+        root.display().to_string(),
+        "bench".into(),
+        "overhead".into(),
+        "--machine".into(),
+        machine.display().to_string(),
+        "--scene".into(),
+        scene.display().to_string(),
+        "--procs".into(),
+        procs.to_string(),
+        "--frame".into(),
+        frame.to_string(),
+    ];
+    if let Some(f) = fidelity {
+        line.extend(["--fidelity".into(), f.into()]);
+    }
+    line
+}
+
+/// The sequential reference renderer's drawing of `frame`, its geometry generated first.
+/// Never inlined: its instructions are counted by name ([`instructions::Stretch::Render`]).
+#[inline(never)]
+pub fn render_frame(scene: &crate::scene::Scene, frame: u32) -> Result<(), String> {
+    let geometry = scene.frame(frame).map_err(|e| e.to_string())?;
+    let (image, _) = crate::algo::reference::render(&geometry);
+    std::hint::black_box(&image);
+    Ok(())
+}
+
+/// One simulated run. Never inlined, as [`render_frame`].
+#[inline(never)]
+pub fn simulate_frame(
+    cfg: &crate::algo::RunConfig,
+) -> Result<crate::algo::RunResult, crate::algo::RunError> {
+    crate::algo::run(cfg)
 }
 
 /// Measures one frame; both timings include generating the frame's geometry from the scene.
@@ -300,13 +427,10 @@ pub fn overhead(
     frame: u32,
     set: std::collections::BTreeMap<String, String>,
 ) -> Result<OverheadReport, String> {
-    use crate::algo::{reference, run};
     use crate::spec::run::RunSpec;
     let t0 = Instant::now();
-    let geometry = scene.frame(frame).map_err(|e| e.to_string())?;
-    let (image, _) = reference::render(&geometry);
+    render_frame(&scene, frame)?;
     let render_wall = t0.elapsed().as_secs_f64();
-    drop((image, geometry));
     let spec = RunSpec {
         schema: None,
         machine: machine.to_path_buf(),
@@ -321,7 +445,7 @@ pub fn overhead(
         .resolve(Some(scene.clone()))
         .map_err(|e| e.to_string())?;
     let t1 = Instant::now();
-    let result = run(&cfg).map_err(|e| e.to_string())?;
+    let result = simulate_frame(&cfg).map_err(|e| e.to_string())?;
     let simulate_wall = t1.elapsed().as_secs_f64();
     Ok(OverheadReport {
         scene: scene.file().display().to_string(),
@@ -332,6 +456,8 @@ pub fn overhead(
         ratio: simulate_wall / render_wall.max(1e-9),
         events: result.stats.events,
         messages: result.frames.iter().map(|f| f.messages).sum(),
+        instructions: None,
+        instruction_ratio: None,
     })
 }
 

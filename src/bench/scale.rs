@@ -16,7 +16,8 @@ use std::time::Instant;
 
 use serde::Serialize;
 
-use super::{overhead, phold_report, PholdConfig};
+use super::instructions::{Counts, Stretch};
+use super::{overhead, overhead_command_line, phold_report, PholdConfig};
 use crate::net::pattern::{random_staggered, run_pattern_counted};
 use crate::net::transport::SolveCounters;
 use crate::net::{Fidelity, NetworkConfig, TopologyKind};
@@ -42,6 +43,9 @@ pub struct ScaleConfig {
     /// messages, PHOLD), reported as their median: the host's noise moves a single run by
     /// 15 to 40%.
     pub repeats: usize,
+    /// Also count instructions (callgrind) of PHOLD up to 16,384 in flight and of one polio
+    /// frame at `hops` against drawing it: those comparisons without the noise.
+    pub instructions: bool,
 }
 
 impl ScaleConfig {
@@ -53,6 +57,7 @@ impl ScaleConfig {
             procs: vec![16, 32, 64, 128, 256, 512],
             phold: vec![1024, 16384, 1 << 20],
             repeats: 3,
+            instructions: false,
         }
     }
 
@@ -181,6 +186,29 @@ pub fn scale(cfg: &ScaleConfig, progress: &mut dyn FnMut(&str)) -> Result<ScaleR
                 runs_note(&runs.iter().map(|r| r.ratio).collect::<Vec<_>>())
             ),
         ));
+        if cfg.instructions && fidelity == Fidelity::Hops {
+            progress("one polio frame, 512 nodes, hops, under callgrind");
+            let line = overhead_command_line(
+                &cfg.root,
+                &machine,
+                polio.file(),
+                512,
+                1,
+                Some(fidelity.name()),
+            );
+            let counts = Counts::of(&line, Stretch::Simulate, Stretch::Render)?;
+            figures.push(figure(
+                "same, by instructions (callgrind): simulate / render",
+                counts.ratio(),
+                "x",
+                Target::AtMost(limit),
+                format!(
+                    "simulate {:.3} G, render sequentially {:.3} G instructions",
+                    counts.measured as f64 / 1e9,
+                    counts.baseline as f64 / 1e9
+                ),
+            ));
+        }
     }
 
     let mut messages_curve = Vec::new();
@@ -271,6 +299,35 @@ pub fn scale(cfg: &ScaleConfig, progress: &mut dyn FnMut(&str)) -> Result<ScaleR
             Target::AtLeast(if in_flight >= 1 << 20 { 1.0 } else { 0.8 }),
             format!("{events} events{}", runs_note(&ratios)),
         ));
+        // A million in flight is about cache misses, which instructions leave out.
+        if cfg.instructions && in_flight <= 16384 {
+            progress(&format!("PHOLD, {in_flight} in flight, under callgrind"));
+            // About a million events, whatever the population: a count does not need the
+            // long run that evens out the noise, and a run under callgrind is slow.
+            let counted = PholdConfig {
+                end: SimTime::from_ns(1100 * (1 << 20) / in_flight),
+                ..phold.clone()
+            };
+            let counts = Counts::of(
+                &counted.command_line(),
+                Stretch::PholdEngine,
+                Stretch::PholdBaseline,
+            )?;
+            figures.push(figure(
+                &format!(
+                    "PHOLD, {in_flight} in flight, by instructions (callgrind): bare heap / engine"
+                ),
+                1.0 / counts.ratio(),
+                "x",
+                Target::AtLeast(0.8),
+                format!(
+                    "engine {:.1} M, bare heap {:.1} M instructions, simulated to {}",
+                    counts.measured as f64 / 1e6,
+                    counts.baseline as f64 / 1e6,
+                    counted.end
+                ),
+            ));
+        }
     }
 
     let mut procs_curve = Vec::new();

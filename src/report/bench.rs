@@ -25,9 +25,18 @@ pub fn write_phold(dir: &Path, summary: &PholdSummary, cost: &PholdCost) -> Resu
     write_text(dir, "cost.json", &to_json(cost))
 }
 
-/// What `bench phold` prints: the workload, both loops' event rates and their ratio, and
-/// whether they processed the same events (summary.json and cost.json hold every number).
+/// What `bench phold` prints: the workload, both loops' event rates and their ratio, whether
+/// they processed the same events, and with `--instructions` both loops' instruction counts
+/// (summary.json and cost.json hold every number).
 pub fn phold_text(summary: &PholdSummary, cost: &PholdCost) -> String {
+    let counted = match (cost.instructions, cost.instruction_ratio) {
+        (Some(counts), Some(ratio)) => format!(
+            "instructions (callgrind): engine {}, bare heap {}; bare heap / engine: {ratio:.3}x \
+             (the event-rate ratio without the host's noise)\n",
+            counts.measured, counts.baseline
+        ),
+        _ => String::new(),
+    };
     let row = |who: &str, wall: f64, rate: f64| {
         format!(
             "{who:<10} {:>12} {:>10.3} {:>12.2}\n",
@@ -40,7 +49,7 @@ pub fn phold_text(summary: &PholdSummary, cost: &PholdCost) -> String {
         "PHOLD: {} logical processes x {} events = {} in flight, {:.0}% remote, mean delay {:.3} us, \
          lookahead {:.3} us, simulated to {:.3} us (seed {})\n\
          {:<10} {:>12} {:>10} {:>12}\n{}{}\
-         engine / bare heap: {:.2}x; same events in the same order: {} (trace {})\n",
+         engine / bare heap: {:.2}x; same events in the same order: {} (trace {})\n{}",
         summary.lps,
         summary.events_per_lp,
         summary.in_flight,
@@ -57,7 +66,8 @@ pub fn phold_text(summary: &PholdSummary, cost: &PholdCost) -> String {
         row("bare heap", cost.baseline_wall_s, cost.baseline_events_per_s),
         cost.ratio_to_baseline,
         if summary.baseline_agrees { "yes" } else { "NO" },
-        summary.trace_hash
+        summary.trace_hash,
+        counted
     )
 }
 

@@ -152,9 +152,7 @@ pub struct Submitted {
 
 /// `sbatch` on the PATH, if there is one.
 pub fn find_sbatch() -> Option<PathBuf> {
-    std::env::split_paths(&std::env::var_os("PATH")?)
-        .map(|d| d.join("sbatch"))
-        .find(|p| p.is_file())
+    crate::host::on_path("sbatch")
 }
 
 /// Submits the array job, then the collect job with `afterok` on the whole array.

@@ -39,6 +39,16 @@ pub fn root() -> &'static Path {
     Path::new(env!("CARGO_MANIFEST_DIR"))
 }
 
+/// The real `sortsim` binary run with `args` in the checkout, its output captured (its exit
+/// status is the caller's to check).
+pub fn sortsim(args: &[&str]) -> Output {
+    std::process::Command::new(env!("CARGO_BIN_EXE_sortsim"))
+        .args(args)
+        .current_dir(root())
+        .output()
+        .expect("sortsim runs")
+}
+
 /// The machine each sort-last algorithm was built for, with the overrides its tests need:
 /// the MultiCluster's T800s get 64 MB so that a frame of samples, or of Pixels with a
 /// Subpixel pool, fits (4 MB does not; the tests that say so use the file as it is).
