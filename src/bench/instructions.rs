@@ -61,6 +61,12 @@ impl Counts {
     pub fn ratio(&self) -> f64 {
         self.measured as f64 / self.baseline.max(1) as f64
     }
+
+    /// Baseline over measured: the share of the stretch's instructions that the baseline's
+    /// would be (an event-rate ratio's counterpart).
+    pub fn baseline_over_measured(&self) -> f64 {
+        self.baseline as f64 / self.measured.max(1) as f64
+    }
 }
 
 /// Why a count needs valgrind, in the words every command that offers one uses.

@@ -243,7 +243,7 @@ impl PholdCost {
             Stretch::PholdEngine,
             Stretch::PholdBaseline,
         )?;
-        self.instruction_ratio = Some(1.0 / counts.ratio());
+        self.instruction_ratio = Some(counts.baseline_over_measured());
         self.instructions = Some(counts);
         Ok(())
     }

@@ -317,7 +317,7 @@ pub fn scale(cfg: &ScaleConfig, progress: &mut dyn FnMut(&str)) -> Result<ScaleR
                 &format!(
                     "PHOLD, {in_flight} in flight, by instructions (callgrind): bare heap / engine"
                 ),
-                1.0 / counts.ratio(),
+                counts.baseline_over_measured(),
                 "x",
                 Target::AtLeast(0.8),
                 format!(
