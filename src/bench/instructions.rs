@@ -49,8 +49,23 @@ pub struct Counts {
 }
 
 impl Counts {
+    /// PHOLD's two loops on `cfg`: the engine (measured) and the bare heap (baseline).
+    pub fn phold(cfg: &super::PholdConfig) -> Result<Counts, String> {
+        Counts::of(
+            &cfg.command_line(),
+            Stretch::PholdEngine,
+            Stretch::PholdBaseline,
+        )
+    }
+
+    /// The frame of a `bench overhead` command line (see [`super::overhead_command_line`]):
+    /// simulated (measured) and drawn sequentially (baseline).
+    pub fn frame(command_line: &[String]) -> Result<Counts, String> {
+        Counts::of(command_line, Stretch::Simulate, Stretch::Render)
+    }
+
     /// Counts both stretches of `args` (a `sortsim` command line without the program name).
-    pub fn of(args: &[String], measured: Stretch, baseline: Stretch) -> Result<Counts, String> {
+    fn of(args: &[String], measured: Stretch, baseline: Stretch) -> Result<Counts, String> {
         Ok(Counts {
             measured: count(args, measured)?,
             baseline: count(args, baseline)?,

@@ -237,12 +237,7 @@ impl PholdCost {
     /// Adds the instruction counts of `cfg`'s engine and bare heap (valgrind; this binary run
     /// twice more under callgrind).
     pub fn count_instructions(&mut self, cfg: &PholdConfig) -> Result<(), String> {
-        use instructions::{Counts, Stretch};
-        let counts = Counts::of(
-            &cfg.command_line(),
-            Stretch::PholdEngine,
-            Stretch::PholdBaseline,
-        )?;
+        let counts = instructions::Counts::phold(cfg)?;
         self.instruction_ratio = Some(counts.baseline_over_measured());
         self.instructions = Some(counts);
         Ok(())
@@ -362,8 +357,7 @@ impl OverheadReport {
     /// Adds the instruction counts of the same frame simulated and drawn, from `command_line`
     /// (the `bench overhead` command that measures this report's frame).
     pub fn count_instructions(&mut self, command_line: &[String]) -> Result<(), String> {
-        use instructions::{Counts, Stretch};
-        let counts = Counts::of(command_line, Stretch::Simulate, Stretch::Render)?;
+        let counts = instructions::Counts::frame(command_line)?;
         self.instruction_ratio = Some(counts.ratio());
         self.instructions = Some(counts);
         Ok(())

@@ -16,7 +16,7 @@ use std::time::Instant;
 
 use serde::Serialize;
 
-use super::instructions::{Counts, Stretch};
+use super::instructions::Counts;
 use super::{overhead, overhead_command_line, phold_report, PholdConfig};
 use crate::net::pattern::{random_staggered, run_pattern_counted};
 use crate::net::transport::SolveCounters;
@@ -196,7 +196,7 @@ pub fn scale(cfg: &ScaleConfig, progress: &mut dyn FnMut(&str)) -> Result<ScaleR
                 1,
                 Some(fidelity.name()),
             );
-            let counts = Counts::of(&line, Stretch::Simulate, Stretch::Render)?;
+            let counts = Counts::frame(&line)?;
             figures.push(figure(
                 "same, by instructions (callgrind): simulate / render",
                 counts.ratio(),
@@ -308,11 +308,7 @@ pub fn scale(cfg: &ScaleConfig, progress: &mut dyn FnMut(&str)) -> Result<ScaleR
                 end: SimTime::from_ns(1100 * (1 << 20) / in_flight),
                 ..phold.clone()
             };
-            let counts = Counts::of(
-                &counted.command_line(),
-                Stretch::PholdEngine,
-                Stretch::PholdBaseline,
-            )?;
+            let counts = Counts::phold(&counted)?;
             figures.push(figure(
                 &format!(
                     "PHOLD, {in_flight} in flight, by instructions (callgrind): bare heap / engine"
