@@ -143,25 +143,19 @@ impl CostTable {
     /// `Op` (see [`Op::from_bits`]).
     #[inline]
     pub fn unpriced_in(&self, counts: &Counts) -> u32 {
-        if self.priced == (1 << Op::ALL.len()) - 1 {
-            return 0;
-        }
-        counts
-            .n
-            .iter()
-            .enumerate()
-            .filter(|&(i, &n)| n > 0 && self.priced & (1 << i) == 0)
-            .fold(0, |bits, (i, _)| bits | 1 << i)
+        counts.used & !self.priced
     }
     /// The time to perform `counts`; `SimTime::MAX` when that passes the largest simulated
-    /// time (the engine refuses such a charge).
+    /// time (the engine refuses such a charge). Sums over the operations performed only (a
+    /// charge names a few of the table's), in the table's order.
     pub fn time(&self, counts: &Counts) -> SimTime {
-        let ps: u128 = self
-            .per_op
-            .iter()
-            .zip(counts.n.iter())
-            .map(|(c, &n)| c.ps() as u128 * n as u128)
-            .sum();
+        let mut ps: u128 = 0;
+        let mut used = counts.used;
+        while used != 0 {
+            let op = used.trailing_zeros() as usize;
+            ps += self.per_op[op].ps() as u128 * counts.n[op] as u128;
+            used &= used - 1;
+        }
         SimTime::from_ps(u64::try_from(ps).unwrap_or(u64::MAX))
     }
 }
@@ -183,6 +177,8 @@ impl CostTable {
 #[derive(Clone, Debug, Default, PartialEq, Eq)]
 pub struct Counts {
     n: [u64; Op::ALL.len()],
+    /// Bit `op` set when `n[op]` is not zero: what pricing walks.
+    used: u32,
 }
 
 impl Counts {
@@ -196,6 +192,9 @@ impl Counts {
     }
     pub fn add(&mut self, op: Op, n: u64) -> &mut Counts {
         self.n[op as usize] += n;
+        if n > 0 {
+            self.used |= 1 << op as usize;
+        }
         self
     }
     pub fn get(&self, op: Op) -> u64 {
@@ -208,6 +207,7 @@ impl std::ops::AddAssign<&Counts> for Counts {
         for (a, b) in self.n.iter_mut().zip(rhs.n.iter()) {
             *a += b;
         }
+        self.used |= rhs.used;
     }
 }
 

@@ -83,15 +83,17 @@ impl Grid {
         let (k, stride) = (self.dims[d], self.strides[d]);
         let mut c = self.coord(node, d);
         let row = node - c * stride;
-        for _ in 0..steps {
-            out.push(self.link(row + c * stride, d, plus));
+        // A range's map has a known length: one reservation, no capacity check per hop.
+        out.extend((0..steps).map(|_| {
+            let link = self.link(row + c * stride, d, plus);
             c = match (plus, c) {
                 (true, c) if c + 1 == k => 0,
                 (true, c) => c + 1,
                 (false, 0) => k - 1,
                 (false, c) => c - 1,
             };
-        }
+            link
+        }));
         row + c * stride
     }
 
