@@ -260,4 +260,46 @@ mod tests {
         counts.add(Op::SetupTriangle, 3).add(Op::Span, 99);
         assert_eq!(table.time(&counts), SimTime::from_us(50 + 6));
     }
+
+    proptest::proptest! {
+        /// Pricing over the operations performed gives what pricing every operation of the
+        /// table gives, and the unpriced ones are those performed and not priced: counts built
+        /// by `add` (zeros included) and by `+=`, tables pricing any subset, costs up to where
+        /// a charge saturates.
+        #[test]
+        fn pricing_what_was_performed_is_pricing_everything(
+            priced in proptest::collection::vec(
+                proptest::option::of(0u64..1 << 40), Op::ALL.len()),
+            first in proptest::collection::vec((0..Op::ALL.len(), 0u64..1 << 30), 0..12),
+            second in proptest::collection::vec((0..Op::ALL.len(), 0u64..1 << 30), 0..12),
+        ) {
+            let mut table = CostTable::default();
+            for (op, cost) in Op::ALL.iter().zip(&priced) {
+                if let Some(ps) = cost {
+                    table.set(*op, SimTime::from_ps(*ps));
+                }
+            }
+            let build = |adds: &[(usize, u64)]| {
+                let mut c = Counts::new();
+                for &(op, n) in adds {
+                    c.add(Op::ALL[op], n);
+                }
+                c
+            };
+            let mut counts = build(&first);
+            counts += &build(&second);
+            let every: u128 = Op::ALL
+                .iter()
+                .map(|&op| table.get(op).ps() as u128 * counts.get(op) as u128)
+                .sum();
+            let plain = SimTime::from_ps(u64::try_from(every).unwrap_or(u64::MAX));
+            proptest::prop_assert_eq!(table.time(&counts), plain);
+            let unpriced: Vec<Op> = Op::ALL
+                .iter()
+                .copied()
+                .filter(|&op| counts.get(op) > 0 && priced[op as usize].is_none())
+                .collect();
+            proptest::prop_assert_eq!(Op::from_bits(table.unpriced_in(&counts)), unpriced);
+        }
+    }
 }
