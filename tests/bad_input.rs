@@ -216,6 +216,11 @@ fn every_bad_pattern_is_refused_and_writes_nothing() {
 fn bad_flags_are_refused_with_exit_code_2() {
     let cases: &[(&[&str], &str)] = &[
         (&["bench", "phold", "--remote", "1.5"], "not a probability"),
+        // Zero delays would never let the clock move: refused, not run forever.
+        (
+            &["bench", "phold", "--mean", "0ns", "--lookahead", "0ns", "--end", "1us"],
+            "--mean 0 and --lookahead 0: every event would schedule the next at the same instant",
+        ),
         // A data root without machines/ is named, with what would be valid.
         (
             &["--root", "/nonexistent-sortsim-root", "check", "machines/delta.json"],

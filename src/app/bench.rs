@@ -11,6 +11,7 @@ use crate::bench::{phold_report, PholdConfig};
 use crate::net::Fidelity;
 use crate::output::to_json;
 use crate::scene::Scene;
+use crate::units::SimTime;
 
 pub(super) fn run(ctx: &Context, cmd: &BenchCommand) -> Result<(), Failure> {
     match cmd {
@@ -162,6 +163,15 @@ pub(super) fn bench_phold(
             args.events_per_lp,
             crate::limits::MAX_PENDING_EVENTS
         )));
+    }
+    if args.mean == SimTime::ZERO && args.lookahead == SimTime::ZERO {
+        // Every event would schedule the next at its own instant: the clock never moves.
+        return Err(Failure::BadInput(
+            "--mean 0 and --lookahead 0: every event would schedule the next at the same \
+             instant, so simulated time would never reach --end; give either a positive \
+             duration (e.g. --lookahead 100ns)"
+                .to_string(),
+        ));
     }
     let cfg = PholdConfig {
         lps: args.lps,
