@@ -89,6 +89,34 @@ fn netsim_twice_gives_byte_identical_json_at_every_fidelity() {
     }
 }
 
+/// A PHOLD run whose end comes before its first event measured nothing, and says so rather
+/// than print a ratio of zero over zero as if it were one.
+#[test]
+fn phold_with_no_event_before_its_end_says_nothing_was_measured() {
+    let run = |end: &str| {
+        let out = sortsim(&[
+            "bench",
+            "phold",
+            "--lps",
+            "1",
+            "--events-per-lp",
+            "1",
+            "--end",
+            end,
+        ]);
+        String::from_utf8(out.stdout).unwrap()
+    };
+    // The lookahead alone is 100ns: nothing can happen by 50ns.
+    let empty = run("50ns");
+    assert!(empty.contains("engine                0"), "{empty}");
+    assert!(
+        empty.contains("no event fell at or before --end"),
+        "{empty}"
+    );
+    let some = run("100us");
+    assert!(!some.contains("no event fell"), "{some}");
+}
+
 #[test]
 fn phold_twice_gives_byte_identical_summary() {
     let (a, b) = (temp_dir("phold-a"), temp_dir("phold-b"));

@@ -68,7 +68,12 @@ pub fn phold_text(summary: &PholdSummary, cost: &PholdCost) -> String {
         if summary.baseline_agrees { "yes" } else { "NO" },
         summary.trace_hash,
         counted
-    )
+    ) + if summary.events == 0 {
+        "no event fell at or before --end, so nothing was measured and the ratio means \
+         nothing: give a later --end\n"
+    } else {
+        ""
+    }
 }
 
 /// The three growth charts, one line per fidelity, written under `dir`.
