@@ -378,11 +378,11 @@ impl Transport for Flow {
     }
 
     fn counters(&self) -> super::SolveCounters {
-        let (link_evaluations, flows_walked, groups_crossing) = self.shares.evaluations;
+        let (link_evaluations, flows_on_links, groups_crossing) = self.shares.evaluations;
         let (flows_swept, swept_route_links) = self.shares.swept;
         super::SolveCounters {
             link_evaluations,
-            flows_walked,
+            flows_on_links,
             groups_crossing,
             flows_swept,
             swept_route_links,
@@ -665,7 +665,7 @@ mod tests {
         assert_eq!(c.flows_changed, 2 + 3 + 1);
         assert_eq!(c.groups_changed, 1 + 1 + 1);
         assert_eq!(c.flows_switched, 0);
-        assert!(c.flows_walked >= c.link_evaluations);
+        assert!(c.flows_on_links >= c.link_evaluations);
     }
 
     proptest! {

@@ -15,7 +15,10 @@
 //! The sweep walks keys upward through a heap of *dirty* links (their flow set changed, or a
 //! flow on them got a new rate or key), each evaluated at the sweep's current key from its
 //! flows: a flow settled in this sweep counts at its new rate, an untouched one at its old
-//! rate if its old key has passed. Flows whose bottleneck turned dirty are *unsettled*: if
+//! rate if its old key has passed. A link counts them without visiting them: the flows the
+//! sweep has drawn in (added, unsettled or fixed again) are tallied on every link they cross
+//! as they change, and the untouched ones by group, the flows one link fixed last time (one
+//! key, one rate), from the link's list of the groups crossing it and how many of each. Flows whose bottleneck turned dirty are *unsettled*: if
 //! one is still unfixed when the sweep passes its old key, every link it crosses turns dirty
 //! there (they would have counted it as fixed). Before any link's old key is passed, every
 //! way its pop could differ has marked it dirty, so untouched links and flows keep their old
@@ -102,9 +105,9 @@ pub struct MaxMin {
     added: Vec<u32>,
     /// `groups[l]`: the flows link `l` fixed in the last solve and the links they cross.
     groups: Vec<Group>,
-    /// `group_entries[l]`: `(g, i)` for every group `g` with a flow crossing link `l`, where
-    /// `groups[g].links[i]` counts them (and points back).
-    group_entries: Vec<Vec<(LinkId, u32)>>,
+    /// `group_entries[l]`: every group with a flow crossing link `l`, with how many cross it;
+    /// a dirty link is evaluated from these (a handful) instead of from its flows.
+    group_entries: Vec<Vec<GroupEntry>>,
     sweep: Sweep,
     /// Sweeps run again because a suspect failed its check.
     #[cfg(test)]
@@ -112,15 +115,17 @@ pub struct MaxMin {
     /// Groups fixed again whole, and flows settled one by one.
     #[cfg(test)]
     settled_as: (u64, u64),
+    /// Pops that fixed their group alone and pops that walked their flows.
+    #[cfg(test)]
+    popped_as: (u64, u64),
     /// Flows removed without a sweep (`leaves_every_rate_as_it_is`).
     #[cfg(test)]
     removed_alone: u64,
     /// Flows added without a sweep (`fixer_if_added_alone`).
     #[cfg(test)]
     added_alone: u64,
-    /// Dirty-link evaluations, the flows they walked and the groups crossing those links;
-    /// flows drawn into a sweep and the links of their routes (counted with the `counters`
-    /// feature only).
+    /// Dirty-link evaluations, the flows and the groups crossing those links; flows drawn into
+    /// a sweep and the links of their routes (counted with the `counters` feature only).
     pub(super) evaluations: (u64, u64, u64),
     pub(super) swept: (u64, u64),
 }
@@ -152,6 +157,16 @@ struct GroupLink {
     link: LinkId,
     crossing: u32,
     entry: u32,
+}
+
+/// Group `group` crosses the link whose entry this is with `crossing` of its flows (the
+/// count its `GroupLink` keeps too, `groups[group].links[at]`: a group's walk over its links
+/// and a link's over its groups each read it where they are).
+#[derive(Clone, Copy)]
+struct GroupEntry {
+    group: LinkId,
+    at: u32,
+    crossing: u32,
 }
 
 /// A flow: its rate and key as of the last solve and its state in the current sweep side by
@@ -213,9 +228,13 @@ struct Sweep {
     heap: QuaternaryHeap<Reverse<u128>>,
     /// The key of the last link that fixed flows or of the last old key passed.
     now: Key,
-    /// (old key, old rate) of the untouched flows a link will see fixed as the sweep rises.
-    ahead: Vec<(Key, u64)>,
+    /// The untouched flows a link will see fixed as the sweep rises, as (old key, old rate,
+    /// how many).
+    ahead: Vec<Ahead>,
 }
+
+/// Flows a link sees fixed elsewhere at one key: `(key, rate, count)`.
+type Ahead = (Key, u64, u64);
 
 /// A flow's state in one sweep (kept in [`Flow`]).
 #[derive(Clone, Copy)]
@@ -235,6 +254,10 @@ struct SweepLink {
     seen: u64,
     /// How much the flows settled in this sweep add to its load.
     delta: i64,
+    /// Of its flows drawn into this sweep (added, unsettled or fixed again), how many are
+    /// not fixed yet and the rates of those that are.
+    drawn_unfixed: u32,
+    drawn_load: u64,
     /// It fixed its flows; nothing can change it any more in this solve.
     popped: bool,
     pending: bool,
@@ -253,6 +276,8 @@ impl Sweep {
             sl.seen = self.epoch;
             sl.suspect = false;
             sl.delta = 0;
+            sl.drawn_unfixed = 0;
+            sl.drawn_load = 0;
         }
         sl
     }
@@ -275,6 +300,8 @@ impl MaxMin {
             reruns: 0,
             #[cfg(test)]
             settled_as: (0, 0),
+            #[cfg(test)]
+            popped_as: (0, 0),
             #[cfg(test)]
             removed_alone: 0,
             #[cfg(test)]
@@ -424,7 +451,7 @@ impl MaxMin {
         ahead.clear();
         ahead.extend(flows.iter().filter(|&&s| s != slot).map(|&s| {
             let f = &self.flows[s as usize];
-            (f.key, f.rate)
+            (f.key, f.rate, 1)
         }));
         let alone = share_stays_above(self.capacity.of(b), b, &mut ahead, 1);
         self.sweep.ahead = ahead;
@@ -446,8 +473,8 @@ impl MaxMin {
         let mut ahead = std::mem::take(&mut self.sweep.ahead);
         ahead.clear();
         ahead.extend(link.flows.iter().map(|&s| match s == slot {
-            true => (at, rate),
-            false => (self.flows[s as usize].key, self.flows[s as usize].rate),
+            true => (at, rate, 1),
+            false => (self.flows[s as usize].key, self.flows[s as usize].rate, 1),
         }));
         let out = share_stays_above(self.capacity.of(l), l, &mut ahead, 0);
         self.sweep.ahead = ahead;
@@ -483,13 +510,20 @@ impl MaxMin {
             let entries = &mut self.group_entries[l as usize];
             // A new group's entries are the last of their links' lists.
             let found = match fresh {
-                true => entries.last().filter(|e| e.0 == g),
-                false => entries.iter().find(|e| e.0 == g),
+                true => entries.last_mut().filter(|e| e.group == g),
+                false => entries.iter_mut().find(|e| e.group == g),
             };
             match found {
-                Some(&(_, i)) => group.links[i as usize].crossing += 1,
+                Some(e) => {
+                    e.crossing += 1;
+                    group.links[e.at as usize].crossing += 1;
+                }
                 None => {
-                    entries.push((g, group.links.len() as u32));
+                    entries.push(GroupEntry {
+                        group: g,
+                        at: group.links.len() as u32,
+                        crossing: 1,
+                    });
                     group.links.push(GroupLink {
                         link: l,
                         crossing: 1,
@@ -519,20 +553,21 @@ impl MaxMin {
         }
         for j in 0..self.flows[slot as usize].route.len() {
             let l = self.flows[slot as usize].route[j];
-            let entries = &self.group_entries[l as usize];
+            let entries = &mut self.group_entries[l as usize];
             let e = entries
                 .iter()
-                .position(|e| e.0 == g)
+                .position(|e| e.group == g)
                 .expect("a member's link is in its group");
-            let i = entries[e].1 as usize;
+            entries[e].crossing -= 1;
+            let i = entries[e].at as usize;
             let group = &mut self.groups[g as usize];
             group.links[i].crossing -= 1;
-            if group.links[i].crossing > 0 {
+            if entries[e].crossing > 0 {
                 continue;
             }
             group.links.swap_remove(i);
             if let Some(&moved) = group.links.get(i) {
-                self.group_entries[moved.link as usize][moved.entry as usize].1 = i as u32;
+                self.group_entries[moved.link as usize][moved.entry as usize].at = i as u32;
             }
             self.drop_entry(l, e as u32);
         }
@@ -543,8 +578,8 @@ impl MaxMin {
     fn drop_entry(&mut self, link: LinkId, e: u32) {
         let entries = &mut self.group_entries[link as usize];
         entries.swap_remove(e as usize);
-        if let Some(&(g, i)) = entries.get(e as usize) {
-            self.groups[g as usize].links[i as usize].entry = e;
+        if let Some(moved) = entries.get(e as usize) {
+            self.groups[moved.group as usize].links[moved.at as usize].entry = e;
         }
     }
 
@@ -619,13 +654,25 @@ impl MaxMin {
             self.swept.0 += 1;
             self.swept.1 += self.flows[slot as usize].route.len() as u64;
         }
-        for &slot in &self.added {
-            self.flows[slot as usize].sweep_to(SweepFlow {
-                epoch: s.epoch,
+        for i in 0..self.added.len() {
+            let slot = self.added[i];
+            let epoch = self.sweep.epoch;
+            let f = &mut self.flows[slot as usize];
+            if f.swept_epoch == epoch {
+                continue; // added twice (removed and added again before this solve)
+            }
+            f.sweep_to(SweepFlow {
+                epoch,
                 settled: false,
                 rate: 0,
                 key: NONE,
             });
+            if f.live {
+                for j in 0..f.route.len() {
+                    let l = self.flows[slot as usize].route[j];
+                    self.sweep.link_seen(l).drawn_unfixed += 1;
+                }
+            }
         }
         for i in 0..self.forced.len() {
             self.mark_dirty(self.forced[i]);
@@ -732,7 +779,7 @@ impl MaxMin {
         ahead.clear();
         for &slot in &l.flows {
             match self.final_rate_and_key(slot) {
-                Some((rate, key)) => ahead.push((key, rate)),
+                Some((rate, key)) => ahead.push((key, rate, 1)),
                 None => {
                     self.sweep.ahead = ahead;
                     return false;
@@ -769,6 +816,7 @@ impl MaxMin {
         );
         let start = self.sweep.unsettled.len() as u32;
         // The flows it fixed last time are its group (a link that fixed nothing has none).
+        // None of them can be drawn in yet but those another link fixed (`fix`).
         for i in 0..self.groups[l].slots.len() {
             let slot = self.groups[l].slots[i];
             let f = &mut self.flows[slot as usize];
@@ -789,16 +837,19 @@ impl MaxMin {
             }
         }
         let end = self.sweep.unsettled.len() as u32;
-        if (end - start) as usize == self.groups[l].slots.len() {
-            // The whole group: its links once each.
-            for i in 0..self.groups[l].links.len() {
-                let other = self.groups[l].links[i].link;
-                self.make_pending(other);
-            }
-        } else {
+        let whole = (end - start) as usize == self.groups[l].slots.len();
+        if !whole {
             for i in start..end {
                 let slot = self.sweep.unsettled[i as usize];
-                self.touch_route(slot);
+                self.draw_route(slot);
+            }
+        }
+        if whole {
+            // The whole group: its links once each, with the count crossing each.
+            for i in 0..self.groups[l].links.len() {
+                let gl = self.groups[l].links[i];
+                self.sweep.link_seen(gl.link).drawn_unfixed += gl.crossing;
+                self.make_pending(gl.link);
             }
         }
         self.sweep.pops[l] = NONE;
@@ -816,11 +867,12 @@ impl MaxMin {
         }
     }
 
-    /// Flow `slot` changed state in this sweep: the dirty links it crosses that have not
-    /// fixed their flows must be evaluated again.
-    fn touch_route(&mut self, slot: u32) {
+    /// Flow `slot` is drawn into this sweep unfixed: the links it crosses count it so, and
+    /// the dirty ones that have not fixed their flows must be evaluated again.
+    fn draw_route(&mut self, slot: u32) {
         for i in 0..self.flows[slot as usize].route.len() {
             let l = self.flows[slot as usize].route[i];
+            self.sweep.link_seen(l).drawn_unfixed += 1;
             self.make_pending(l);
         }
     }
@@ -862,6 +914,65 @@ impl MaxMin {
             self.evaluations.1 += self.links[link as usize].flows.len() as u64;
             self.evaluations.2 += self.group_entries[link as usize].len() as u64;
         }
+        let pop = self.pop_by_groups(link);
+        #[cfg(test)]
+        assert_eq!(pop, self.pop_by_flows(link), "link {link}: by groups");
+        debug_assert!(
+            pop >= self.sweep.now,
+            "link {link}'s pop fell below the sweep"
+        );
+        self.sweep.pops[link as usize] = pop;
+        if pop != NONE {
+            self.sweep.heap.push(Reverse(pop << 1 | POP));
+        }
+    }
+
+    /// Where `link` pops, counted from the groups crossing it: the flows drawn into the sweep
+    /// as the link's tallies have them, every other flow at its group's old key and rate.
+    /// A group's members are drawn in exactly when its link is dirty, whenever a link is
+    /// evaluated or popped: turning dirty draws them in (`mark_dirty`), and a member drawn in
+    /// alone, fixed by another link at a key other than its old one (`fix`), has `settle`
+    /// note its old bottleneck, which turns dirty there and then. The tests hold every
+    /// evaluation to [`MaxMin::pop_by_flows`].
+    fn pop_by_groups(&mut self, link: LinkId) -> Key {
+        let now = self.sweep.now;
+        let epoch = self.sweep.epoch;
+        let sl = self.sweep.links[link as usize];
+        let (mut unfixed, mut fixed_load) = match sl.seen == epoch {
+            true => (sl.drawn_unfixed as u64, sl.drawn_load as u128),
+            false => (0, 0),
+        };
+        let mut ahead = std::mem::take(&mut self.sweep.ahead);
+        ahead.clear();
+        let (mut ahead_flows, mut ahead_rates, mut ahead_share) = (0u64, 0u64, 0u64);
+        for e in &self.group_entries[link as usize] {
+            if self.sweep.links[e.group as usize].epoch == epoch {
+                continue; // its link is dirty: its members are drawn in and tallied
+            }
+            let old = self.keys[e.group as usize];
+            let rate = share_of(old).max(1);
+            let n = e.crossing as u64;
+            if old < now {
+                fixed_load += rate as u128 * n as u128;
+            } else {
+                unfixed += n;
+                ahead_flows += n;
+                ahead_rates += rate * n;
+                ahead_share = ahead_share.max(share_of(old));
+                ahead.push((old, rate, n));
+            }
+        }
+        let left = (self.capacity.of(link) as u128).saturating_sub(fixed_load) as u64;
+        let totals = (ahead_flows, ahead_rates, ahead_share);
+        let pop = pop_from(left, unfixed, link, &mut ahead, totals);
+        self.sweep.ahead = ahead;
+        pop
+    }
+
+    /// Where `link` pops, counted flow by flow: the tests' oracle for
+    /// [`MaxMin::pop_by_groups`].
+    #[cfg(test)]
+    fn pop_by_flows(&mut self, link: LinkId) -> Key {
         let now = self.sweep.now;
         let mut ahead = std::mem::take(&mut self.sweep.ahead);
         ahead.clear();
@@ -884,20 +995,13 @@ impl MaxMin {
                 unfixed += 1;
                 ahead_rates += f.rate;
                 ahead_share = ahead_share.max(share_of(f.key));
-                ahead.push((f.key, f.rate));
+                ahead.push((f.key, f.rate, 1));
             }
         }
-        let pop =
-            match passes_all_ahead(left, unfixed, ahead.len() as u64, ahead_rates, ahead_share) {
-                Some(share) => share.map_or(NONE, |share| key(share, link)),
-                None => walk_to_pop(left, unfixed, link, &mut ahead).0,
-            };
+        let totals = (ahead.len() as u64, ahead_rates, ahead_share);
+        let pop = pop_from(left, unfixed, link, &mut ahead, totals);
         self.sweep.ahead = ahead;
-        debug_assert!(pop >= now, "link {link}'s pop fell below the sweep");
-        self.sweep.pops[link as usize] = pop;
-        if pop != NONE {
-            self.sweep.heap.push(Reverse(pop << 1 | POP));
-        }
+        pop
     }
 
     /// Dirty `link` fixes every flow still unfixed on it at its key `at`.
@@ -912,6 +1016,25 @@ impl MaxMin {
             && members
                 .iter()
                 .all(|&slot| self.fixed_rate(slot, at).is_none());
+        if whole && self.fixes_its_group_alone(link, at) {
+            #[cfg(test)]
+            {
+                self.popped_as.0 += 1;
+                let flows = &self.links[link as usize].flows;
+                let unfixed = flows.iter().filter(|&&s| self.fixed_rate(s, at).is_none());
+                assert_eq!(unfixed.count(), self.groups[link as usize].slots.len());
+            }
+            for i in 0..self.groups[link as usize].slots.len() {
+                let slot = self.groups[link as usize].slots[i];
+                self.fix(slot, rate, at);
+            }
+            self.settle_group(link, rate, at);
+            return;
+        }
+        #[cfg(test)]
+        {
+            self.popped_as.1 += 1;
+        }
         for i in 0..self.links[link as usize].flows.len() {
             let slot = self.links[link as usize].flows[i];
             if self.fixed_rate(slot, at).is_some() {
@@ -928,12 +1051,33 @@ impl MaxMin {
         }
     }
 
+    /// Whether, with every member of `link`'s group unfixed at `at`, they are the only flows
+    /// unfixed on it: no other flow drawn into the sweep is, and every other group crossing it
+    /// either is drawn in (its link is dirty) or was fixed below `at`. Read from the link's
+    /// tallies and its groups, without walking its flows.
+    fn fixes_its_group_alone(&self, link: LinkId, at: Key) -> bool {
+        let epoch = self.sweep.epoch;
+        let sl = &self.sweep.links[link as usize];
+        let drawn_unfixed = if sl.seen == epoch {
+            sl.drawn_unfixed
+        } else {
+            0
+        };
+        drawn_unfixed as usize == self.groups[link as usize].slots.len()
+            && self.group_entries[link as usize].iter().all(|e| {
+                e.group == link
+                    || self.sweep.links[e.group as usize].epoch == epoch
+                    || self.keys[e.group as usize] < at
+            })
+    }
+
     /// Flow `slot` is fixed at `rate` by the link of key `at`, as far as the flow is
-    /// concerned; returns its rate and key before.
-    fn fix(&mut self, slot: u32, rate: u64, at: Key) -> (u64, Key) {
-        let s = &mut self.sweep;
-        let f = &mut self.flows[slot as usize];
-        let old = if f.swept_epoch == s.epoch {
+    /// concerned; returns its rate and key before, and whether it was drawn in before.
+    fn fix(&mut self, slot: u32, rate: u64, at: Key) -> (u64, Key, bool) {
+        let epoch = self.sweep.epoch;
+        let f = &self.flows[slot as usize];
+        let drawn = f.swept_epoch == epoch;
+        let (old_rate, old_key) = if drawn {
             (f.swept_rate, f.swept_key)
         } else {
             #[cfg(feature = "counters")]
@@ -943,14 +1087,14 @@ impl MaxMin {
             }
             (f.rate, f.key)
         };
-        f.sweep_to(SweepFlow {
-            epoch: s.epoch,
+        self.flows[slot as usize].sweep_to(SweepFlow {
+            epoch,
             settled: true,
             rate,
             key: at,
         });
-        s.settled.push(slot);
-        old
+        self.sweep.settled.push(slot);
+        (old_rate, old_key, drawn)
     }
 
     /// `link`'s whole group, fixed again by `link` at `rate` and key `at` (each flow by
@@ -969,7 +1113,10 @@ impl MaxMin {
             let GroupLink {
                 link: l, crossing, ..
             } = self.groups[link as usize].links[i];
-            self.sweep.link_seen(l).delta += delta * crossing as i64;
+            let sl = self.sweep.link_seen(l);
+            sl.delta += delta * crossing as i64;
+            sl.drawn_unfixed -= crossing;
+            sl.drawn_load += rate * crossing as u64;
             self.make_pending(l);
             if moved {
                 self.note(l);
@@ -980,7 +1127,7 @@ impl MaxMin {
     /// Flow `slot` is fixed at `rate` by the link of key `at`. Links that counted it
     /// differently last time turn dirty.
     fn settle(&mut self, slot: u32, rate: u64, at: Key) {
-        let (old_rate, old_key) = self.fix(slot, rate, at);
+        let (old_rate, old_key, drawn) = self.fix(slot, rate, at);
         #[cfg(test)]
         {
             self.settled_as.1 += 1;
@@ -990,7 +1137,10 @@ impl MaxMin {
         let moved = old_key != NONE && (old_rate != rate || old_key != at);
         for i in 0..self.flows[slot as usize].route.len() {
             let l = self.flows[slot as usize].route[i];
-            self.sweep.link_seen(l).delta += delta;
+            let sl = self.sweep.link_seen(l);
+            sl.delta += delta;
+            sl.drawn_unfixed -= drawn as u32;
+            sl.drawn_load += rate;
             self.make_pending(l);
             if moved {
                 self.note(l);
@@ -1084,8 +1234,8 @@ impl MaxMin {
             }
         }
         let entries_point_back = self.group_entries.iter().enumerate().all(|(l, es)| {
-            es.iter().enumerate().all(|(e, &(g, i))| {
-                let gl = self.groups[g as usize].links[i as usize];
+            es.iter().enumerate().all(|(e, entry)| {
+                let gl = self.groups[entry.group as usize].links[entry.at as usize];
                 gl.link == l as LinkId && gl.entry == e as u32
             })
         });
@@ -1106,7 +1256,7 @@ impl MaxMin {
                     && group.links.iter().all(|gl| {
                         self.group_entries[gl.link as usize]
                             .iter()
-                            .any(|e| e.0 == g as LinkId)
+                            .any(|e| e.group == g as LinkId && e.crossing == gl.crossing)
                     })
             })
     }
@@ -1149,25 +1299,41 @@ impl MaxMin {
     }
 }
 
-/// Where a link pops with `left` capacity and `unfixed` flows, of which `ahead` are still to
-/// be fixed elsewhere at their (key, rate) in key order: the first share, as they are, that
-/// does not lie above the next one's key (`NONE` if none is left unfixed); and how many of
-/// `ahead` were fixed before it. Sorts `ahead`.
-fn walk_to_pop(
-    mut left: u64,
-    mut unfixed: u64,
+/// Where a link with `left` capacity and `unfixed` flows pops, `ahead` of them still to be
+/// fixed elsewhere (`totals`: how many, their rates' sum and the largest share among them):
+/// by [`passes_all_ahead`]'s certificate if it holds, else by [`walk_to_pop`].
+fn pop_from(
+    left: u64,
+    unfixed: u64,
     link: LinkId,
-    ahead: &mut [(Key, u64)],
-) -> (Key, usize) {
+    ahead: &mut [Ahead],
+    (flows, rates, share): (u64, u64, u64),
+) -> Key {
+    match passes_all_ahead(left, unfixed, flows, rates, share) {
+        Some(share) => share.map_or(NONE, |share| key(share, link)),
+        None => walk_to_pop(left, unfixed, link, ahead).0,
+    }
+}
+
+/// Where a link pops with `left` capacity and `unfixed` flows, of which those in `ahead` are
+/// still to be fixed elsewhere, `count` at each (key, rate), in key order: the first share,
+/// as they are, that does not lie above the next one's key (`NONE` if none is left unfixed);
+/// and how many of the flows ahead were fixed before it. Sorts `ahead`.
+fn walk_to_pop(mut left: u64, mut unfixed: u64, link: LinkId, ahead: &mut [Ahead]) -> (Key, u64) {
     ahead.sort_unstable();
-    let mut passed = 0;
+    // The flows ahead one by one: `taken` of entry `next`'s count are passed.
+    let (mut passed, mut next, mut taken) = (0, 0, 0);
     while unfixed > 0 {
         let candidate = key(left / unfixed, link);
-        match ahead.get(passed) {
-            Some(&(k, rate)) if k < candidate => {
+        match ahead.get(next) {
+            Some(&(k, rate, count)) if k < candidate => {
                 left = left.saturating_sub(rate);
                 unfixed -= 1;
                 passed += 1;
+                taken += 1;
+                if taken == count {
+                    (next, taken) = (next + 1, 0);
+                }
             }
             _ => return (candidate, passed),
         }
@@ -1199,9 +1365,9 @@ fn passes_all_ahead(
 /// Whether `link`'s share, as the flows in `ahead` (key, rate) are fixed elsewhere in key
 /// order and `extra` more stay unfixed throughout, always stays above the key of the next one
 /// to be fixed (so it never is the smallest link while they are). Sorts `ahead`.
-fn share_stays_above(capacity: u64, link: LinkId, ahead: &mut [(Key, u64)], extra: u64) -> bool {
-    let all = ahead.len();
-    walk_to_pop(capacity, all as u64 + extra, link, ahead).1 == all
+fn share_stays_above(capacity: u64, link: LinkId, ahead: &mut [Ahead], extra: u64) -> bool {
+    let all: u64 = ahead.iter().map(|a| a.2).sum();
+    walk_to_pop(capacity, all + extra, link, ahead).1 == all
 }
 
 #[cfg(test)]
@@ -1278,13 +1444,12 @@ mod tests {
         check_counting(Capacities::Uniform(capacity), links, steps).map(|_| ())
     }
 
-    /// [`check`], returning how many groups were fixed again whole, how many flows were
-    /// settled one by one, and how many were removed and added without a sweep.
+    /// [`check`], returning the solver with its counts of the ways it took.
     fn check_counting(
         capacity: Capacities,
         links: u32,
         steps: &[Step],
-    ) -> Result<(u64, u64, u64, u64), TestCaseError> {
+    ) -> Result<MaxMin, TestCaseError> {
         let mut mm = MaxMin::new(capacity.clone(), links as usize);
         let mut live: Vec<(u32, Vec<LinkId>)> = Vec::new();
         let mut free: Vec<u32> = Vec::new();
@@ -1345,12 +1510,7 @@ mod tests {
                 prop_assert_eq!(Some(mm.rate(*slot)), mm.group_rate(mm.bottleneck(*slot)));
             }
         }
-        Ok((
-            mm.settled_as.0,
-            mm.settled_as.1,
-            mm.removed_alone,
-            mm.added_alone,
-        ))
+        Ok(mm)
     }
 
     proptest! {
@@ -1476,12 +1636,17 @@ mod tests {
             let add = rng.gen_bool(0.5);
             one_change(add, &mut rng)
         }));
-        let (whole, one_by_one, removed, added) =
-            check_counting(Capacities::Uniform(1_000_003), links, &steps).unwrap();
-        // Both ways of settling ran, and removals and adds that need no sweep were taken, so
-        // the agreement covers each.
+        let mm = check_counting(Capacities::Uniform(1_000_003), links, &steps).unwrap();
+        let (whole, one_by_one) = mm.settled_as;
+        let (alone, walked) = mm.popped_as;
+        let (removed, added) = (mm.removed_alone, mm.added_alone);
+        // Both ways of settling and of popping a link ran, and removals and adds that need no
+        // sweep were taken, so the agreement covers each (every evaluation by groups is held
+        // to one by flows as it happens).
         assert!(whole > 100, "groups fixed again whole: {whole}");
         assert!(one_by_one > 100, "flows settled one by one: {one_by_one}");
+        assert!(alone > 100, "pops fixing their group alone: {alone}");
+        assert!(walked > 100, "pops walking their flows: {walked}");
         assert!(removed > 10, "flows removed without a sweep: {removed}");
         assert!(added > 40, "flows added without a sweep: {added}");
     }

@@ -30,8 +30,9 @@ pub struct SolveCounters {
     pub flows_switched: u64,
     /// Dirty links evaluated by the max-min sweep.
     pub link_evaluations: u64,
-    /// Flows those evaluations walked, and the groups crossing the same links.
-    pub flows_walked: u64,
+    /// Flows on the links evaluated, and the groups crossing the same links (what an
+    /// evaluation walks).
+    pub flows_on_links: u64,
     pub groups_crossing: u64,
     /// Flows drawn into a sweep (added, unsettled or fixed again), and the links their routes
     /// cross: what a sweep by groups would have to tell each link about its groups' members.
