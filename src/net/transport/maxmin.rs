@@ -18,9 +18,10 @@
 //! rate if its old key has passed. A link counts them without visiting them: the flows the
 //! sweep has drawn in (added, unsettled or fixed again) are tallied on every link they cross
 //! as they change, and the untouched ones by group, the flows one link fixed last time (one
-//! key, one rate), from the link's list of the groups crossing it and how many of each. Flows whose bottleneck turned dirty are *unsettled*: if
-//! one is still unfixed when the sweep passes its old key, every link it crosses turns dirty
-//! there (they would have counted it as fixed). Before any link's old key is passed, every
+//! key, one rate), from the link's list of the groups crossing it and how many of each.
+//! Flows whose bottleneck turned dirty are *unsettled*: if one is still unfixed when the sweep
+//! passes its old key, every link it crosses turns dirty there (they would have counted it as
+//! fixed). Before any link's old key is passed, every
 //! way its pop could differ has marked it dirty, so untouched links and flows keep their old
 //! keys and rates exactly.
 //!
