@@ -269,6 +269,22 @@ const POP: u128 = 0;
 const PASS: u128 = 1;
 
 impl Sweep {
+    /// Whether `link` is dirty in this sweep (so the flows it fixed last time, its group, are
+    /// all drawn in).
+    fn is_dirty(&self, link: LinkId) -> bool {
+        self.links[link as usize].epoch == self.epoch
+    }
+
+    /// `link`'s tallies of the flows drawn into this sweep: how many are unfixed, and the sum
+    /// of the rates of those fixed.
+    fn drawn_on(&self, link: LinkId) -> (u32, u64) {
+        let sl = &self.links[link as usize];
+        match sl.seen == self.epoch {
+            true => (sl.drawn_unfixed, sl.drawn_load),
+            false => (0, 0),
+        }
+    }
+
     /// `link`'s per-solve state, with its suspect mark and load delta reset on first use in
     /// this epoch.
     fn link_seen(&mut self, link: LinkId) -> &mut SweepLink {
@@ -704,7 +720,7 @@ impl MaxMin {
         let forced = self.forced.len();
         for i in 0..self.sweep.suspects.len() {
             let link = self.sweep.suspects[i];
-            if self.sweep.links[link as usize].epoch != self.sweep.epoch && !self.stays_out(link) {
+            if !self.sweep.is_dirty(link) && !self.stays_out(link) {
                 self.forced.push(link);
             }
         }
@@ -937,18 +953,14 @@ impl MaxMin {
     /// evaluation to [`MaxMin::pop_by_flows`].
     fn pop_by_groups(&mut self, link: LinkId) -> Key {
         let now = self.sweep.now;
-        let epoch = self.sweep.epoch;
-        let sl = self.sweep.links[link as usize];
-        let (mut unfixed, mut fixed_load) = match sl.seen == epoch {
-            true => (sl.drawn_unfixed as u64, sl.drawn_load as u128),
-            false => (0, 0),
-        };
+        let (drawn_unfixed, drawn_load) = self.sweep.drawn_on(link);
+        let (mut unfixed, mut fixed_load) = (drawn_unfixed as u64, drawn_load as u128);
         let mut ahead = std::mem::take(&mut self.sweep.ahead);
         ahead.clear();
         let (mut ahead_flows, mut ahead_rates, mut ahead_share) = (0u64, 0u64, 0u64);
         for e in &self.group_entries[link as usize] {
-            if self.sweep.links[e.group as usize].epoch == epoch {
-                continue; // its link is dirty: its members are drawn in and tallied
+            if self.sweep.is_dirty(e.group) {
+                continue; // its members are drawn in and tallied
             }
             let old = self.keys[e.group as usize];
             let rate = share_of(old).max(1);
@@ -1057,18 +1069,10 @@ impl MaxMin {
     /// either is drawn in (its link is dirty) or was fixed below `at`. Read from the link's
     /// tallies and its groups, without walking its flows.
     fn fixes_its_group_alone(&self, link: LinkId, at: Key) -> bool {
-        let epoch = self.sweep.epoch;
-        let sl = &self.sweep.links[link as usize];
-        let drawn_unfixed = if sl.seen == epoch {
-            sl.drawn_unfixed
-        } else {
-            0
-        };
+        let (drawn_unfixed, _) = self.sweep.drawn_on(link);
         drawn_unfixed as usize == self.groups[link as usize].slots.len()
             && self.group_entries[link as usize].iter().all(|e| {
-                e.group == link
-                    || self.sweep.links[e.group as usize].epoch == epoch
-                    || self.keys[e.group as usize] < at
+                e.group == link || self.sweep.is_dirty(e.group) || self.keys[e.group as usize] < at
             })
     }
 

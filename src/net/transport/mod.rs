@@ -17,8 +17,8 @@ use super::{Delivered, Fidelity, LinkId, MsgId};
 use crate::units::{Bytes, SimTime};
 
 /// How much work the flow model's solves did, counted only when built with the `counters`
-/// feature (zero otherwise): what the groups of `flow.rs` save against flows, and what a
-/// sweep by groups would save in `maxmin.rs`.
+/// feature (zero otherwise): what the groups of `flow.rs` save against flows, and what the
+/// sweep of `maxmin.rs` saves by counting a link's groups instead of its flows.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq, serde::Serialize)]
 pub struct SolveCounters {
     pub solves: u64,
@@ -35,7 +35,7 @@ pub struct SolveCounters {
     pub flows_on_links: u64,
     pub groups_crossing: u64,
     /// Flows drawn into a sweep (added, unsettled or fixed again), and the links their routes
-    /// cross: what a sweep by groups would have to tell each link about its groups' members.
+    /// cross: each such visit updates that link's tallies of the flows drawn in.
     pub flows_swept: u64,
     pub swept_route_links: u64,
 }
