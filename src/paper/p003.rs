@@ -107,7 +107,7 @@ pub fn measure(options: &PaperOptions, data: &PaperData) -> Result<Measurements,
         });
         let r = &row.rows[0];
         if let Some(active) = r.local_active {
-            local.push(100.0 * r.local_fraction(active, stats.area));
+            local.push((s.name, 100.0 * r.local_fraction(active, stats.area)));
         }
         curves.push((
             s.name,
@@ -165,12 +165,12 @@ pub fn measure(options: &PaperOptions, data: &PaperData) -> Result<Measurements,
     m.put(
         "local-active-8",
         Measured::value(
-            local.iter().sum::<f64>() / local.len().max(1) as f64,
+            local.iter().map(|l| l.1).sum::<f64>() / local.len().max(1) as f64,
             format!(
                 "round-robin, 8 processors, by stand-in: {}",
                 local
                     .iter()
-                    .map(|l| format!("{l:.1}%"))
+                    .map(|(name, share)| format!("{name} {share:.1}%"))
                     .collect::<Vec<_>>()
                     .join(", ")
             ),
