@@ -228,6 +228,23 @@ pub fn load_file(
                 r.id
             )));
         }
+        if let (Some(value), Some(tolerance)) = (r.value, r.tolerance) {
+            let width = match tolerance {
+                Tolerance::RelativePct(pct) => pct / 100.0 * value.abs(),
+                Tolerance::Absolute(a) => a,
+            };
+            // A tolerance as wide as the value passes any answer from 0 to twice the value:
+            // such a row cannot fail where it matters.
+            if !(width > 0.0 && width < value.abs()) {
+                return Err(fail(format!(
+                    "row {}: its tolerance, {}, must be above 0 and narrower than the value {value} \
+                     itself (a relative tolerance under 100%, an absolute one under {})",
+                    r.id,
+                    r.tolerance_text(),
+                    value.abs()
+                )));
+            }
+        }
         match (r.role, &r.fit) {
             (Role::Fitted, None) => {
                 return Err(fail(format!(
