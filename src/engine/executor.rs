@@ -201,6 +201,9 @@ pub(super) struct State<M> {
     /// Where each node's first program keeps its state, while it runs, for the look ahead
     /// (`warm_for_next`).
     first_program: Vec<Option<Warm>>,
+    /// Whether the look ahead runs: only with enough nodes that their records and programs
+    /// miss in cache ([`LOOK_AHEAD_NODES`]); with fewer it is work that saves nothing.
+    look_ahead: bool,
     pub cpu: CpuConfig,
     net: Option<Network>,
     net_wakes: NetWakes,
@@ -390,6 +393,7 @@ impl<M: Payload> State<M> {
 
     /// Hands a message to the first program on its destination waiting for one like it, or
     /// else puts it in the destination's mailbox.
+    #[inline]
     pub fn deliver(&mut self, env: Envelope<M>) {
         let node = &mut self.nodes[env.dst as usize];
         node.stats.bytes_received += env.bytes;
@@ -457,6 +461,7 @@ impl<M: Payload> Sim<M> {
             programs: Vec::new(),
             spawned: Vec::new(),
             nodes,
+            look_ahead: first_program.len() >= LOOK_AHEAD_NODES,
             first_program,
             cpu,
             net,
@@ -554,7 +559,7 @@ impl<M: Payload> Sim<M> {
     pub fn run_until(&mut self, horizon: SimTime) -> Result<(), SimError> {
         let mut cx = Context::from_waker(Waker::noop());
         loop {
-            // One borrow per step: either the next ready program, or the next event.
+            // One borrow per program polled: the events before it are taken in the same one.
             let p = {
                 let mut st = self.state.borrow_mut();
                 // A charge past the largest simulated time, made by the program polled last.
@@ -566,46 +571,9 @@ impl<M: Payload> Sim<M> {
                     self.adopt_spawned();
                     continue;
                 }
-                match st.ready.pop_front() {
-                    Some(p) => {
-                        st.current = p;
-                        p
-                    }
-                    None => {
-                        if let Some(warm) = st.warm_for_next() {
-                            warm.prefetch();
-                        }
-                        let last = st.queue.last_taken();
-                        let wake = st.net_wakes.due(last).filter(|w| w.time() <= horizon);
-                        let Some((at, event)) = st.queue.pop_before(horizon, wake) else {
-                            let Some(wake) = wake else {
-                                return Ok(());
-                            };
-                            st.net_wakes.take(wake);
-                            st.now = wake.time();
-                            st.events += 1;
-                            st.net_wake();
-                            continue;
-                        };
-                        st.now = at;
-                        st.events += 1;
-                        match event {
-                            Event::Wake(p) => st.ready.push_back(p),
-                            Event::Arrive(id) => st.arrive(id),
-                            Event::Post { src, dst, payload } => {
-                                let tag = payload.tag();
-                                st.deliver(Envelope {
-                                    src,
-                                    dst,
-                                    tag,
-                                    bytes: Bytes::ZERO,
-                                    payload,
-                                    arrived: at,
-                                })
-                            }
-                        }
-                        continue;
-                    }
+                match st.next_ready(horizon) {
+                    Some(p) => p,
+                    None => return Ok(()),
                 }
             };
             let Some(program) = self.programs[p as usize].as_mut() else {
@@ -676,6 +644,11 @@ impl<M: Payload> Drop for Sim<M> {
     }
 }
 
+/// The fewest nodes at which the look ahead runs. PHOLD measured it paying at 16,384 logical
+/// processes and not at 1,024 or below (docs/performance.md), where a node's record and its
+/// program's state (about 0.5 KB together) stay in the cache of a 2-core host.
+const LOOK_AHEAD_NODES: usize = 4096;
+
 /// How much of a program's future the look ahead asks for: PHOLD's program is 448 bytes, and
 /// fetching only its first four lines kept most of the misses.
 const WARM_BYTES: usize = 8 * 64;
@@ -739,6 +712,51 @@ impl<M: Payload> State<M> {
             }
         }
         waits
+    }
+
+    /// The next program to poll, made current: the first ready one, after taking events in
+    /// order (up to `horizon`) until one is. `None` when no event is left by then. Events
+    /// never run program code, so nothing a poll could change (an overflowing charge, a
+    /// spawned program) arises while they are taken.
+    fn next_ready(&mut self, horizon: SimTime) -> Option<ProgramId> {
+        loop {
+            if let Some(p) = self.ready.pop_front() {
+                self.current = p;
+                return Some(p);
+            }
+            if self.look_ahead {
+                if let Some(warm) = self.warm_for_next() {
+                    warm.prefetch();
+                }
+            }
+            let last = self.queue.last_taken();
+            let wake = self.net_wakes.due(last).filter(|w| w.time() <= horizon);
+            let Some((at, event)) = self.queue.pop_before(horizon, wake) else {
+                let wake = wake?;
+                self.net_wakes.take(wake);
+                self.now = wake.time();
+                self.events += 1;
+                self.net_wake();
+                continue;
+            };
+            self.now = at;
+            self.events += 1;
+            match event {
+                Event::Wake(p) => self.ready.push_back(p),
+                Event::Arrive(id) => self.arrive(id),
+                Event::Post { src, dst, payload } => {
+                    let tag = payload.tag();
+                    self.deliver(Envelope {
+                        src,
+                        dst,
+                        tag,
+                        bytes: Bytes::ZERO,
+                        payload,
+                        arrived: at,
+                    })
+                }
+            }
+        }
     }
 
     /// Reads the node record the next event's delivery will read first, before the queue

@@ -210,6 +210,7 @@ impl Keys {
         }
     }
 
+    #[inline]
     fn push(&mut self, key: u128) {
         match &mut self.store {
             Store::Heap(h) => {
@@ -219,14 +220,24 @@ impl Keys {
                 );
                 h.push(Reverse(key));
                 if h.len() > self.to_radix {
-                    let mut radix = RadixHeap::starting_at(self.last);
-                    for Reverse(k) in std::mem::take(h).into_vec() {
-                        radix.push(k);
-                    }
-                    self.store = Store::Radix(radix);
+                    self.move_to_radix();
                 }
             }
             Store::Radix(r) => r.push(key),
+        }
+    }
+
+    /// Past `to_radix` pending keys: the heap's keys go into a radix heap (rare, and kept
+    /// out of line so that a push stays small enough to inline).
+    #[cold]
+    #[inline(never)]
+    fn move_to_radix(&mut self) {
+        if let Store::Heap(h) = &mut self.store {
+            let mut radix = RadixHeap::starting_at(self.last);
+            for Reverse(k) in std::mem::take(h).into_vec() {
+                radix.push(k);
+            }
+            self.store = Store::Radix(radix);
         }
     }
 
