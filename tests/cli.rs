@@ -143,6 +143,7 @@ fn phold_twice_gives_byte_identical_summary() {
     );
     let v: serde_json::Value = serde_json::from_str(&summary).unwrap();
     assert_eq!(v["baseline_agrees"], true);
+    assert_eq!(v["floor_agrees"], true);
     assert_eq!(v["in_flight"], 512);
     // 512 events in flight for 200us at a mean spacing of 1.1us: about 93,000 events.
     let events = v["events"].as_u64().unwrap();

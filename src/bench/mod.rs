@@ -1,5 +1,6 @@
 //! Benchmarks reachable from the command line (`sortsim bench ...`): PHOLD on the engine,
-//! measured against a bare binary-heap PHOLD loop in the same run; trace replay (paper 003)
+//! measured against a bare binary-heap PHOLD loop and the leanest executor of the engine's
+//! design (`floor.rs`) in the same run; trace replay (paper 003)
 //! against one pass over the fragments; how the simulator's cost grows (`scale.rs`); and the
 //! instruction counts of the same comparisons, which the host's noise does not move
 //! (`instructions.rs`).
@@ -7,6 +8,7 @@
 //! Owns workload definitions and wall-clock measurement. Wall-clock time is read here and in
 //! `report::cost` only, never inside a simulation.
 
+pub mod floor;
 pub mod instructions;
 pub mod scale;
 
@@ -212,6 +214,8 @@ pub struct PholdSummary {
     pub trace_hash: String,
     /// Whether the bare loop processed the same events in the same order.
     pub baseline_agrees: bool,
+    /// Whether the floor executor (`floor.rs`) did.
+    pub floor_agrees: bool,
 }
 
 /// What the PHOLD run cost on this host, engine against baseline in the same process.
@@ -223,6 +227,11 @@ pub struct PholdCost {
     pub baseline_events_per_s: f64,
     /// Engine events/s over baseline events/s (1.0 = no overhead).
     pub ratio_to_baseline: f64,
+    /// The floor executor's (`floor.rs`): one async program per LP and nothing else.
+    pub floor_wall_s: f64,
+    pub floor_events_per_s: f64,
+    /// Engine events/s over the floor's: what the engine's features cost beyond its design.
+    pub ratio_to_floor: f64,
     /// With `--instructions`: the engine's instructions (`measured`) and the bare heap's
     /// (`baseline`), counted by callgrind.
     #[serde(skip_serializing_if = "Option::is_none")]
@@ -244,14 +253,12 @@ impl PholdCost {
     }
 }
 
-/// Runs PHOLD on the engine and on the baseline and reports both.
+/// Runs PHOLD on the engine, the floor executor and the baseline, and reports all three.
 pub fn phold_report(cfg: &PholdConfig) -> Result<(PholdSummary, PholdCost), SimError> {
-    let t0 = Instant::now();
-    let engine = phold_engine(cfg)?;
-    let engine_wall = t0.elapsed().as_secs_f64();
-    let t1 = Instant::now();
-    let baseline = phold_baseline(cfg);
-    let baseline_wall = t1.elapsed().as_secs_f64();
+    let (engine, engine_wall) = timed(|| phold_engine(cfg));
+    let engine = engine?;
+    let (floor, floor_wall) = timed(|| floor::phold_floor(cfg));
+    let (baseline, baseline_wall) = timed(|| phold_baseline(cfg));
     let rate = |events: u64, wall: f64| {
         if wall > 0.0 {
             events as f64 / wall
@@ -259,7 +266,9 @@ pub fn phold_report(cfg: &PholdConfig) -> Result<(PholdSummary, PholdCost), SimE
             0.0
         }
     };
+    let ratio = |of: f64, to: f64| if to > 0.0 { of / to } else { 0.0 };
     let engine_rate = rate(engine.events, engine_wall);
+    let floor_rate = rate(floor.events, floor_wall);
     let baseline_rate = rate(baseline.events, baseline_wall);
     let summary = PholdSummary {
         lps: cfg.lps,
@@ -274,21 +283,28 @@ pub fn phold_report(cfg: &PholdConfig) -> Result<(PholdSummary, PholdCost), SimE
         simulated_end_s: SimTime::from_ps(engine.last_event_ps).as_secs_f64(),
         trace_hash: format!("{:016x}", engine.trace_hash),
         baseline_agrees: engine == baseline,
+        floor_agrees: engine == floor,
     };
     let cost = PholdCost {
         engine_wall_s: engine_wall,
         engine_events_per_s: engine_rate,
         baseline_wall_s: baseline_wall,
         baseline_events_per_s: baseline_rate,
-        ratio_to_baseline: if baseline_rate > 0.0 {
-            engine_rate / baseline_rate
-        } else {
-            0.0
-        },
+        ratio_to_baseline: ratio(engine_rate, baseline_rate),
+        floor_wall_s: floor_wall,
+        floor_events_per_s: floor_rate,
+        ratio_to_floor: ratio(engine_rate, floor_rate),
         instructions: None,
         instruction_ratio: None,
     };
     Ok((summary, cost))
+}
+
+/// `f`'s result and its wall time in seconds.
+fn timed<T>(f: impl FnOnce() -> T) -> (T, f64) {
+    let start = Instant::now();
+    let out = f();
+    (out, start.elapsed().as_secs_f64())
 }
 
 #[cfg(test)]
@@ -315,6 +331,7 @@ mod tests {
         // Expected ~ lps*events_per_lp*end/(mean+lookahead) = 64*200/1.1 ≈ 11,600 events.
         assert!(engine.events > 5_000, "{engine:?}");
         assert_eq!(engine, baseline);
+        assert_eq!(floor::phold_floor(&cfg), baseline);
         assert!(engine.last_event_ps <= cfg.end.ps());
     }
 

@@ -25,8 +25,9 @@ pub fn write_phold(dir: &Path, summary: &PholdSummary, cost: &PholdCost) -> Resu
     write_text(dir, "cost.json", &to_json(cost))
 }
 
-/// What `bench phold` prints: the workload, both loops' event rates and their ratio, whether
-/// they processed the same events, and with `--instructions` both loops' instruction counts
+/// What `bench phold` prints: the workload, the three loops' event rates (the engine, the
+/// floor executor of its design, the bare heap) and the engine's ratio to each, whether they
+/// processed the same events, and with `--instructions` both loops' instruction counts
 /// (summary.json and cost.json hold every number).
 pub fn phold_text(summary: &PholdSummary, cost: &PholdCost) -> String {
     let counted = match (cost.instructions, cost.instruction_ratio) {
@@ -48,8 +49,10 @@ pub fn phold_text(summary: &PholdSummary, cost: &PholdCost) -> String {
     format!(
         "PHOLD: {} logical processes x {} events = {} in flight, {:.0}% remote, mean delay {:.3} us, \
          lookahead {:.3} us, simulated to {:.3} us (seed {})\n\
-         {:<10} {:>12} {:>10} {:>12}\n{}{}\
-         engine / bare heap: {:.2}x; same events in the same order: {} (trace {})\n{}",
+         {:<10} {:>12} {:>10} {:>12}\n{}{}{}\
+         engine / bare heap: {:.2}x; same events in the same order: {} (trace {})\n\
+         engine / floor: {:.2}x (the floor is one async program per LP and nothing else: what \
+         the engine's features cost beyond its design); same events: {}\n{}",
         summary.lps,
         summary.events_per_lp,
         summary.in_flight,
@@ -63,10 +66,13 @@ pub fn phold_text(summary: &PholdSummary, cost: &PholdCost) -> String {
         "wall (s)",
         "M events/s",
         row("engine", cost.engine_wall_s, cost.engine_events_per_s),
+        row("floor", cost.floor_wall_s, cost.floor_events_per_s),
         row("bare heap", cost.baseline_wall_s, cost.baseline_events_per_s),
         cost.ratio_to_baseline,
         if summary.baseline_agrees { "yes" } else { "NO" },
         summary.trace_hash,
+        cost.ratio_to_floor,
+        if summary.floor_agrees { "yes" } else { "NO" },
         counted
     ) + if summary.events == 0 {
         "no event fell at or before --end, so nothing was measured and the ratio means \
