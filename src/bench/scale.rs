@@ -281,15 +281,22 @@ pub fn scale(cfg: &ScaleConfig, progress: &mut dyn FnMut(&str)) -> Result<ScaleR
             seed: 1,
         };
         let mut ratios = Vec::new();
+        let mut floor_ratios = Vec::new();
         let mut events = 0;
         for _ in 0..repeats {
             let (summary, cost) = phold_report(&phold).map_err(|e| e.to_string())?;
-            if !summary.baseline_agrees {
+            if !summary.baseline_agrees || !summary.floor_agrees {
                 return Err(
-                    "PHOLD: the engine and the bare heap processed different events".into(),
+                    "PHOLD: the engine, the floor and the bare heap processed different events"
+                        .into(),
                 );
             }
             ratios.push(cost.ratio_to_baseline);
+            floor_ratios.push(if cost.baseline_events_per_s > 0.0 {
+                cost.floor_events_per_s / cost.baseline_events_per_s
+            } else {
+                0.0
+            });
             events = summary.events;
         }
         figures.push(figure(
@@ -297,7 +304,11 @@ pub fn scale(cfg: &ScaleConfig, progress: &mut dyn FnMut(&str)) -> Result<ScaleR
             median(ratios.clone()),
             "x",
             Target::AtLeast(if in_flight >= 1 << 20 { 1.0 } else { 0.8 }),
-            format!("{events} events{}", runs_note(&ratios)),
+            format!(
+                "{events} events{}; the floor of the engine's design / bare heap: {:.3}x",
+                runs_note(&ratios),
+                median(floor_ratios)
+            ),
         ));
         // A million in flight is about cache misses, which instructions leave out.
         if cfg.instructions && in_flight <= 16384 {
