@@ -14,8 +14,8 @@ fn json(path: &Path) -> serde_json::Value {
 }
 
 /// PHOLD of 16 x 16 events in flight up to `end`, with `--instructions`: (events, engine's
-/// instructions, bare heap's, the printed ratio).
-fn phold_counted(end: &str) -> (u64, u64, u64, f64) {
+/// instructions, bare heap's, the printed ratio, the floor executor's).
+fn phold_counted(end: &str) -> (u64, u64, u64, f64, u64) {
     let out_dir = common::scratch("phold");
     let out_arg = out_dir.to_str().unwrap();
     let out = sortsim(&[
@@ -48,29 +48,38 @@ fn phold_counted(end: &str) -> (u64, u64, u64, f64) {
         cost["instructions"]["measured"].as_u64().unwrap(),
         cost["instructions"]["baseline"].as_u64().unwrap(),
         cost["instruction_ratio"].as_f64().unwrap(),
+        cost["floor_instructions"].as_u64().unwrap(),
     )
 }
 
 #[test]
 fn phold_instructions_repeat_exactly_and_grow_with_the_events_alone() {
     common::installed("valgrind", &["valgrind"]);
-    let (events, engine, bare, ratio) = phold_counted("200us");
+    let (events, engine, bare, ratio, floor) = phold_counted("200us");
     // The same run counts the same instructions: what the noise cannot move.
     assert_eq!(
         phold_counted("200us"),
-        (events, engine, bare, ratio),
+        (events, engine, bare, ratio, floor),
         "a second identical run"
     );
     assert_eq!(ratio, bare as f64 / engine as f64);
-    // The engine does the bare loop's work (the same draws, a queue) and its own besides.
-    assert!(engine > bare, "engine {engine}, bare heap {bare}");
+    // The engine does the bare loop's work (the same draws, a queue) and its own besides; the
+    // floor of its design does the bare loop's work and polls a program per event, no more.
+    assert!(
+        engine > floor && floor > bare,
+        "engine {engine}, floor {floor}, bare heap {bare}"
+    );
     // Twice the simulated time is about twice the events; each count follows them within 5%
     // (a count that took in the process's start-up, the other loop or the set-up of the 256
     // initial events would not: they do not grow with the events).
-    let (events2, engine2, bare2, _) = phold_counted("400us");
+    let (events2, engine2, bare2, _, floor2) = phold_counted("400us");
     let grew = events2 as f64 / events as f64;
     assert!(grew > 1.8, "{events} -> {events2} events");
-    for (who, before, after) in [("engine", engine, engine2), ("bare heap", bare, bare2)] {
+    for (who, before, after) in [
+        ("engine", engine, engine2),
+        ("bare heap", bare, bare2),
+        ("floor", floor, floor2),
+    ] {
         let counted = after as f64 / before as f64;
         assert!(
             (counted / grew - 1.0).abs() < 0.05,

@@ -23,6 +23,8 @@ pub enum Stretch {
     PholdEngine,
     /// [`super::phold_baseline`]: the bare binary-heap loop.
     PholdBaseline,
+    /// [`super::floor::phold_floor`]: the floor of the engine's design.
+    PholdFloor,
     /// [`super::simulate_frame`]: one frame simulated (`bench overhead`).
     Simulate,
     /// [`super::render_frame`]: the same frame drawn sequentially.
@@ -35,6 +37,7 @@ impl Stretch {
         match self {
             Stretch::PholdEngine => "sortsim::bench::phold_engine",
             Stretch::PholdBaseline => "sortsim::bench::phold_baseline",
+            Stretch::PholdFloor => "sortsim::bench::floor::phold_floor",
             Stretch::Simulate => "sortsim::bench::simulate_frame",
             Stretch::Render => "sortsim::bench::render_frame",
         }

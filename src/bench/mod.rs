@@ -240,15 +240,22 @@ pub struct PholdCost {
     /// without the host's noise (and without what cache misses cost).
     #[serde(skip_serializing_if = "Option::is_none")]
     pub instruction_ratio: Option<f64>,
+    /// With `--instructions`: the floor executor's instructions.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub floor_instructions: Option<u64>,
 }
 
 impl PholdCost {
-    /// Adds the instruction counts of `cfg`'s engine and bare heap (valgrind; this binary run
-    /// twice more under callgrind).
+    /// Adds the instruction counts of `cfg`'s engine, floor and bare heap (valgrind; this
+    /// binary run three times more under callgrind).
     pub fn count_instructions(&mut self, cfg: &PholdConfig) -> Result<(), String> {
         let counts = instructions::Counts::phold(cfg)?;
         self.instruction_ratio = Some(counts.baseline_over_measured());
         self.instructions = Some(counts);
+        self.floor_instructions = Some(instructions::count(
+            &cfg.command_line(),
+            instructions::Stretch::PholdFloor,
+        )?);
         Ok(())
     }
 }
@@ -296,6 +303,7 @@ pub fn phold_report(cfg: &PholdConfig) -> Result<(PholdSummary, PholdCost), SimE
         ratio_to_floor: ratio(engine_rate, floor_rate),
         instructions: None,
         instruction_ratio: None,
+        floor_instructions: None,
     };
     Ok((summary, cost))
 }

@@ -16,7 +16,7 @@ use std::time::Instant;
 
 use serde::Serialize;
 
-use super::instructions::Counts;
+use super::instructions::{self, Counts, Stretch};
 use super::{overhead, overhead_command_line, phold_report, PholdConfig};
 use crate::net::pattern::{random_staggered, run_pattern_counted};
 use crate::net::transport::SolveCounters;
@@ -320,6 +320,7 @@ pub fn scale(cfg: &ScaleConfig, progress: &mut dyn FnMut(&str)) -> Result<ScaleR
                 ..phold.clone()
             };
             let counts = Counts::phold(&counted)?;
+            let floor = instructions::count(&counted.command_line(), Stretch::PholdFloor)?;
             figures.push(figure(
                 &format!(
                     "PHOLD, {in_flight} in flight, by instructions (callgrind): bare heap / engine"
@@ -328,8 +329,11 @@ pub fn scale(cfg: &ScaleConfig, progress: &mut dyn FnMut(&str)) -> Result<ScaleR
                 "x",
                 Target::AtLeast(0.8),
                 format!(
-                    "engine {:.1} M, bare heap {:.1} M instructions, simulated to {}",
+                    "engine {:.1} M, floor of its design {:.1} M ({:.3}x), bare heap {:.1} M \
+                     instructions, simulated to {}",
                     counts.measured as f64 / 1e6,
+                    floor as f64 / 1e6,
+                    counts.baseline as f64 / floor.max(1) as f64,
                     counts.baseline as f64 / 1e6,
                     counted.end
                 ),

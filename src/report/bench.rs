@@ -32,9 +32,12 @@ pub fn write_phold(dir: &Path, summary: &PholdSummary, cost: &PholdCost) -> Resu
 pub fn phold_text(summary: &PholdSummary, cost: &PholdCost) -> String {
     let counted = match (cost.instructions, cost.instruction_ratio) {
         (Some(counts), Some(ratio)) => format!(
-            "instructions (callgrind): engine {}, bare heap {}; bare heap / engine: {ratio:.3}x \
-             (the event-rate ratio without the host's noise)\n",
-            counts.measured, counts.baseline
+            "instructions (callgrind): engine {}, floor {}, bare heap {}; bare heap / engine: \
+             {ratio:.3}x (the event-rate ratio without the host's noise)\n",
+            counts.measured,
+            cost.floor_instructions
+                .map_or_else(|| "not counted".to_string(), |n| n.to_string()),
+            counts.baseline
         ),
         _ => String::new(),
     };
