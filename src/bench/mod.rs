@@ -246,6 +246,12 @@ pub struct PholdCost {
 }
 
 impl PholdCost {
+    /// The floor executor's event rate over the bare heap's: what the engine's design costs
+    /// before its features.
+    pub fn floor_over_baseline(&self) -> f64 {
+        rate_ratio(self.floor_events_per_s, self.baseline_events_per_s)
+    }
+
     /// Adds the instruction counts of `cfg`'s engine, floor and bare heap (valgrind; this
     /// binary run three times more under callgrind).
     pub fn count_instructions(&mut self, cfg: &PholdConfig) -> Result<(), String> {
@@ -273,7 +279,6 @@ pub fn phold_report(cfg: &PholdConfig) -> Result<(PholdSummary, PholdCost), SimE
             0.0
         }
     };
-    let ratio = |of: f64, to: f64| if to > 0.0 { of / to } else { 0.0 };
     let engine_rate = rate(engine.events, engine_wall);
     let floor_rate = rate(floor.events, floor_wall);
     let baseline_rate = rate(baseline.events, baseline_wall);
@@ -297,15 +302,24 @@ pub fn phold_report(cfg: &PholdConfig) -> Result<(PholdSummary, PholdCost), SimE
         engine_events_per_s: engine_rate,
         baseline_wall_s: baseline_wall,
         baseline_events_per_s: baseline_rate,
-        ratio_to_baseline: ratio(engine_rate, baseline_rate),
+        ratio_to_baseline: rate_ratio(engine_rate, baseline_rate),
         floor_wall_s: floor_wall,
         floor_events_per_s: floor_rate,
-        ratio_to_floor: ratio(engine_rate, floor_rate),
+        ratio_to_floor: rate_ratio(engine_rate, floor_rate),
         instructions: None,
         instruction_ratio: None,
         floor_instructions: None,
     };
     Ok((summary, cost))
+}
+
+/// One event rate over another (0 when the other is 0: no event was measured).
+fn rate_ratio(of: f64, to: f64) -> f64 {
+    if to > 0.0 {
+        of / to
+    } else {
+        0.0
+    }
 }
 
 /// `f`'s result and its wall time in seconds.

@@ -292,11 +292,7 @@ pub fn scale(cfg: &ScaleConfig, progress: &mut dyn FnMut(&str)) -> Result<ScaleR
                 );
             }
             ratios.push(cost.ratio_to_baseline);
-            floor_ratios.push(if cost.baseline_events_per_s > 0.0 {
-                cost.floor_events_per_s / cost.baseline_events_per_s
-            } else {
-                0.0
-            });
+            floor_ratios.push(cost.floor_over_baseline());
             events = summary.events;
         }
         figures.push(figure(
