@@ -11,6 +11,12 @@ use super::setup::{RasterTriangle, ScreenTriangle};
 /// No entry for this primitive.
 const NONE: u32 = u32::MAX;
 
+/// Set-ups one cache keeps at most (432 bytes each, 28 MB in all); past that a new
+/// triangle is set up on every draw, as with no cache, so a frame of millions of triangles
+/// does not hold a set-up for each.
+const MAX_ENTRIES: usize = 1 << 16;
+const _: () = assert!(std::mem::size_of::<(ScreenTriangle, RasterTriangle)>() <= 432);
+
 /// Set-ups of one frame's screen triangles, found by primitive id. One cache serves every
 /// draw of the frame (all processors of a simulated frame share one).
 #[derive(Clone, Debug, Default)]
@@ -19,7 +25,8 @@ pub struct SetupCache {
     slots: Vec<u32>,
     /// The triangles set up so far, each with the triangle it was made from.
     entries: Vec<(ScreenTriangle, RasterTriangle)>,
-    /// Where a triangle whose primitive id is past the mesh is set up (not kept).
+    /// Where a triangle is set up when it cannot be kept (its primitive id is past the mesh,
+    /// or the cache is full).
     scratch: Option<RasterTriangle>,
     /// Set-ups made (a reused one is not counted).
     made: u64,
@@ -50,25 +57,22 @@ impl SetupCache {
     #[inline]
     pub fn get(&mut self, tri: &ScreenTriangle) -> &RasterTriangle {
         let prim = tri.prim() as usize;
-        let Some(&at) = self.slots.get(prim) else {
-            self.made += 1;
-            return self.scratch.insert(RasterTriangle::new(tri));
-        };
-        let at = at as usize;
+        let at = self.slots.get(prim).map_or(NONE, |&at| at) as usize;
         if at < self.entries.len() && self.entries[at].0 == *tri {
             return &self.entries[at].1;
         }
         self.made += 1;
-        let entry = (*tri, RasterTriangle::new(tri));
-        let at = if at < self.entries.len() {
-            self.entries[at] = entry;
-            at
-        } else {
+        let set_up = RasterTriangle::new(tri);
+        if at < self.entries.len() {
+            self.entries[at] = (*tri, set_up);
+            &self.entries[at].1
+        } else if prim < self.slots.len() && self.entries.len() < MAX_ENTRIES {
             self.slots[prim] = self.entries.len() as u32;
-            self.entries.push(entry);
-            self.entries.len() - 1
-        };
-        &self.entries[at].1
+            self.entries.push((*tri, set_up));
+            &self.entries[self.entries.len() - 1].1
+        } else {
+            self.scratch.insert(set_up)
+        }
     }
 
     /// Set-ups made since the cache was emptied.
@@ -121,6 +125,23 @@ mod tests {
         assert!(same(cache.get(&t), &RasterTriangle::new(&t)));
         assert_eq!(cache.made(), 2);
         assert!(cache.entries.is_empty());
+    }
+
+    #[test]
+    fn a_full_cache_sets_new_triangles_up_on_every_draw_and_keeps_its_entries() {
+        let n = MAX_ENTRIES + 2;
+        let mut cache = SetupCache::new(n);
+        let t = |prim: usize| tri(prim as u32, (prim % 64) as f64);
+        for prim in 0..n {
+            cache.get(&t(prim));
+        }
+        assert_eq!(cache.entries.len(), MAX_ENTRIES);
+        let made = cache.made();
+        assert!(same(cache.get(&t(0)), &RasterTriangle::new(&t(0))));
+        assert_eq!(cache.made(), made, "kept");
+        let last = t(n - 1);
+        assert!(same(cache.get(&last), &RasterTriangle::new(&last)));
+        assert_eq!(cache.made(), made + 1, "set up again");
     }
 
     #[test]
