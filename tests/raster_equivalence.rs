@@ -98,51 +98,6 @@ fn region_set_equals_the_whole_framebuffer() {
     assert!(cr.spans > cw.spans, "spans split at region borders");
 }
 
-/// Processors that share one frame's set-ups (sort-middle's receivers drawing the same
-/// triangle where it touches each one's regions) draw the same pixels and count the same
-/// work as processors that set each triangle up themselves, and set each triangle up once.
-#[test]
-fn set_ups_shared_between_processors_change_no_pixel_and_no_count() {
-    let v = vp(120, 90);
-    let mut tris = soup(700, 400, v);
-    // One piece per primitive (pieces of a clipped primitive take turns in its entry).
-    let mut seen = std::collections::BTreeSet::new();
-    tris.retain(|t| seen.insert(t.prim()));
-    assert!(tris.len() > 300);
-    let tiles = |p: u32| -> Vec<ScreenRect> {
-        // Four processors, each owning every fourth 30 x 30 tile.
-        (0..12u32)
-            .filter(|t| t % 4 == p)
-            .map(|t| {
-                let (x, y) = ((t % 4) * 30, (t / 4) * 30);
-                ScreenRect::new(x, y, x + 30, y + 30).unwrap()
-            })
-            .collect()
-    };
-    let mut setups = SetupCache::new(400);
-    let (mut alone_image, mut shared_image) = (Framebuffer::new(v), Framebuffer::new(v));
-    for p in 0..4 {
-        let mut alone = RegionSet::new(v, tiles(p)).unwrap();
-        let mut shared = RegionSet::new(v, tiles(p)).unwrap();
-        let ca = draw_screen_triangles(&tris, &mut alone);
-        let cs = draw_screen_triangles_cached(&tris, &mut setups, &mut shared);
-        assert_eq!(ca, cs, "processor {p}: the work counted");
-        alone.copy_into(&mut alone_image);
-        shared.copy_into(&mut shared_image);
-    }
-    assert!(alone_image.colors() == shared_image.colors());
-    assert!(alone_image.depths() == shared_image.depths());
-    assert!(
-        alone_image.hash() != Framebuffer::new(v).hash(),
-        "something is drawn"
-    );
-    assert_eq!(
-        setups.made(),
-        tris.len() as u64,
-        "each triangle set up once"
-    );
-}
-
 #[test]
 fn region_set_rejects_overlaps_and_regions_outside_the_viewport() {
     let v = vp(10, 10);

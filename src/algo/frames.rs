@@ -1,6 +1,6 @@
 //! What every algorithm family's processors share on the host during one run: the scene's
-//! geometry per frame, its prepared vertices and its triangles' set-ups (computed once per
-//! frame, not once per processor, in the memory of the frame dropped before it) and the per-frame records being
+//! geometry per frame and its prepared vertices (computed once per frame, not once per
+//! processor, in the memory of the frame dropped before it) and the per-frame records being
 //! written (start, end, traffic, rasterization finishing times).
 //!
 //! Must never hold simulated state: nothing here is charged to the machine, and nothing here
@@ -14,7 +14,7 @@ use std::sync::Arc;
 
 use super::FrameRecord;
 use crate::engine::{Node, Payload, SimError};
-use crate::raster::{SetupCache, VertexCache, Viewport};
+use crate::raster::{VertexCache, Viewport};
 use crate::scene::{FrameGeometry, Scene};
 use crate::units::{Bytes, SimTime};
 
@@ -30,56 +30,33 @@ pub(crate) struct FrameBook {
     timeline_frames: Option<Range<u32>>,
 }
 
-/// One frame's geometry and the vertex preparation and triangle set-ups all processors
-/// share: each is a pure function of the geometry and the viewport, so sharing changes no
-/// image and no count (the machine is charged per triangle, not per preparation), only the
-/// host's time.
+/// One frame's geometry and the vertex preparation all processors share: preparing a vertex
+/// is a pure function of it and the viewport, so sharing changes no image and no count
+/// (the machine is charged per triangle, not per preparation), only the host's time.
 #[derive(Clone)]
 struct Shared {
     geometry: Rc<FrameGeometry>,
     vertices: Rc<RefCell<VertexCache>>,
-    setups: Rc<RefCell<SetupCache>>,
-}
-
-/// A dropped frame's memory, for the next frame to fill.
-struct Spare {
-    geometry: FrameGeometry,
-    vertices: VertexCache,
-    setups: SetupCache,
 }
 
 impl Shared {
-    /// The shared state of `geometry`, in the memory of `caches` (a dropped frame's) if any.
-    fn new(
-        geometry: Rc<FrameGeometry>,
-        viewport: Viewport,
-        caches: Option<(VertexCache, SetupCache)>,
-    ) -> Shared {
-        let (vertex_count, triangle_count) = (geometry.vertices.len(), geometry.triangles.len());
-        let (vertices, setups) = match caches {
-            Some((vertices, setups)) => (
-                vertices.emptied(vertex_count, viewport),
-                setups.emptied(triangle_count),
-            ),
-            None => (
-                VertexCache::new(vertex_count, viewport),
-                SetupCache::new(triangle_count),
-            ),
+    fn new(geometry: Rc<FrameGeometry>, viewport: Viewport, spare: Option<VertexCache>) -> Shared {
+        let count = geometry.vertices.len();
+        let vertices = match spare {
+            Some(cache) => cache.emptied(count, viewport),
+            None => VertexCache::new(count, viewport),
         };
         Shared {
             geometry,
             vertices: Rc::new(RefCell::new(vertices)),
-            setups: Rc::new(RefCell::new(setups)),
         }
     }
 
     /// Its memory back, unless a processor still holds it.
-    fn into_spare(self) -> Option<Spare> {
-        Some(Spare {
-            geometry: Rc::try_unwrap(self.geometry).ok()?,
-            vertices: Rc::try_unwrap(self.vertices).ok()?.into_inner(),
-            setups: Rc::try_unwrap(self.setups).ok()?.into_inner(),
-        })
+    fn into_spare(self) -> Option<(FrameGeometry, VertexCache)> {
+        let geometry = Rc::try_unwrap(self.geometry).ok()?;
+        let vertices = Rc::try_unwrap(self.vertices).ok()?.into_inner();
+        Some((geometry, vertices))
     }
 }
 
@@ -143,16 +120,6 @@ impl FrameBook {
         Ok(self.shared(node, frame)?.vertices)
     }
 
-    /// `frame`'s triangle set-ups, shared by every processor (pass it to
-    /// `raster::draw_screen_triangles_cached`; never hold the borrow across an await).
-    pub fn setups<M: Payload>(
-        &self,
-        node: &Node<M>,
-        frame: u32,
-    ) -> Result<Rc<RefCell<SetupCache>>, SimError> {
-        Ok(self.shared(node, frame)?.setups)
-    }
-
     fn shared<M: Payload>(&self, node: &Node<M>, frame: u32) -> Result<Shared, SimError> {
         let mut cache = self.geometry.borrow_mut();
         if let Some(g) = cache.get(&frame) {
@@ -165,16 +132,13 @@ impl FrameBook {
             .into_values()
             .filter_map(Shared::into_spare)
             .next_back();
-        let (old_geometry, old_caches) = match spare {
-            Some(s) => (Some(s.geometry), Some((s.vertices, s.setups))),
-            None => (None, None),
-        };
+        let (old_geometry, old_vertices) = spare.unzip();
         let g = Rc::new(
             self.scene
                 .frame_reusing(frame, old_geometry)
                 .map_err(|e| node.error(e.to_string()))?,
         );
-        let shared = Shared::new(g, self.viewport, old_caches);
+        let shared = Shared::new(g, self.viewport, old_vertices);
         cache.insert(frame, shared.clone());
         Ok(shared)
     }

@@ -33,7 +33,6 @@ pub(super) struct NetWakes {
 
 impl NetWakes {
     /// Arms a wake-up at `at` unless one at or before it is armed.
-    #[inline]
     pub fn arm<E>(&mut self, at: SimTime, queue: &mut EventQueue<E>) {
         if self.armed.is_none_or(|armed| at < armed) {
             // Places already passed can never be due; one of them may be at `at` itself.

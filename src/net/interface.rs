@@ -131,7 +131,6 @@ impl Interfaces {
 
     /// The next held message due at or before `now`, with its instant: of a leaving and an
     /// arrival at the same instant, the one held first.
-    #[inline]
     pub(super) fn pop_due(&mut self, now: SimTime) -> Option<(SimTime, Due)> {
         let start = self.next_start().filter(|&((at, _), _)| at <= now);
         let arrival = self.next_arrival().filter(|&((at, _), _)| at <= now);

@@ -8,8 +8,7 @@
 //! * `clip`: homogeneous clipping (near, far, guard band), shared edges cut identically;
 //! * `fixed`: every fixed-point format, the edge functions and the top-left fill rule;
 //! * `setup`: project, snap, cull, fan into [`ScreenTriangle`]s (the sort-middle message),
-//!   then edge and plane equations ([`RasterTriangle`]); `setup_cache` keeps those set-ups
-//!   for a frame's other draws of the same triangle;
+//!   then edge and plane equations ([`RasterTriangle`]);
 //! * `scan`: exact spans per row and fragments along them;
 //! * `target`: the [`Target`] trait and the buffers fragments land in;
 //! * `scanline`: the scanline z-buffer renderer over the same spans;
@@ -22,8 +21,7 @@
 //! * geometry stage only (sort-middle senders): [`setup_mesh`], [`setup_subset`] produce
 //!   [`ScreenTriangle`]s, shipped as [`ScreenTriangle::PAYLOAD_BYTES`]-byte messages
 //!   ([`ScreenTriangle::to_bytes`] / [`ScreenTriangle::from_bytes`]);
-//! * rasterization stage only (sort-middle receivers): [`draw_screen_triangles`], or
-//!   [`draw_screen_triangles_cached`] with set-ups shared by every processor of a frame;
+//! * rasterization stage only (sort-middle receivers): [`draw_screen_triangles`];
 //! * scanline z-buffer: [`render_scanlines`] (one finished scanline at a time).
 //!
 //! Every call returns [`Counters`] for the machine's cost model. Winding: triangles running
@@ -57,7 +55,6 @@ pub mod scan;
 pub mod scanline;
 pub mod screen;
 pub mod setup;
-pub mod setup_cache;
 pub mod target;
 
 pub use counters::Counters;
@@ -69,7 +66,6 @@ pub use screen::{ScreenRect, Viewport};
 pub use setup::{
     CullMode, RasterOptions, RasterTriangle, ScreenTriangle, ScreenVertex, VertexCache,
 };
-pub use setup_cache::SetupCache;
 pub use target::{
     ActivePixel, CountingTarget, FragmentRecord, Framebuffer, PixelBuffer, RegionError, RegionSet,
     ScanlineBuffer, SparseBuffer, Target, ACTIVE_PIXEL_BYTES, BYTES_PER_PIXEL,
@@ -220,20 +216,6 @@ pub fn draw_screen_triangles<T: Target + ?Sized>(
     c
 }
 
-/// [`draw_screen_triangles`] with each set-up taken from `setups` when the frame's triangle
-/// was set up before (by any processor), and kept there otherwise. Same pixels and counts.
-pub fn draw_screen_triangles_cached<T: Target + ?Sized>(
-    tris: &[ScreenTriangle],
-    setups: &mut SetupCache,
-    target: &mut T,
-) -> Counters {
-    let mut c = Counters::default();
-    for t in tris {
-        draw_set_up(setups.get(t), target, &mut c);
-    }
-    c
-}
-
 /// Sets up and scans one screen triangle into every rectangle of `target`.
 #[inline]
 pub fn draw_screen_triangle<T: Target + ?Sized>(
@@ -241,17 +223,12 @@ pub fn draw_screen_triangle<T: Target + ?Sized>(
     target: &mut T,
     c: &mut Counters,
 ) {
-    draw_set_up(&RasterTriangle::new(tri), target, c);
-}
-
-/// Scans one set-up triangle into every rectangle of `target`.
-#[inline]
-fn draw_set_up<T: Target + ?Sized>(rt: &RasterTriangle, target: &mut T, c: &mut Counters) {
+    let rt = RasterTriangle::new(tri);
     c.triangles_scanned += 1;
     let sampling = target.sampling();
     for i in 0..target.rects().len() {
         let rect = target.rects()[i];
-        let Some(mut walker) = RowWalker::sampled(rt, rect, sampling) else {
+        let Some(mut walker) = RowWalker::sampled(&rt, rect, sampling) else {
             continue;
         };
         while let Some(row) = walker.next_row() {
@@ -334,7 +311,6 @@ mod tests {
             ("clip.rs", include_str!("clip.rs")),
             ("fixed.rs", include_str!("fixed.rs")),
             ("setup.rs", include_str!("setup.rs")),
-            ("setup_cache.rs", include_str!("setup_cache.rs")),
             ("scan.rs", include_str!("scan.rs")),
             ("target.rs", include_str!("target.rs")),
             ("scanline.rs", include_str!("scanline.rs")),

@@ -117,9 +117,6 @@ impl<'a> RowWalker<'a> {
 impl RowState {
     /// `None` when no sampled pixel of the rectangle lies within the triangle's extent.
     /// `allow_probe = false` forces the DDA, so tests can check both modes agree.
-    ///
-    /// The extent test is inlined into the caller: most rectangles a processor tries a
-    /// triangle against lie outside it.
     #[inline]
     pub fn new(
         tri: &RasterTriangle,
@@ -131,6 +128,10 @@ impl RowState {
             Sampling::Centre => (tri.rows, tri.cols),
             Sampling::Conservative => (tri.touched_rows, tri.touched_cols),
         };
+        let row_constant = |e: &super::fixed::Edge, y: i64| match sampling {
+            Sampling::Centre => e.row_constant(y),
+            Sampling::Conservative => e.row_constant_conservative(y),
+        };
         let y = rows.0.max(i64::from(rect.y0()));
         let y_last = rows.1.min(i64::from(rect.y1()) - 1);
         let x_lo = cols.0.max(i64::from(rect.x0()));
@@ -138,28 +139,6 @@ impl RowState {
         if y > y_last || x_lo > x_hi {
             return None;
         }
-        Some(Self::within(
-            tri,
-            sampling,
-            allow_probe,
-            (y, y_last),
-            (x_lo, x_hi),
-        ))
-    }
-
-    /// The walk over the rows `y` and columns `x` (inclusive, non-empty) of `tri`'s extent.
-    #[inline(never)]
-    fn within(
-        tri: &RasterTriangle,
-        sampling: Sampling,
-        allow_probe: bool,
-        (y, y_last): (i64, i64),
-        (x_lo, x_hi): (i64, i64),
-    ) -> RowState {
-        let row_constant = |e: &super::fixed::Edge, y: i64| match sampling {
-            Sampling::Centre => e.row_constant(y),
-            Sampling::Conservative => e.row_constant_conservative(y),
-        };
         let e = &tri.edges;
         let mode = if allow_probe && x_hi - x_lo < PROBE_MAX_COLS && y_last - y < PROBE_MAX_ROWS {
             let at = |i: usize| row_constant(&e[i], y) - SUBPIXEL_ONE * e[i].dy * x_lo;
@@ -189,13 +168,13 @@ impl RowState {
             };
             Mode::Dda([bound(&e[0]), bound(&e[1]), bound(&e[2])])
         };
-        RowState {
+        Some(RowState {
             mode,
             y,
             y_last,
             x_lo,
             x_hi,
-        }
+        })
     }
 
     /// The next row of the walk over `tri` (the triangle this state was made for).

@@ -37,8 +37,8 @@ use crate::engine::{Filter, Node, Payload, SimError};
 use crate::machine::{Counts, Op};
 use crate::raster::aa::{adapt, AaMethod, Grid};
 use crate::raster::{
-    draw_screen_triangles_cached, setup_subset, Framebuffer, RasterOptions, RegionSet,
-    ScreenTriangle, SetupCache, Target, VertexCache, Viewport,
+    draw_screen_triangles, setup_subset, Framebuffer, RasterOptions, RegionSet, ScreenTriangle,
+    VertexCache, Viewport,
 };
 use crate::scene::FrameGeometry;
 use crate::units::{Bytes, SimTime};
@@ -259,15 +259,6 @@ impl Ctx {
         frame: u32,
     ) -> Result<Rc<RefCell<VertexCache>>, SimError> {
         self.book.vertices(node, frame)
-    }
-
-    /// `frame`'s triangle set-ups, made once for every processor (see `FrameBook::setups`).
-    pub(crate) fn setups(
-        &self,
-        node: &Node<Msg>,
-        frame: u32,
-    ) -> Result<Rc<RefCell<SetupCache>>, SimError> {
-        self.book.setups(node, frame)
     }
 
     pub(crate) fn record<R>(&self, frame: u32, f: impl FnOnce(&mut FrameRecord) -> R) -> R {
@@ -538,12 +529,8 @@ pub(crate) async fn rasterize(
     }
     node.compute(&Counts::of(Op::ClearPixel, canvas.clear_count()))
         .await;
-    let setups = ctx.setups(node, frame)?;
-    let draw = |tris: &[ScreenTriangle], target: &mut dyn Target| {
-        draw_screen_triangles_cached(tris, &mut setups.borrow_mut(), target)
-    };
     for batch in local.chunks(ctx.batch()) {
-        let c = draw(batch, canvas.target());
+        let c = draw_screen_triangles(batch, canvas.target());
         node.compute(&charge::back_end(&c)).await;
     }
     let mut received = Vec::new();
@@ -564,7 +551,7 @@ pub(crate) async fn rasterize(
                     unreachable!("filtered by tag")
                 };
                 debug_assert_eq!(f, frame, "a polygon message crossed a frame boundary");
-                let c = draw(&tris, canvas.target());
+                let c = draw_screen_triangles(&tris, canvas.target());
                 node.compute(&charge::back_end(&c)).await;
                 arrivals.arrived(env.src, end);
             }
@@ -588,7 +575,7 @@ pub(crate) async fn rasterize(
                     &ctx.raster,
                     &mut tris,
                 );
-                let back = draw(&tris, canvas.target());
+                let back = draw_screen_triangles(&tris, canvas.target());
                 let mut work = charge::front_end(&front);
                 work += &charge::back_end(&back);
                 node.compute(&work).await;

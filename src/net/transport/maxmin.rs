@@ -630,10 +630,6 @@ impl MaxMin {
     /// Brings every rate up to date with the adds and removes since the last solve; appends
     /// `(slot, old rate)` for every flow whose rate or bottleneck changed (rate 0 for an added
     /// flow), in the order the filling fixed them.
-    ///
-    /// Never inlined: inlined into its one caller's loop (as some partitionings of the build
-    /// did), the sweep ran 2% more instructions.
-    #[inline(never)]
     pub fn solve(&mut self, changed: &mut Vec<(u32, u64)>) {
         match (&self.added[..], &self.shrunk[..]) {
             // Nothing since the last solve but removals that moved no other rate.
