@@ -461,9 +461,8 @@ pub fn overhead(
     set: std::collections::BTreeMap<String, String>,
 ) -> Result<OverheadReport, String> {
     use crate::spec::run::RunSpec;
-    let t0 = Instant::now();
-    render_frame(&scene, frame)?;
-    let render_wall = t0.elapsed().as_secs_f64();
+    let (rendered, render_wall) = timed(|| render_frame(&scene, frame));
+    rendered?;
     let spec = RunSpec {
         schema: None,
         machine: machine.to_path_buf(),
@@ -477,9 +476,8 @@ pub fn overhead(
     let cfg = spec
         .resolve(Some(scene.clone()))
         .map_err(|e| e.to_string())?;
-    let t1 = Instant::now();
-    let result = simulate_frame(&cfg).map_err(|e| e.to_string())?;
-    let simulate_wall = t1.elapsed().as_secs_f64();
+    let (result, simulate_wall) = timed(|| simulate_frame(&cfg));
+    let result = result.map_err(|e| e.to_string())?;
     Ok(OverheadReport {
         scene: scene.file().display().to_string(),
         procs,
@@ -531,23 +529,22 @@ pub fn replay_bench(
 ) -> Result<ReplayBench, String> {
     use crate::trace::replay::{Algo, Replay, ReplayConfig};
     let scene_data = crate::scene::Scene::load(scene).map_err(|e| e.to_string())?;
-    let t0 = Instant::now();
-    let trace = crate::trace::record_scene(&scene_data, frame).map_err(|e| e.to_string())?;
-    let record_wall = t0.elapsed().as_secs_f64();
+    let (trace, record_wall) = timed(|| crate::trace::record_scene(&scene_data, frame));
+    let trace = trace.map_err(|e| e.to_string())?;
 
-    let t1 = Instant::now();
-    let mut zbuffer = vec![u32::MAX; trace.area()];
-    for (&p, &z) in trace.pixels().iter().zip(trace.depths()) {
-        let slot = &mut zbuffer[p as usize];
-        *slot = (*slot).min(z);
-    }
-    std::hint::black_box(&zbuffer);
-    let baseline_wall = t1.elapsed().as_secs_f64().max(1e-9);
+    // Freed after the clock stops: the baseline times the pass over the fragments alone.
+    let (zbuffer, baseline_wall) = timed(|| {
+        let mut zbuffer = vec![u32::MAX; trace.area()];
+        for (&p, &z) in trace.pixels().iter().zip(trace.depths()) {
+            let slot = &mut zbuffer[p as usize];
+            *slot = (*slot).min(z);
+        }
+        std::hint::black_box(zbuffer)
+    });
     drop(zbuffer);
+    let baseline_wall = baseline_wall.max(1e-9);
 
-    let t2 = Instant::now();
-    let replay = Replay::new(&trace);
-    let prepare_wall = t2.elapsed().as_secs_f64();
+    let (replay, prepare_wall) = timed(|| Replay::new(&trace));
     let config = ReplayConfig {
         algos: Algo::ALL.to_vec(),
         procs: procs.clone(),
@@ -555,9 +552,7 @@ pub fn replay_bench(
         seed,
         local_zbuffer: false,
     };
-    let t3 = Instant::now();
-    let report = replay.run(&config);
-    let replay_wall = t3.elapsed().as_secs_f64();
+    let (report, replay_wall) = timed(|| replay.run(&config));
     let traffic_checksum = report.rows.iter().map(|r| r.pixels).sum();
     Ok(ReplayBench {
         scene: scene.display().to_string(),
