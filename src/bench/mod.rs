@@ -249,7 +249,7 @@ impl PholdCost {
     /// The floor executor's event rate over the bare heap's: what the engine's design costs
     /// before its features.
     pub fn floor_over_baseline(&self) -> f64 {
-        rate_ratio(self.floor_events_per_s, self.baseline_events_per_s)
+        ratio_or_zero(self.floor_events_per_s, self.baseline_events_per_s)
     }
 
     /// Adds the instruction counts of `cfg`'s engine, floor and bare heap (valgrind; this
@@ -272,13 +272,7 @@ pub fn phold_report(cfg: &PholdConfig) -> Result<(PholdSummary, PholdCost), SimE
     let engine = engine?;
     let (floor, floor_wall) = timed(|| floor::phold_floor(cfg));
     let (baseline, baseline_wall) = timed(|| phold_baseline(cfg));
-    let rate = |events: u64, wall: f64| {
-        if wall > 0.0 {
-            events as f64 / wall
-        } else {
-            0.0
-        }
-    };
+    let rate = |events: u64, wall: f64| ratio_or_zero(events as f64, wall);
     let engine_rate = rate(engine.events, engine_wall);
     let floor_rate = rate(floor.events, floor_wall);
     let baseline_rate = rate(baseline.events, baseline_wall);
@@ -302,10 +296,10 @@ pub fn phold_report(cfg: &PholdConfig) -> Result<(PholdSummary, PholdCost), SimE
         engine_events_per_s: engine_rate,
         baseline_wall_s: baseline_wall,
         baseline_events_per_s: baseline_rate,
-        ratio_to_baseline: rate_ratio(engine_rate, baseline_rate),
+        ratio_to_baseline: ratio_or_zero(engine_rate, baseline_rate),
         floor_wall_s: floor_wall,
         floor_events_per_s: floor_rate,
-        ratio_to_floor: rate_ratio(engine_rate, floor_rate),
+        ratio_to_floor: ratio_or_zero(engine_rate, floor_rate),
         instructions: None,
         instruction_ratio: None,
         floor_instructions: None,
@@ -313,8 +307,9 @@ pub fn phold_report(cfg: &PholdConfig) -> Result<(PholdSummary, PholdCost), SimE
     Ok((summary, cost))
 }
 
-/// One event rate over another (0 when the other is 0: no event was measured).
-fn rate_ratio(of: f64, to: f64) -> f64 {
+/// `of / to`, or 0 when `to` is 0 (nothing was measured): events over seconds, or one event
+/// rate over another.
+fn ratio_or_zero(of: f64, to: f64) -> f64 {
     if to > 0.0 {
         of / to
     } else {
