@@ -1,8 +1,9 @@
 //! `sortsim bench scale`: how the simulator's own cost grows with the size of what it
 //! simulates, measured in one process, each figure printed beside its target.
 //!
-//! Figures: a whole viewing sequence of the polio stand-in on 512 Delta nodes; one polio frame
-//! simulated against drawing it sequentially; staggered traffic on a 16x32 torus at `hops`
+//! Figures: a whole viewing sequence of the polio stand-in on 512 Delta nodes at `flow`, and
+//! at `hops` as its floor (the same engine and rendering work without a contention model);
+//! one polio frame simulated against drawing it sequentially; staggered traffic on a 16x32 torus at `hops`
 //! and `flow`; PHOLD against its bare-heap loop; and three growth curves (wall time against
 //! messages, processors and triangles).
 //!
@@ -156,6 +157,32 @@ pub fn scale(cfg: &ScaleConfig, progress: &mut dyn FnMut(&str)) -> Result<ScaleR
         "VmHWM of this process, which ran nothing bigger before".into(),
     ));
 
+    progress(&format!(
+        "polio stand-in, {} frames, 512 nodes, hops",
+        cfg.frames
+    ));
+    let (floor_wall, floor_events) = run_wall(&machine, &polio, 512, cfg.frames, Fidelity::Hops)?;
+    let mut floor = figure(
+        &format!(
+            "same {} frames at hops, the floor under flow: wall",
+            cfg.frames
+        ),
+        floor_wall,
+        "s",
+        Target::AtMost(60.0),
+        format!(
+            "{floor_events} events; the engine and the rendering with no contention model, which \
+             flow runs too, with its solves besides: above the target, no solver meets it"
+        ),
+    );
+    if cfg.frames < 110 {
+        floor.met = None;
+    }
+    figures.push(floor);
+
+    // The `hops` frame's ratio: a floor under the `flow` frame's, which does the same work
+    // and its solves besides.
+    let mut hops_ratio = None;
     for (fidelity, limit) in [(Fidelity::Hops, 2.0), (Fidelity::Flow, 3.0)] {
         progress(&format!("one polio frame, 512 nodes, {}", fidelity.name()));
         let set = [(
@@ -180,12 +207,17 @@ pub fn scale(cfg: &ScaleConfig, progress: &mut dyn FnMut(&str)) -> Result<ScaleR
             "x",
             Target::AtMost(limit),
             format!(
-                "simulate {:.3} s, render sequentially {:.3} s{}",
+                "simulate {:.3} s, render sequentially {:.3} s{}{}",
                 r.simulate_wall_s,
                 r.render_wall_s,
-                runs_note(&runs.iter().map(|r| r.ratio).collect::<Vec<_>>())
+                runs_note(&runs.iter().map(|r| r.ratio).collect::<Vec<_>>()),
+                match hops_ratio {
+                    Some(h) => format!("; at hops, its floor: {h:.3}x"),
+                    None => String::new(),
+                }
             ),
         ));
+        hops_ratio = Some(ratio);
         if cfg.instructions && fidelity == Fidelity::Hops {
             progress("one polio frame, 512 nodes, hops, under callgrind");
             let line = overhead_command_line(
