@@ -280,7 +280,7 @@ impl Flow {
             if old == NO_GROUP {
                 movers.push((slot, self.flows[slot as usize].work));
             } else if old != new {
-                #[cfg(feature = "counters")]
+                #[cfg(any(test, feature = "counters"))]
                 {
                     self.counted.flows_switched += 1;
                 }
@@ -310,7 +310,7 @@ impl Flow {
             (f.work, f.group) = (tag, g);
             group.members.insert((tag, f.msg, slot));
         }
-        #[cfg(feature = "counters")]
+        #[cfg(any(test, feature = "counters"))]
         {
             self.counted.solves += 1;
             self.counted.flows_changed += changed.len() as u64;
@@ -645,7 +645,6 @@ mod tests {
     /// that group and the rate falls from a half to a third (three flows, one group); the
     /// first two finish together (one solve: the third's rate rises, its group stays); the
     /// third finishes alone (a solve with nothing left).
-    #[cfg(feature = "counters")]
     #[test]
     fn counters_count_flows_groups_and_solves() {
         let ms = |n: u64| SimTime::from_ms(n);

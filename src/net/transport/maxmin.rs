@@ -666,7 +666,7 @@ impl MaxMin {
         s.unsettled.clear();
         s.suspects.clear();
         s.heap.clear();
-        #[cfg(feature = "counters")]
+        #[cfg(any(test, feature = "counters"))]
         for &slot in &self.added {
             self.swept.0 += 1;
             self.swept.1 += self.flows[slot as usize].route.len() as u64;
@@ -839,7 +839,7 @@ impl MaxMin {
             let f = &mut self.flows[slot as usize];
             debug_assert_eq!(f.key, old, "a member has its bottleneck's key");
             if f.swept_epoch != epoch {
-                #[cfg(feature = "counters")]
+                #[cfg(any(test, feature = "counters"))]
                 {
                     self.swept.0 += 1;
                     self.swept.1 += f.route.len() as u64;
@@ -925,7 +925,7 @@ impl MaxMin {
     /// so far, raised as the untouched flows on it reach their old keys. Anything that later
     /// changes a flow on it evaluates it again, so the pop it records is exact when reached.
     fn evaluate(&mut self, link: LinkId) {
-        #[cfg(feature = "counters")]
+        #[cfg(any(test, feature = "counters"))]
         {
             self.evaluations.0 += 1;
             self.evaluations.1 += self.links[link as usize].flows.len() as u64;
@@ -1085,7 +1085,7 @@ impl MaxMin {
         let (old_rate, old_key) = if drawn {
             (f.swept_rate, f.swept_key)
         } else {
-            #[cfg(feature = "counters")]
+            #[cfg(any(test, feature = "counters"))]
             {
                 self.swept.0 += 1;
                 self.swept.1 += f.route.len() as u64;

@@ -16,9 +16,10 @@ use super::timing::{Hops, Timing};
 use super::{Delivered, Fidelity, LinkId, MsgId};
 use crate::units::{Bytes, SimTime};
 
-/// How much work the flow model's solves did, counted only when built with the `counters`
-/// feature (zero otherwise): what the groups of `flow.rs` save against flows, and what the
-/// sweep of `maxmin.rs` saves by counting a link's groups instead of its flows.
+/// How much work the flow model's solves did, counted when built with the `counters`
+/// feature or for the library's unit tests (zero otherwise): what the groups of `flow.rs`
+/// save against flows, and what the sweep of `maxmin.rs` saves by counting a link's groups
+/// instead of its flows.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq, serde::Serialize)]
 pub struct SolveCounters {
     pub solves: u64,
