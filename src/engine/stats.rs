@@ -31,8 +31,16 @@ impl NodeStats {
     }
 
     pub(crate) fn charge(&mut self, phase: &'static str, t: SimTime) {
-        match self.busy_by_phase.iter_mut().find(|(p, _)| *p == phase) {
-            Some((_, busy)) => *busy += t,
+        // A label is almost always the very literal it was first charged under, so its address
+        // finds it without reading the text; the text decides only when no address matches
+        // (the same words may sit at two addresses).
+        let phases = &self.busy_by_phase;
+        let at = match phases.iter().position(|&(p, _)| std::ptr::eq(p, phase)) {
+            Some(i) => Some(i),
+            None => phases.iter().position(|&(p, _)| p == phase),
+        };
+        match at {
+            Some(i) => self.busy_by_phase[i].1 += t,
             None => self.busy_by_phase.push((phase, t)),
         }
     }
@@ -68,5 +76,29 @@ impl RunStats {
     /// Idle time of node `i`: the run's length minus its busy time.
     pub fn idle(&self, i: usize) -> SimTime {
         self.end.saturating_sub(self.nodes[i].busy())
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn a_phase_is_charged_by_its_words_wherever_they_are_kept() {
+        let mut stats = NodeStats::default();
+        let owned = String::from("rasterize");
+        // The same words at another address than the literal's.
+        let elsewhere: &'static str = Box::leak(owned.into_boxed_str());
+        stats.charge("rasterize", SimTime::from_ns(1));
+        stats.charge("transform", SimTime::from_ns(2));
+        stats.charge(elsewhere, SimTime::from_ns(4));
+        stats.charge("rasterize", SimTime::from_ns(8));
+        assert_eq!(
+            stats.busy_by_phase,
+            vec![
+                ("rasterize", SimTime::from_ns(13)),
+                ("transform", SimTime::from_ns(2))
+            ]
+        );
     }
 }
