@@ -3,9 +3,9 @@
 //!
 //! Figures: a whole viewing sequence of the polio stand-in on 512 Delta nodes at `flow`, and
 //! at `hops` as its floor (the same engine and rendering work without a contention model);
-//! one polio frame simulated against drawing it sequentially; staggered traffic on a 16x32 torus at `hops`
-//! and `flow`; PHOLD against its bare-heap loop; and three growth curves (wall time against
-//! messages, processors and triangles).
+//! one polio frame simulated against drawing it sequentially; staggered traffic on a 16x32
+//! torus at `hops` and `flow`; PHOLD against its bare-heap loop; and three growth curves (wall
+//! time against messages, processors and triangles).
 //!
 //! Owns the workload definitions and the wall-clock measurements of this benchmark. Must
 //! never assert a time (targets are printed, not tested) and never let a wall time reach a
