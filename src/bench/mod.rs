@@ -21,6 +21,7 @@ use rand_chacha::ChaCha12Rng;
 use serde::Serialize;
 
 use crate::engine::{rng_stream, Filter, Payload, Sim, SimError};
+use crate::output::cost::ratio_or_zero;
 use crate::units::SimTime;
 
 /// The PHOLD synthetic workload (Fujimoto): `lps` logical processes start with
@@ -305,16 +306,6 @@ pub fn phold_report(cfg: &PholdConfig) -> Result<(PholdSummary, PholdCost), SimE
         floor_instructions: None,
     };
     Ok((summary, cost))
-}
-
-/// `of / to`, or 0 when `to` is 0 (nothing was measured): events over seconds, or one event
-/// rate over another.
-fn ratio_or_zero(of: f64, to: f64) -> f64 {
-    if to > 0.0 {
-        of / to
-    } else {
-        0.0
-    }
 }
 
 /// `f`'s result and its wall time in seconds.

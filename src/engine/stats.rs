@@ -35,10 +35,10 @@ impl NodeStats {
         // finds it without reading the text; the text decides only when no address matches
         // (the same words may sit at two addresses).
         let phases = &self.busy_by_phase;
-        let at = match phases.iter().position(|&(p, _)| std::ptr::eq(p, phase)) {
-            Some(i) => Some(i),
-            None => phases.iter().position(|&(p, _)| p == phase),
-        };
+        let at = phases
+            .iter()
+            .position(|&(p, _)| std::ptr::eq(p, phase))
+            .or_else(|| phases.iter().position(|&(p, _)| p == phase));
         match at {
             Some(i) => self.busy_by_phase[i].1 += t,
             None => self.busy_by_phase.push((phase, t)),

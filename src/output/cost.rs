@@ -29,13 +29,19 @@ impl Stopwatch {
         Cost {
             wall_s: wall,
             events,
-            events_per_s: if wall > 0.0 {
-                events as f64 / wall
-            } else {
-                0.0
-            },
+            events_per_s: ratio_or_zero(events as f64, wall),
             peak_host_memory_bytes: peak_host_memory(),
         }
+    }
+}
+
+/// `of / to`, or 0 when `to` is 0 (nothing was measured): events over wall seconds, or one
+/// event rate over another.
+pub fn ratio_or_zero(of: f64, to: f64) -> f64 {
+    if to > 0.0 {
+        of / to
+    } else {
+        0.0
     }
 }
 
