@@ -35,7 +35,7 @@ use std::cmp::Reverse;
 use std::collections::{BTreeSet, BinaryHeap};
 
 use super::completions::Completions;
-use super::maxmin::{Capacities, MaxMin};
+use super::maxmin::{Capacities, Changes, MaxMin};
 use super::{Transport, Usage};
 use crate::net::timing::{Hops, Timing};
 use crate::net::{Delivered, LinkId, MsgId};
@@ -59,8 +59,8 @@ pub struct Flow {
     deliveries: Deliveries,
     /// The earliest start or end not yet solved for.
     dirty_since: Option<SimTime>,
-    /// Reused by every solve: (flow slot, old rate) of the flows whose rate or group changed.
-    changed: Vec<(u32, u64)>,
+    /// Reused by every solve: the flows and groups whose rate or group changed.
+    changed: Changes,
     /// Reused by every solve: flows between groups with their remaining work, and the groups
     /// whose rate or members changed.
     movers: Vec<(u32, u128)>,
@@ -162,7 +162,7 @@ impl Flow {
             completions: Completions::default(),
             deliveries: Deliveries::default(),
             dirty_since: None,
-            changed: Vec::new(),
+            changed: Changes::default(),
             movers: Vec::new(),
             touched: Vec::new(),
             done: Vec::new(),
@@ -272,7 +272,11 @@ impl Flow {
         changed.clear();
         self.shares.solve(&mut changed);
         let mut movers = std::mem::take(&mut self.movers);
-        for &(slot, _) in &changed {
+        // A group fixed again whole: one clock, whatever its size.
+        for &(g, _) in &changed.groups {
+            self.touch(g, now);
+        }
+        for &(slot, _) in &changed.flows {
             let (old, new) = (
                 self.flows[slot as usize].group,
                 self.shares.bottleneck(slot),
@@ -313,7 +317,7 @@ impl Flow {
         #[cfg(any(test, feature = "counters"))]
         {
             self.counted.solves += 1;
-            self.counted.flows_changed += changed.len() as u64;
+            self.counted.flows_changed += self.shares.flow_by_flow(&changed).len() as u64;
             self.counted.groups_changed += self.touched.len() as u64;
         }
         for i in 0..self.touched.len() {
@@ -507,7 +511,9 @@ mod tests {
                 if self.from_scratch {
                     self.shares.solve_from_scratch(&mut changed);
                 } else {
-                    self.shares.solve(&mut changed);
+                    let mut changes = Changes::default();
+                    self.shares.solve(&mut changes);
+                    changed = self.shares.flow_by_flow(&changes);
                 }
                 for (slot, old_rate) in changed {
                     let new_rate = self.shares.rate(slot);

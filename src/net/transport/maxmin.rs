@@ -73,6 +73,14 @@ fn link_of(key: Key) -> LinkId {
     key as LinkId
 }
 
+/// The rate of the flows fixed at `key`; 0 for a flow not rated.
+fn rate_at(key: Key) -> u64 {
+    match key {
+        NONE => 0,
+        k => share_of(k).max(1),
+    }
+}
+
 /// Each link's capacity in bits per second: one for every link, or one per link (a network
 /// whose links differ, such as nodes of several processors on a faster switch).
 #[derive(Clone, Debug, PartialEq, Eq)]
@@ -87,6 +95,24 @@ impl Capacities {
             Capacities::Uniform(c) => *c,
             Capacities::PerLink(c) => c[link as usize],
         }
+    }
+}
+
+/// What one [`MaxMin::solve`] changed.
+#[derive(Default)]
+pub struct Changes {
+    /// `(slot, old rate)` of each flow whose rate or bottleneck changed on its own (rate 0
+    /// for an added flow), in the order the filling fixed them.
+    pub flows: Vec<(u32, u64)>,
+    /// `(link, old rate)` of each group its link fixed again whole at a new rate: every
+    /// member's rate changed and none left, so a flow that joined it is in `flows` too.
+    pub groups: Vec<(LinkId, u64)>,
+}
+
+impl Changes {
+    pub fn clear(&mut self) {
+        self.flows.clear();
+        self.groups.clear();
     }
 }
 
@@ -110,12 +136,19 @@ pub struct MaxMin {
     /// a dirty link is evaluated from these (a handful) instead of from its flows.
     group_entries: Vec<Vec<GroupEntry>>,
     sweep: Sweep,
+    /// The rates [`MaxMin::solve_from_scratch`] gave, flow by flow (the tests' oracle keeps
+    /// no groups).
+    #[cfg(test)]
+    scratch_rates: Option<Vec<u64>>,
     /// Sweeps run again because a suspect failed its check.
     #[cfg(test)]
     reruns: u64,
     /// Groups fixed again whole, and flows settled one by one.
     #[cfg(test)]
     settled_as: (u64, u64),
+    /// Groups drawn in and fixed again whole as one, no member visited.
+    #[cfg(test)]
+    fixed_as_groups: u64,
     /// Pops that fixed their group alone and pops that walked their flows.
     #[cfg(test)]
     popped_as: (u64, u64),
@@ -170,22 +203,26 @@ struct GroupEntry {
     crossing: u32,
 }
 
-/// A flow: its rate and key as of the last solve and its state in the current sweep side by
-/// side in the first cache line (every link a sweep visits reads both for each of its flows),
-/// its route after them.
+/// A flow: its group as of the last solve (its rate and key are the group's, so a group fixed
+/// again whole at a new rate changes no member) and its own state in the current sweep, when
+/// it has one (an added flow, or one fixed apart from its group), side by side in the first
+/// cache line, its route after them.
 #[repr(C, align(64))]
 struct Flow {
-    key: Key,
     swept_key: Key,
-    rate: u64,
     swept_rate: u64,
     swept_epoch: u64,
-    settled: bool,
-    live: bool,
+    /// The link that fixed it in the last solve; `NO_GROUP` before its first.
+    group: LinkId,
     /// Its place in its group's `slots` (while it has a group).
     member_at: u32,
+    settled: bool,
+    live: bool,
     route: Vec<LinkId>,
 }
+
+/// A flow's group before its first solve.
+const NO_GROUP: LinkId = LinkId::MAX;
 
 impl Flow {
     fn swept(&self) -> SweepFlow {
@@ -216,7 +253,10 @@ struct Sweep {
     /// `unsettled[start..end]`: the flows a dirty link had fixed last time.
     unsettled_of: Vec<(u32, u32)>,
     dirty: Vec<LinkId>,
+    /// Flows fixed one by one, and the dirty links that fixed their whole group again
+    /// together (`SweepLink::fixed_whole`), in the order the filling fixed them.
     settled: Vec<u32>,
+    settled_groups: Vec<LinkId>,
     /// Links left out of the filling, to be checked once it is done (`SweepLink::suspect`).
     suspects: Vec<LinkId>,
     /// Flows unsettled when a link turned dirty, in runs (`Sweep::unsettled_of`).
@@ -259,10 +299,17 @@ struct SweepLink {
     /// not fixed yet and the rates of those that are.
     drawn_unfixed: u32,
     drawn_load: u64,
+    /// Of the flows it fixed last time (its group), how many have a sweep state of their
+    /// own: fixed one by one by some link (or, for a group not drawn in whole, drawn in).
+    drawn_alone: u32,
     /// It fixed its flows; nothing can change it any more in this solve.
     popped: bool,
     pending: bool,
     suspect: bool,
+    /// Dirty, with its group drawn in whole: a member with no sweep state of its own is in
+    /// the group's, unfixed until `fixed_whole`, then fixed at the link's pop.
+    whole: bool,
+    fixed_whole: bool,
 }
 
 const POP: u128 = 0;
@@ -295,8 +342,24 @@ impl Sweep {
             sl.delta = 0;
             sl.drawn_unfixed = 0;
             sl.drawn_load = 0;
+            sl.drawn_alone = 0;
         }
         sl
+    }
+
+    /// How many of `link`'s group have a sweep state of their own.
+    fn drawn_alone(&self, link: LinkId) -> u32 {
+        let sl = &self.links[link as usize];
+        match sl.seen == self.epoch {
+            true => sl.drawn_alone,
+            false => 0,
+        }
+    }
+
+    /// Whether `link` is dirty with its group drawn in whole.
+    fn drawn_whole(&self, link: LinkId) -> bool {
+        let sl = &self.links[link as usize];
+        sl.epoch == self.epoch && sl.whole
     }
 }
 
@@ -314,9 +377,13 @@ impl MaxMin {
             forced: Vec::new(),
             added: Vec::new(),
             #[cfg(test)]
+            scratch_rates: None,
+            #[cfg(test)]
             reruns: 0,
             #[cfg(test)]
             settled_as: (0, 0),
+            #[cfg(test)]
+            fixed_as_groups: 0,
             #[cfg(test)]
             popped_as: (0, 0),
             #[cfg(test)]
@@ -339,22 +406,20 @@ impl MaxMin {
         let i = slot as usize;
         if i >= self.flows.len() {
             self.flows.resize_with(i + 1, || Flow {
-                key: NONE,
                 swept_key: NONE,
-                rate: 0,
                 swept_rate: 0,
                 swept_epoch: 0,
+                group: NO_GROUP,
+                member_at: 0,
                 settled: false,
                 live: false,
-                member_at: 0,
                 route: Vec::new(),
             });
         }
         let f = &mut self.flows[i];
         f.route.clear();
         f.route.extend_from_slice(route);
-        f.rate = 0;
-        f.key = NONE;
+        f.group = NO_GROUP;
         f.live = true;
         for &l in route {
             self.links[l as usize].flows.push(slot);
@@ -364,14 +429,18 @@ impl MaxMin {
 
     /// Removes flow `slot`; the others' rates change at the next solve.
     pub fn remove(&mut self, slot: u32) {
-        let old = self.flows[slot as usize].key;
+        let old = self.old_key(slot);
         let alone = self.leaves_every_rate_as_it_is(slot);
         if old != NONE {
             self.leave(slot, link_of(old));
         }
+        let rate = rate_at(old);
+        #[cfg(test)]
+        if let Some(r) = self.scratch_rates.as_mut().and_then(|r| r.get_mut(slot as usize)) {
+            *r = 0;
+        }
         let f = &mut self.flows[slot as usize];
-        let rate = std::mem::take(&mut f.rate);
-        f.key = NONE;
+        f.group = NO_GROUP;
         f.live = false;
         for &l in &f.route {
             self.links[l as usize].load -= rate;
@@ -400,10 +469,10 @@ impl MaxMin {
     /// bottleneck is left with no flow to fix.
     fn leaves_every_rate_as_it_is(&self, slot: u32) -> bool {
         let f = &self.flows[slot as usize];
-        if f.key == NONE || !(self.added.is_empty() && self.shrunk.is_empty()) {
+        if f.group == NO_GROUP || !(self.added.is_empty() && self.shrunk.is_empty()) {
             return false;
         }
-        let g = link_of(f.key);
+        let g = f.group;
         self.groups[g as usize].slots.len() == 1
             && f.route
                 .iter()
@@ -458,7 +527,7 @@ impl MaxMin {
         let largest = flows
             .iter()
             .filter(|&&s| s != slot)
-            .map(|&s| self.flows[s as usize].rate)
+            .map(|&s| self.old_rate(s))
             .max()
             .unwrap_or(0);
         if room > largest + others {
@@ -467,8 +536,8 @@ impl MaxMin {
         let mut ahead = std::mem::take(&mut self.sweep.ahead);
         ahead.clear();
         ahead.extend(flows.iter().filter(|&&s| s != slot).map(|&s| {
-            let f = &self.flows[s as usize];
-            (f.key, f.rate, 1)
+            let key = self.old_key(s);
+            (key, rate_at(key), 1)
         }));
         let alone = share_stays_above(self.capacity.of(b), b, &mut ahead, 1);
         self.sweep.ahead = ahead;
@@ -491,7 +560,7 @@ impl MaxMin {
         ahead.clear();
         ahead.extend(link.flows.iter().map(|&s| match s == slot {
             true => (at, rate, 1),
-            false => (self.flows[s as usize].key, self.flows[s as usize].rate, 1),
+            false => (self.old_key(s), self.old_rate(s), 1),
         }));
         let out = share_stays_above(self.capacity.of(l), l, &mut ahead, 0);
         self.sweep.ahead = ahead;
@@ -499,12 +568,11 @@ impl MaxMin {
     }
 
     /// Commits flow `slot`, added alone, as fixed by its link `b` alone at key `at`.
-    fn fix_added_alone(&mut self, slot: u32, at: Key, changed: &mut Vec<(u32, u64)>) {
+    fn fix_added_alone(&mut self, slot: u32, at: Key, changes: &mut Changes) {
         let rate = share_of(at).max(1);
+        changes.flows.push((slot, 0));
         let f = &mut self.flows[slot as usize];
-        changed.push((slot, f.rate));
-        f.rate = rate;
-        f.key = at;
+        f.group = link_of(at);
         for &l in &f.route {
             self.links[l as usize].load += rate;
         }
@@ -613,13 +681,47 @@ impl MaxMin {
     /// The rate of flow `slot` as of the last solve (0 before its first).
     #[cfg(test)]
     pub fn rate(&self, slot: u32) -> u64 {
-        self.flows[slot as usize].rate
+        match &self.scratch_rates {
+            Some(rates) => rates[slot as usize],
+            None => self.old_rate(slot),
+        }
+    }
+
+    /// Flow `slot`'s key as of the last solve (its group's); `NONE` before its first.
+    fn old_key(&self, slot: u32) -> Key {
+        match self.flows[slot as usize].group {
+            NO_GROUP => NONE,
+            g => self.keys[g as usize],
+        }
+    }
+
+    fn old_rate(&self, slot: u32) -> u64 {
+        rate_at(self.old_key(slot))
     }
 
     /// The link that fixes flow `slot` (its bottleneck) as of the last solve. Every flow one
     /// link fixes has the same rate ([`MaxMin::group_rate`]).
     pub fn bottleneck(&self, slot: u32) -> LinkId {
-        link_of(self.flows[slot as usize].key)
+        self.flows[slot as usize].group
+    }
+
+    /// The flows link `g` fixed in the last solve, in no order.
+    #[cfg(any(test, feature = "counters"))]
+    pub fn members(&self, g: LinkId) -> &[u32] {
+        &self.groups[g as usize].slots
+    }
+
+    /// `changes` (of the last solve) flow by flow: `(slot, old rate)` of every flow whose rate
+    /// or bottleneck changed, each once.
+    #[cfg(any(test, feature = "counters"))]
+    pub fn flow_by_flow(&self, changes: &Changes) -> Vec<(u32, u64)> {
+        let alone: std::collections::BTreeSet<u32> = changes.flows.iter().map(|c| c.0).collect();
+        let mut all = changes.flows.clone();
+        for &(g, old) in &changes.groups {
+            let joined_before = self.members(g).iter().filter(|s| !alone.contains(s));
+            all.extend(joined_before.map(|&s| (s, old)));
+        }
+        all
     }
 
     /// The rate of the flows link `g` fixed in the last solve; `None` if it fixed none.
@@ -627,16 +729,16 @@ impl MaxMin {
         (!self.groups[g as usize].slots.is_empty()).then(|| share_of(self.keys[g as usize]).max(1))
     }
 
-    /// Brings every rate up to date with the adds and removes since the last solve; appends
-    /// `(slot, old rate)` for every flow whose rate or bottleneck changed (rate 0 for an added
-    /// flow), in the order the filling fixed them.
-    pub fn solve(&mut self, changed: &mut Vec<(u32, u64)>) {
+    /// Brings every rate up to date with the adds and removes since the last solve, and
+    /// appends to `changes` every flow whose rate or bottleneck changed: one by one, or as a
+    /// group fixed again whole at a new rate.
+    pub fn solve(&mut self, changes: &mut Changes) {
         match (&self.added[..], &self.shrunk[..]) {
             // Nothing since the last solve but removals that moved no other rate.
             ([], []) => return,
             (&[slot], []) => {
                 if let Some(fixer) = self.fixer_if_added_alone(slot) {
-                    self.fix_added_alone(slot, fixer, changed);
+                    self.fix_added_alone(slot, fixer, changes);
                     self.added.clear();
                     return;
                 }
@@ -649,7 +751,7 @@ impl MaxMin {
                 self.reruns += 1;
             }
         }
-        self.commit(changed);
+        self.commit(changes);
         self.added.clear();
         self.shrunk.clear();
         self.forced.clear();
@@ -663,6 +765,7 @@ impl MaxMin {
         s.now = 0;
         s.dirty.clear();
         s.settled.clear();
+        s.settled_groups.clear();
         s.unsettled.clear();
         s.suspects.clear();
         s.heap.clear();
@@ -810,16 +913,41 @@ impl MaxMin {
 
     /// Flow `slot`'s rate and key once this sweep is done; None if nothing fixed it.
     fn final_rate_and_key(&self, slot: u32) -> Option<(u64, Key)> {
-        let sf = self.flows[slot as usize].swept();
-        if sf.epoch == self.sweep.epoch {
+        if let Some(sf) = self.swept_state(slot) {
             return sf.settled.then_some((sf.rate, sf.key));
         }
+        let key = self.old_key(slot);
+        (key != NONE).then_some((rate_at(key), key))
+    }
+
+    /// Flow `slot`'s state in this sweep if it is drawn in: its own, or its group's when its
+    /// group is drawn in whole.
+    fn swept_state(&self, slot: u32) -> Option<SweepFlow> {
         let f = &self.flows[slot as usize];
-        (f.key != NONE).then_some((f.rate, f.key))
+        let epoch = self.sweep.epoch;
+        if f.swept_epoch == epoch {
+            return Some(f.swept());
+        }
+        let g = f.group;
+        if g == NO_GROUP || !self.sweep.drawn_whole(g) {
+            return None;
+        }
+        let key = match self.sweep.links[g as usize].fixed_whole {
+            true => self.sweep.pops[g as usize],
+            false => self.keys[g as usize],
+        };
+        Some(SweepFlow {
+            epoch,
+            settled: self.sweep.links[g as usize].fixed_whole,
+            rate: rate_at(key),
+            key,
+        })
     }
 
     /// Makes `link` part of the sweep (once): it will be evaluated, and the flows it fixed
-    /// last time are unsettled until something fixes them again.
+    /// last time are unsettled until something fixes them again. A group none of whose
+    /// members is drawn in yet is drawn in whole, as one: its links once each, with the count
+    /// crossing each, and no member visited.
     fn mark_dirty(&mut self, link: LinkId) {
         let l = link as usize;
         let epoch = self.sweep.epoch;
@@ -831,55 +959,61 @@ impl MaxMin {
             old >= self.sweep.now,
             "link {link} turned dirty after its old key had passed"
         );
-        let start = self.sweep.unsettled.len() as u32;
+        let members = self.groups[l].slots.len();
         // The flows it fixed last time are its group (a link that fixed nothing has none).
         // None of them can be drawn in yet but those another link fixed (`fix`).
-        for i in 0..self.groups[l].slots.len() {
-            let slot = self.groups[l].slots[i];
-            let f = &mut self.flows[slot as usize];
-            debug_assert_eq!(f.key, old, "a member has its bottleneck's key");
-            if f.swept_epoch != epoch {
-                #[cfg(any(test, feature = "counters"))]
-                {
-                    self.swept.0 += 1;
-                    self.swept.1 += f.route.len() as u64;
-                }
-                f.sweep_to(SweepFlow {
-                    epoch,
-                    settled: false,
-                    rate: f.rate,
-                    key: f.key,
-                });
-                self.sweep.unsettled.push(slot);
-            }
-        }
-        let end = self.sweep.unsettled.len() as u32;
-        let whole = (end - start) as usize == self.groups[l].slots.len();
-        if !whole {
-            for i in start..end {
-                let slot = self.sweep.unsettled[i as usize];
-                self.draw_route(slot);
-            }
-        }
+        let whole = members > 0 && self.sweep.drawn_alone(link) == 0;
+        let start = self.sweep.unsettled.len() as u32;
         if whole {
-            // The whole group: its links once each, with the count crossing each.
+            #[cfg(any(test, feature = "counters"))]
+            {
+                self.swept.0 += members as u64;
+                let crossings = self.groups[l].links.iter().map(|gl| gl.crossing as u64);
+                self.swept.1 += crossings.sum::<u64>();
+            }
             for i in 0..self.groups[l].links.len() {
                 let gl = self.groups[l].links[i];
                 self.sweep.link_seen(gl.link).drawn_unfixed += gl.crossing;
                 self.make_pending(gl.link);
             }
+        } else {
+            for i in 0..members {
+                let slot = self.groups[l].slots[i];
+                let f = &mut self.flows[slot as usize];
+                if f.swept_epoch != epoch {
+                    #[cfg(any(test, feature = "counters"))]
+                    {
+                        self.swept.0 += 1;
+                        self.swept.1 += f.route.len() as u64;
+                    }
+                    f.sweep_to(SweepFlow {
+                        epoch,
+                        settled: false,
+                        rate: rate_at(old),
+                        key: old,
+                    });
+                    self.sweep.unsettled.push(slot);
+                }
+            }
+            for i in start..self.sweep.unsettled.len() as u32 {
+                let slot = self.sweep.unsettled[i as usize];
+                self.draw_route(slot);
+            }
         }
+        let end = self.sweep.unsettled.len() as u32;
         self.sweep.pops[l] = NONE;
         self.sweep.unsettled_of[l] = (start, end);
         self.sweep.links[l] = SweepLink {
             epoch,
             popped: false,
             pending: true,
+            whole,
+            fixed_whole: false,
             ..self.sweep.links[l]
         };
         self.sweep.dirty.push(link);
         self.sweep.pending.push(link);
-        if end > start {
+        if whole || end > start {
             self.sweep.heap.push(Reverse(old << 1 | PASS));
         }
     }
@@ -914,11 +1048,11 @@ impl MaxMin {
     /// Whether `slot` is fixed when the sweep stands at `at`: settled in this sweep, or
     /// untouched with an old key below `at`.
     fn fixed_rate(&self, slot: u32, at: Key) -> Option<u64> {
-        let f = &self.flows[slot as usize];
-        if f.swept_epoch == self.sweep.epoch {
-            return f.settled.then_some(f.swept_rate);
+        if let Some(sf) = self.swept_state(slot) {
+            return sf.settled.then_some(sf.rate);
         }
-        (f.key < at).then_some(f.rate)
+        let key = self.old_key(slot);
+        (key < at).then_some(rate_at(key))
     }
 
     /// Finds where dirty `link` pops as things stand at `now`: its share from the flows fixed
@@ -993,22 +1127,22 @@ impl MaxMin {
         let mut unfixed = 0u64;
         let (mut ahead_rates, mut ahead_share) = (0u64, 0u64);
         for &slot in &self.links[link as usize].flows {
-            let f = &self.flows[slot as usize];
-            if f.swept_epoch == self.sweep.epoch {
-                if f.settled {
-                    left = left.saturating_sub(f.swept_rate);
+            if let Some(sf) = self.swept_state(slot) {
+                if sf.settled {
+                    left = left.saturating_sub(sf.rate);
                 } else {
                     unfixed += 1;
                 }
                 continue;
             }
-            if f.key < now {
-                left = left.saturating_sub(f.rate);
+            let (key, rate) = (self.old_key(slot), self.old_rate(slot));
+            if key < now {
+                left = left.saturating_sub(rate);
             } else {
                 unfixed += 1;
-                ahead_rates += f.rate;
-                ahead_share = ahead_share.max(share_of(f.key));
-                ahead.push((f.key, f.rate, 1));
+                ahead_rates += rate;
+                ahead_share = ahead_share.max(share_of(key));
+                ahead.push((key, rate, 1));
             }
         }
         let totals = (ahead.len() as u64, ahead_rates, ahead_share);
@@ -1017,18 +1151,20 @@ impl MaxMin {
         pop
     }
 
-    /// Dirty `link` fixes every flow still unfixed on it at its key `at`.
+    /// Dirty `link` fixes every flow still unfixed on it at its key `at`. If every flow it
+    /// fixed last time is still unfixed, they are fixed again together, as a group: no
+    /// member is visited.
     fn pop(&mut self, link: LinkId, at: Key) {
         self.sweep.now = at;
         self.sweep.links[link as usize].popped = true;
         let rate = share_of(at).max(1);
-        let old = self.keys[link as usize];
-        // If every flow it fixed last time is still unfixed, they are fixed again together.
-        let members = &self.groups[link as usize].slots;
-        let whole = !members.is_empty()
-            && members
-                .iter()
-                .all(|&slot| self.fixed_rate(slot, at).is_none());
+        let whole = self.group_unfixed(link);
+        #[cfg(test)]
+        {
+            let members = &self.groups[link as usize].slots;
+            let unfixed = members.iter().all(|&s| self.fixed_rate(s, at).is_none());
+            assert_eq!(whole, !members.is_empty() && unfixed, "link {link}'s group");
+        }
         if whole && self.fixes_its_group_alone(link, at) {
             #[cfg(test)]
             {
@@ -1036,10 +1172,6 @@ impl MaxMin {
                 let flows = &self.links[link as usize].flows;
                 let unfixed = flows.iter().filter(|&&s| self.fixed_rate(s, at).is_none());
                 assert_eq!(unfixed.count(), self.groups[link as usize].slots.len());
-            }
-            for i in 0..self.groups[link as usize].slots.len() {
-                let slot = self.groups[link as usize].slots[i];
-                self.fix(slot, rate, at);
             }
             self.settle_group(link, rate, at);
             return;
@@ -1053,15 +1185,22 @@ impl MaxMin {
             if self.fixed_rate(slot, at).is_some() {
                 continue;
             }
-            if whole && self.flows[slot as usize].key == old {
-                self.fix(slot, rate, at);
-            } else {
-                self.settle(slot, rate, at);
+            if whole && self.flows[slot as usize].group == link {
+                continue; // fixed with its group below
             }
+            self.settle(slot, rate, at);
         }
         if whole {
             self.settle_group(link, rate, at);
         }
+    }
+
+    /// Whether every flow dirty `link` fixed last time (at least one) is still unfixed. Only
+    /// a group drawn in whole can be: one that was not had a member drawn in alone, and a
+    /// member is drawn in alone only when some link fixes it. Its members are in the group's
+    /// state, unfixed, unless drawn in alone.
+    fn group_unfixed(&self, link: LinkId) -> bool {
+        self.sweep.drawn_whole(link) && self.sweep.drawn_alone(link) == 0
     }
 
     /// Whether, with every member of `link`'s group unfixed at `at`, they are the only flows
@@ -1080,18 +1219,23 @@ impl MaxMin {
     /// concerned; returns its rate and key before, and whether it was drawn in before.
     fn fix(&mut self, slot: u32, rate: u64, at: Key) -> (u64, Key, bool) {
         let epoch = self.sweep.epoch;
-        let f = &self.flows[slot as usize];
-        let drawn = f.swept_epoch == epoch;
-        let (old_rate, old_key) = if drawn {
-            (f.swept_rate, f.swept_key)
-        } else {
-            #[cfg(any(test, feature = "counters"))]
-            {
-                self.swept.0 += 1;
-                self.swept.1 += f.route.len() as u64;
+        let (old_rate, old_key, drawn) = match self.swept_state(slot) {
+            Some(sf) => (sf.rate, sf.key, true),
+            None => {
+                #[cfg(any(test, feature = "counters"))]
+                {
+                    self.swept.0 += 1;
+                    self.swept.1 += self.flows[slot as usize].route.len() as u64;
+                }
+                let key = self.old_key(slot);
+                (rate_at(key), key, false)
             }
-            (f.rate, f.key)
         };
+        let f = &self.flows[slot as usize];
+        if f.swept_epoch != epoch && f.group != NO_GROUP {
+            let g = f.group;
+            self.sweep.link_seen(g).drawn_alone += 1;
+        }
         self.flows[slot as usize].sweep_to(SweepFlow {
             epoch,
             settled: true,
@@ -1102,9 +1246,9 @@ impl MaxMin {
         (old_rate, old_key, drawn)
     }
 
-    /// `link`'s whole group, fixed again by `link` at `rate` and key `at` (each flow by
-    /// [`MaxMin::fix`]): what [`MaxMin::settle`] does to each member's links, done to each of
-    /// the group's links once, with the count of members crossing it.
+    /// `link`'s whole group, drawn in whole, fixed again by `link` at `rate` and key `at` as
+    /// one (no member visited): what [`MaxMin::settle`] does to each member's links, done to
+    /// each of the group's links once, with the count of members crossing it.
     fn settle_group(&mut self, link: LinkId, rate: u64, at: Key) {
         let old = self.keys[link as usize];
         let old_rate = share_of(old).max(1);
@@ -1113,6 +1257,13 @@ impl MaxMin {
         #[cfg(test)]
         {
             self.settled_as.0 += 1;
+        }
+        debug_assert!(self.sweep.drawn_whole(link), "a group fixed whole was drawn in whole");
+        self.sweep.links[link as usize].fixed_whole = true;
+        self.sweep.settled_groups.push(link);
+        #[cfg(test)]
+        {
+            self.fixed_as_groups += 1;
         }
         for i in 0..self.groups[link as usize].links.len() {
             let GroupLink {
@@ -1158,6 +1309,10 @@ impl MaxMin {
     /// be evaluated.
     fn pass_old_key(&mut self, link: LinkId, at: Key) {
         self.sweep.now = self.sweep.now.max(at);
+        if self.sweep.drawn_whole(link) {
+            self.pass_group_drawn_whole(link);
+            return;
+        }
         let (start, end) = self.sweep.unsettled_of[link as usize];
         let run = &self.sweep.unsettled[start as usize..end as usize];
         let unfixed = run
@@ -1184,7 +1339,58 @@ impl MaxMin {
         }
     }
 
-    fn commit(&mut self, changed: &mut Vec<(u32, u64)>) {
+    /// [`MaxMin::pass_old_key`] for a group drawn in whole: the members still in the group's
+    /// state are its unfixed ones.
+    fn pass_group_drawn_whole(&mut self, link: LinkId) {
+        if self.sweep.links[link as usize].fixed_whole {
+            return;
+        }
+        if self.sweep.drawn_alone(link) == 0 {
+            for i in 0..self.groups[link as usize].links.len() {
+                let l = self.groups[link as usize].links[i].link;
+                self.note(l);
+            }
+            return;
+        }
+        let epoch = self.sweep.epoch;
+        for i in 0..self.groups[link as usize].slots.len() {
+            let slot = self.groups[link as usize].slots[i];
+            if self.flows[slot as usize].swept_epoch == epoch {
+                continue; // fixed alone
+            }
+            for j in 0..self.flows[slot as usize].route.len() {
+                let l = self.flows[slot as usize].route[j];
+                self.note(l);
+            }
+        }
+    }
+
+    /// Makes this sweep's rates the last solve's: what changed is listed while the old keys
+    /// still give the old rates, then the dirty links take their new keys. A group fixed again
+    /// whole keeps its members, so its new key is every member's new rate.
+    fn commit(&mut self, changes: &mut Changes) {
+        for i in 0..self.sweep.settled.len() {
+            let slot = self.sweep.settled[i];
+            let sf = self.flows[slot as usize].swept();
+            let old = self.flows[slot as usize].group;
+            let regrouped = old != link_of(sf.key);
+            if self.old_rate(slot) != sf.rate || regrouped {
+                changes.flows.push((slot, self.old_rate(slot)));
+            }
+            if regrouped {
+                if old != NO_GROUP {
+                    self.leave(slot, old);
+                }
+                self.flows[slot as usize].group = link_of(sf.key);
+                self.join(slot, link_of(sf.key));
+            }
+        }
+        for &g in &self.sweep.settled_groups {
+            let (old, new) = (self.keys[g as usize], self.sweep.pops[g as usize]);
+            if rate_at(old) != rate_at(new) {
+                changes.groups.push((g, rate_at(old)));
+            }
+        }
         let s = &mut self.sweep;
         for &l in &s.dirty {
             let sl = &mut s.links[l as usize];
@@ -1204,23 +1410,6 @@ impl MaxMin {
             let link = &mut self.links[l as usize];
             link.load = (link.load as i64 + s.links[l as usize].delta) as u64;
         }
-        for i in 0..self.sweep.settled.len() {
-            let slot = self.sweep.settled[i];
-            let f = &mut self.flows[slot as usize];
-            let sf = f.swept();
-            let regrouped = f.key == NONE || link_of(f.key) != link_of(sf.key);
-            if f.rate != sf.rate || regrouped {
-                changed.push((slot, f.rate));
-            }
-            f.rate = sf.rate;
-            let old = std::mem::replace(&mut f.key, sf.key);
-            if regrouped {
-                if old != NONE {
-                    self.leave(slot, link_of(old));
-                }
-                self.join(slot, link_of(sf.key));
-            }
-        }
     }
 }
 
@@ -1231,8 +1420,8 @@ impl MaxMin {
         let mut want: Vec<std::collections::BTreeMap<LinkId, u32>> =
             vec![Default::default(); self.links.len()];
         let mut members = vec![0u32; self.links.len()];
-        for f in self.flows.iter().filter(|f| f.live && f.key != NONE) {
-            let g = link_of(f.key) as usize;
+        for f in self.flows.iter().filter(|f| f.live && f.group != NO_GROUP) {
+            let g = f.group as usize;
             members[g] += 1;
             for &l in &f.route {
                 *want[g].entry(l).or_default() += 1;
@@ -1254,7 +1443,7 @@ impl MaxMin {
                 group.slots.len() == members[g] as usize
                     && group.slots.iter().enumerate().all(|(i, &slot)| {
                         let f = &self.flows[slot as usize];
-                        f.live && link_of(f.key) == g as LinkId && f.member_at == i as u32
+                        f.live && f.group == g as LinkId && f.member_at == i as u32
                     })
                     && have == want[g]
                     && group.links.len() == have.len()
@@ -1272,12 +1461,13 @@ impl MaxMin {
             l.load
                 == l.flows
                     .iter()
-                    .map(|&s| self.flows[s as usize].rate)
+                    .map(|&s| self.old_rate(s))
                     .sum::<u64>()
         })
     }
 
-    /// What [`MaxMin::solve`] must do, done plainly: every rate from [`reference_rates`].
+    /// What [`MaxMin::solve`] must do, done plainly: every rate from [`reference_rates`],
+    /// kept flow by flow (an instance solved this way is never solved incrementally).
     pub fn solve_from_scratch(&mut self, changed: &mut Vec<(u32, u64)>) {
         self.added.clear();
         self.shrunk.clear();
@@ -1289,17 +1479,13 @@ impl MaxMin {
             .map(|&s| self.flows[s as usize].route.clone())
             .collect();
         let rates = reference_rates(&self.capacity, self.links.len(), &routes);
+        let kept = self.scratch_rates.get_or_insert_with(Vec::new);
+        kept.resize(self.flows.len(), 0);
         for (&slot, rate) in live.iter().zip(rates) {
-            let f = &mut self.flows[slot as usize];
-            if f.rate != rate {
-                changed.push((slot, f.rate));
-                f.rate = rate;
+            let old = std::mem::replace(&mut kept[slot as usize], rate);
+            if old != rate {
+                changed.push((slot, old));
             }
-        }
-        // `remove` keeps the loads; nothing else here reads them.
-        for l in 0..self.links.len() {
-            let flows = &self.links[l].flows;
-            self.links[l].load = flows.iter().map(|&s| self.flows[s as usize].rate).sum();
         }
     }
 }
@@ -1482,8 +1668,16 @@ mod tests {
                 mm.add(slot, route);
                 live.push((slot, route.clone()));
             }
-            let mut changed = Vec::new();
-            mm.solve(&mut changed);
+            let mut changes = Changes::default();
+            mm.solve(&mut changes);
+            let changed = mm.flow_by_flow(&changes);
+            let mut once: Vec<u32> = changed.iter().map(|c| c.0).collect();
+            once.sort_unstable();
+            once.dedup();
+            prop_assert_eq!(once.len(), changed.len(), "a flow listed twice");
+            for &(g, _) in &changes.groups {
+                prop_assert!(mm.sweep.links[g as usize].fixed_whole, "group {} fixed whole", g);
+            }
             let routes: Vec<Vec<LinkId>> = live.iter().map(|(_, r)| r.clone()).collect();
             let expected = reference_rates(&capacity, links as usize, &routes);
             before.resize(next as usize, 0);
@@ -1587,7 +1781,7 @@ mod tests {
         for (slot, route) in routes.iter().enumerate() {
             mm.add(slot as u32, route);
         }
-        let mut changed = Vec::new();
+        let mut changed = Changes::default();
         mm.solve(&mut changed);
         assert_eq!(mm.rate(0), 4);
         assert_eq!(mm.rate(3), 2);
@@ -1649,6 +1843,7 @@ mod tests {
         // sweep were taken, so the agreement covers each (every evaluation by groups is held
         // to one by flows as it happens).
         assert!(whole > 100, "groups fixed again whole: {whole}");
+        assert_eq!(mm.fixed_as_groups, whole, "each as one, no member visited");
         assert!(one_by_one > 100, "flows settled one by one: {one_by_one}");
         assert!(alone > 100, "pops fixing their group alone: {alone}");
         assert!(walked > 100, "pops walking their flows: {walked}");
