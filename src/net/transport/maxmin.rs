@@ -104,8 +104,9 @@ pub struct Changes {
     /// `(slot, old rate)` of each flow whose rate or bottleneck changed on its own (rate 0
     /// for an added flow), in the order the filling fixed them.
     pub flows: Vec<(u32, u64)>,
-    /// `(link, old rate)` of each group its link fixed again whole at a new rate: every
-    /// member's rate changed and none left, so a flow that joined it is in `flows` too.
+    /// `(link, old rate)` of each group its link fixed again as one at a new rate: every
+    /// member it kept has the new rate. A member that left it (fixed alone by another link)
+    /// and a flow that joined it are in `flows`.
     pub groups: Vec<(LinkId, u64)>,
 }
 
@@ -146,9 +147,10 @@ pub struct MaxMin {
     /// Groups fixed again whole, and flows settled one by one.
     #[cfg(test)]
     settled_as: (u64, u64),
-    /// Groups drawn in and fixed again whole as one, no member visited.
+    /// Groups drawn in and fixed again whole as one, no member visited; of them, those some
+    /// of whose members had been fixed alone elsewhere.
     #[cfg(test)]
-    fixed_as_groups: u64,
+    fixed_as_groups: (u64, u64),
     /// Pops that fixed their group alone and pops that walked their flows.
     #[cfg(test)]
     popped_as: (u64, u64),
@@ -383,7 +385,7 @@ impl MaxMin {
             #[cfg(test)]
             settled_as: (0, 0),
             #[cfg(test)]
-            fixed_as_groups: 0,
+            fixed_as_groups: (0, 0),
             #[cfg(test)]
             popped_as: (0, 0),
             #[cfg(test)]
@@ -873,9 +875,13 @@ impl MaxMin {
 
     /// A flow on `link` changed: a link that fixed flows last time is dirty, one that fixed
     /// none is a suspect.
+    #[inline]
     fn note(&mut self, link: LinkId) {
         if self.keys[link as usize] != NONE {
-            self.mark_dirty(link);
+            // Most notes find the link dirty already: that test stays out of the call.
+            if !self.sweep.is_dirty(link) {
+                self.mark_dirty(link);
+            }
             return;
         }
         let epoch = self.sweep.epoch;
@@ -1161,9 +1167,16 @@ impl MaxMin {
         let whole = self.group_unfixed(link);
         #[cfg(test)]
         {
+            let epoch = self.sweep.epoch;
             let members = &self.groups[link as usize].slots;
-            let unfixed = members.iter().all(|&s| self.fixed_rate(s, at).is_none());
-            assert_eq!(whole, !members.is_empty() && unfixed, "link {link}'s group");
+            let (part, alone): (Vec<u32>, Vec<u32>) = members
+                .iter()
+                .partition(|&&s| self.flows[s as usize].swept_epoch != epoch);
+            assert_eq!(whole, self.sweep.drawn_whole(link) && !part.is_empty());
+            if whole {
+                assert!(part.iter().all(|&s| self.fixed_rate(s, at).is_none()));
+                assert!(alone.iter().all(|&s| self.fixed_rate(s, at).is_some()));
+            }
         }
         if whole && self.fixes_its_group_alone(link, at) {
             #[cfg(test)]
@@ -1171,7 +1184,7 @@ impl MaxMin {
                 self.popped_as.0 += 1;
                 let flows = &self.links[link as usize].flows;
                 let unfixed = flows.iter().filter(|&&s| self.fixed_rate(s, at).is_none());
-                assert_eq!(unfixed.count(), self.groups[link as usize].slots.len());
+                assert_eq!(unfixed.count(), self.in_group_state(link));
             }
             self.settle_group(link, rate, at);
             return;
@@ -1195,21 +1208,27 @@ impl MaxMin {
         }
     }
 
-    /// Whether every flow dirty `link` fixed last time (at least one) is still unfixed. Only
-    /// a group drawn in whole can be: one that was not had a member drawn in alone, and a
-    /// member is drawn in alone only when some link fixes it. Its members are in the group's
-    /// state, unfixed, unless drawn in alone.
+    /// Whether dirty `link`'s group was drawn in whole and some of it is still in the group's
+    /// state: those members are all unfixed (a member leaves the group's state only when some
+    /// link fixes it alone), and `link` fixes them again together. A group not drawn in whole
+    /// had a member fixed alone before it turned dirty; its members are settled one by one.
     fn group_unfixed(&self, link: LinkId) -> bool {
-        self.sweep.drawn_whole(link) && self.sweep.drawn_alone(link) == 0
+        self.sweep.drawn_whole(link)
+            && (self.sweep.drawn_alone(link) as usize) < self.groups[link as usize].slots.len()
     }
 
-    /// Whether, with every member of `link`'s group unfixed at `at`, they are the only flows
+    /// How many of `link`'s group are in the group's state (not drawn in alone).
+    fn in_group_state(&self, link: LinkId) -> usize {
+        self.groups[link as usize].slots.len() - self.sweep.drawn_alone(link) as usize
+    }
+
+    /// Whether, with `link`'s group (those of it in the group's state) unfixed at `at`, they are the only flows
     /// unfixed on it: no other flow drawn into the sweep is, and every other group crossing it
     /// either is drawn in (its link is dirty) or was fixed below `at`. Read from the link's
     /// tallies and its groups, without walking its flows.
     fn fixes_its_group_alone(&self, link: LinkId, at: Key) -> bool {
         let (drawn_unfixed, _) = self.sweep.drawn_on(link);
-        drawn_unfixed as usize == self.groups[link as usize].slots.len()
+        drawn_unfixed as usize == self.in_group_state(link)
             && self.group_entries[link as usize].iter().all(|e| {
                 e.group == link || self.sweep.is_dirty(e.group) || self.keys[e.group as usize] < at
             })
@@ -1263,7 +1282,17 @@ impl MaxMin {
         self.sweep.settled_groups.push(link);
         #[cfg(test)]
         {
-            self.fixed_as_groups += 1;
+            self.fixed_as_groups.0 += 1;
+            self.fixed_as_groups.1 += (self.sweep.drawn_alone(link) > 0) as u64;
+        }
+        // Members fixed alone elsewhere settled their own links: the group's counts cross
+        // them too, so their links are first given back what the counts will take.
+        let alone = self.sweep.drawn_alone(link) > 0;
+        if alone {
+            self.for_links_of_drawn_alone(link, |sl| {
+                sl.drawn_unfixed += 1;
+                sl.delta -= delta;
+            });
         }
         for i in 0..self.groups[link as usize].links.len() {
             let GroupLink {
@@ -1276,6 +1305,25 @@ impl MaxMin {
             self.make_pending(l);
             if moved {
                 self.note(l);
+            }
+        }
+        if alone {
+            self.for_links_of_drawn_alone(link, |sl| sl.drawn_load -= rate);
+        }
+    }
+
+    /// Applies `f` to each link a member of `link`'s group drawn in alone crosses, once per
+    /// such member crossing it.
+    fn for_links_of_drawn_alone(&mut self, link: LinkId, f: impl Fn(&mut SweepLink)) {
+        let epoch = self.sweep.epoch;
+        for i in 0..self.groups[link as usize].slots.len() {
+            let slot = self.groups[link as usize].slots[i];
+            if self.flows[slot as usize].swept_epoch != epoch {
+                continue;
+            }
+            for j in 0..self.flows[slot as usize].route.len() {
+                let l = self.flows[slot as usize].route[j];
+                f(self.sweep.link_seen(l));
             }
         }
     }
@@ -1843,7 +1891,9 @@ mod tests {
         // sweep were taken, so the agreement covers each (every evaluation by groups is held
         // to one by flows as it happens).
         assert!(whole > 100, "groups fixed again whole: {whole}");
-        assert_eq!(mm.fixed_as_groups, whole, "each as one, no member visited");
+        let (as_one, in_part) = mm.fixed_as_groups;
+        assert_eq!(as_one, whole, "each as one, no member visited");
+        assert!(in_part > 10, "groups fixed as one after members left them: {in_part}");
         assert!(one_by_one > 100, "flows settled one by one: {one_by_one}");
         assert!(alone > 100, "pops fixing their group alone: {alone}");
         assert!(walked > 100, "pops walking their flows: {walked}");
