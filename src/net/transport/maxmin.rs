@@ -979,8 +979,7 @@ impl MaxMin {
             }
             for i in 0..self.groups[l].links.len() {
                 let gl = self.groups[l].links[i];
-                self.sweep.link_seen(gl.link).drawn_unfixed += gl.crossing;
-                self.make_pending(gl.link);
+                self.count_drawn(gl.link, gl.crossing);
             }
         } else {
             for i in 0..members {
@@ -1029,16 +1028,18 @@ impl MaxMin {
     fn draw_route(&mut self, slot: u32) {
         for i in 0..self.flows[slot as usize].route.len() {
             let l = self.flows[slot as usize].route[i];
-            self.sweep.link_seen(l).drawn_unfixed += 1;
-            self.make_pending(l);
+            self.count_drawn(l, 1);
         }
     }
 
-    /// A flow on `link` changed state: if it is dirty and has not fixed its flows, it must be
-    /// evaluated again.
-    fn make_pending(&mut self, link: LinkId) {
-        let sl = &mut self.sweep.links[link as usize];
-        if sl.epoch == self.sweep.epoch && !sl.popped && !sl.pending {
+    /// `flows` more flows crossing `link` are drawn in unfixed; a dirty link that has not
+    /// fixed its flows is evaluated again.
+    #[inline]
+    fn count_drawn(&mut self, link: LinkId, flows: u32) {
+        let epoch = self.sweep.epoch;
+        let sl = self.sweep.link_seen(link);
+        sl.drawn_unfixed += flows;
+        if sl.epoch == epoch && !sl.popped && !sl.pending {
             sl.pending = true;
             self.sweep.pending.push(link);
         }
@@ -1298,14 +1299,8 @@ impl MaxMin {
             let GroupLink {
                 link: l, crossing, ..
             } = self.groups[link as usize].links[i];
-            let sl = self.sweep.link_seen(l);
-            sl.delta += delta * crossing as i64;
-            sl.drawn_unfixed -= crossing;
-            sl.drawn_load += rate * crossing as u64;
-            self.make_pending(l);
-            if moved {
-                self.note(l);
-            }
+            let load = rate * crossing as u64;
+            self.count_fixed(l, delta * crossing as i64, crossing, load, moved);
         }
         if alone {
             self.for_links_of_drawn_alone(link, |sl| sl.drawn_load -= rate);
@@ -1341,13 +1336,32 @@ impl MaxMin {
         let moved = old_key != NONE && (old_rate != rate || old_key != at);
         for i in 0..self.flows[slot as usize].route.len() {
             let l = self.flows[slot as usize].route[i];
-            let sl = self.sweep.link_seen(l);
-            sl.delta += delta;
-            sl.drawn_unfixed -= drawn as u32;
-            sl.drawn_load += rate;
-            self.make_pending(l);
-            if moved {
-                self.note(l);
+            self.count_fixed(l, delta, drawn as u32, rate, moved);
+        }
+    }
+
+    /// Flows crossing `link` were fixed in this sweep: they add `delta` to its load change and
+    /// `load` to its drawn flows' load, and `fixed` of them were counted unfixed there. A
+    /// dirty link that has not fixed its flows is evaluated again; if they `moved` (a rate or
+    /// key other than last time), any other link is noted, in the same visit.
+    #[inline]
+    fn count_fixed(&mut self, link: LinkId, delta: i64, fixed: u32, load: u64, moved: bool) {
+        let epoch = self.sweep.epoch;
+        let sl = self.sweep.link_seen(link);
+        sl.delta += delta;
+        sl.drawn_unfixed -= fixed;
+        sl.drawn_load += load;
+        if sl.epoch == epoch {
+            if !sl.popped && !sl.pending {
+                sl.pending = true;
+                self.sweep.pending.push(link);
+            }
+        } else if moved {
+            if self.keys[link as usize] != NONE {
+                self.mark_dirty(link);
+            } else if !sl.suspect {
+                sl.suspect = true;
+                self.sweep.suspects.push(link);
             }
         }
     }
