@@ -25,6 +25,16 @@
 //! way its pop could differ has marked it dirty, so untouched links and flows keep their old
 //! keys and rates exactly.
 //!
+//! A flow keeps only its group: its rate and key are its group's link's. A group is drawn
+//! in *whole* when its link turns dirty before any member was fixed alone elsewhere: its
+//! members then share one sweep state, the group's (unfixed, then fixed at the link's pop),
+//! so drawing it in, passing its old key and fixing it again each visit its links once, with
+//! the count of members crossing each, and never a member; a member fixed alone by another
+//! link takes a state of its own and leaves the group at the commit. A solve reports such a
+//! group once, with its old rate ([`Changes::groups`]), and each flow fixed alone by itself.
+//! A pop that must fix flows other than its group's finds them among the members of the groups
+//! crossing its link that are not fixed yet, or among its flows when those are fewer.
+//!
 //! Most links a changed flow crosses fixed nothing last time and fix nothing now; evaluating
 //! each would cost more than the rest of the solve. Such a link (old key `NONE`, no flow
 //! added) is only a *suspect*: the sweep runs as if it stays out of the filling, and then
@@ -151,9 +161,12 @@ pub struct MaxMin {
     /// of whose members had been fixed alone elsewhere.
     #[cfg(test)]
     fixed_as_groups: (u64, u64),
-    /// Pops that fixed their group alone and pops that walked their flows.
+    /// Pops that fixed their group alone and pops that walked their flows; of these, those
+    /// that walked the members of the groups crossing them instead.
     #[cfg(test)]
     popped_as: (u64, u64),
+    #[cfg(test)]
+    walked_by_groups: u64,
     /// Flows removed without a sweep (`leaves_every_rate_as_it_is`).
     #[cfg(test)]
     removed_alone: u64,
@@ -265,6 +278,8 @@ struct Sweep {
     unsettled: Vec<u32>,
     /// Dirty links to evaluate at `now` before the sweep moves on.
     pending: Vec<LinkId>,
+    /// The flows a pop walks (`MaxMin::maybe_unfixed_on`).
+    candidates: Vec<u32>,
     /// Min-heap of `key << 1 | kind`: kind 0 is a dirty link's pop as last evaluated (live
     /// while it equals the link's `pop`), kind 1 passes the old key of a dirty link whose
     /// flows were unsettled. At one key, a pop comes before a pass.
@@ -389,6 +404,8 @@ impl MaxMin {
             #[cfg(test)]
             popped_as: (0, 0),
             #[cfg(test)]
+            walked_by_groups: 0,
+            #[cfg(test)]
             removed_alone: 0,
             #[cfg(test)]
             added_alone: 0,
@@ -438,7 +455,11 @@ impl MaxMin {
         }
         let rate = rate_at(old);
         #[cfg(test)]
-        if let Some(r) = self.scratch_rates.as_mut().and_then(|r| r.get_mut(slot as usize)) {
+        if let Some(r) = self
+            .scratch_rates
+            .as_mut()
+            .and_then(|r| r.get_mut(slot as usize))
+        {
             *r = 0;
         }
         let f = &mut self.flows[slot as usize];
@@ -1194,8 +1215,10 @@ impl MaxMin {
         {
             self.popped_as.1 += 1;
         }
-        for i in 0..self.links[link as usize].flows.len() {
-            let slot = self.links[link as usize].flows[i];
+        let mut candidates = std::mem::take(&mut self.sweep.candidates);
+        candidates.clear();
+        self.maybe_unfixed_on(link, at, whole, &mut candidates);
+        for &slot in &candidates {
             if self.fixed_rate(slot, at).is_some() {
                 continue;
             }
@@ -1204,9 +1227,47 @@ impl MaxMin {
             }
             self.settle(slot, rate, at);
         }
+        self.sweep.candidates = candidates;
         if whole {
             self.settle_group(link, rate, at);
         }
+    }
+
+    /// Onto `out`, every flow on `link`, popping at `at`, that may be unfixed (and perhaps
+    /// some that are not), leaving out its own group when `whole` (fixed as one): its flows,
+    /// or, when fewer, the members crossing it of the groups not known to be fixed already (a
+    /// dirty link that popped fixed all its members; an untouched one fixed them at its old
+    /// key) and the flows added since the last solve, the only ones with no group.
+    fn maybe_unfixed_on(&mut self, link: LinkId, at: Key, whole: bool, out: &mut Vec<u32>) {
+        let flows = &self.links[link as usize].flows;
+        let open = |g: LinkId| match (g == link, self.sweep.is_dirty(g)) {
+            (true, _) => !whole,
+            (false, true) => !self.sweep.links[g as usize].popped,
+            (false, false) => self.keys[g as usize] >= at,
+        };
+        let entries = &self.group_entries[link as usize];
+        let mut by_groups = self.added.len();
+        for e in entries.iter().filter(|e| open(e.group)) {
+            by_groups += self.groups[e.group as usize].slots.len();
+            if by_groups >= flows.len() {
+                out.extend_from_slice(flows);
+                return;
+            }
+        }
+        #[cfg(test)]
+        {
+            self.walked_by_groups += 1;
+        }
+        let crosses = |slot: u32| self.flows[slot as usize].route.contains(&link);
+        for e in entries.iter().filter(|e| open(e.group)) {
+            let members = &self.groups[e.group as usize].slots;
+            out.extend(members.iter().filter(|&&s| e.group == link || crosses(s)));
+        }
+        let added = self
+            .added
+            .iter()
+            .filter(|&&s| self.flows[s as usize].live && crosses(s));
+        out.extend(added);
     }
 
     /// Whether dirty `link`'s group was drawn in whole and some of it is still in the group's
@@ -1278,7 +1339,10 @@ impl MaxMin {
         {
             self.settled_as.0 += 1;
         }
-        debug_assert!(self.sweep.drawn_whole(link), "a group fixed whole was drawn in whole");
+        debug_assert!(
+            self.sweep.drawn_whole(link),
+            "a group fixed whole was drawn in whole"
+        );
         self.sweep.links[link as usize].fixed_whole = true;
         self.sweep.settled_groups.push(link);
         #[cfg(test)]
@@ -1519,13 +1583,9 @@ impl MaxMin {
 
     /// Whether every link's load is the sum of its flows' rates.
     fn loads_add_up(&self) -> bool {
-        self.links.iter().all(|l| {
-            l.load
-                == l.flows
-                    .iter()
-                    .map(|&s| self.old_rate(s))
-                    .sum::<u64>()
-        })
+        self.links
+            .iter()
+            .all(|l| l.load == l.flows.iter().map(|&s| self.old_rate(s)).sum::<u64>())
     }
 
     /// What [`MaxMin::solve`] must do, done plainly: every rate from [`reference_rates`],
@@ -1738,7 +1798,11 @@ mod tests {
             once.dedup();
             prop_assert_eq!(once.len(), changed.len(), "a flow listed twice");
             for &(g, _) in &changes.groups {
-                prop_assert!(mm.sweep.links[g as usize].fixed_whole, "group {} fixed whole", g);
+                prop_assert!(
+                    mm.sweep.links[g as usize].fixed_whole,
+                    "group {} fixed whole",
+                    g
+                );
             }
             let routes: Vec<Vec<LinkId>> = live.iter().map(|(_, r)| r.clone()).collect();
             let expected = reference_rates(&capacity, links as usize, &routes);
@@ -1907,10 +1971,18 @@ mod tests {
         assert!(whole > 100, "groups fixed again whole: {whole}");
         let (as_one, in_part) = mm.fixed_as_groups;
         assert_eq!(as_one, whole, "each as one, no member visited");
-        assert!(in_part > 10, "groups fixed as one after members left them: {in_part}");
+        assert!(
+            in_part > 10,
+            "groups fixed as one after members left them: {in_part}"
+        );
         assert!(one_by_one > 100, "flows settled one by one: {one_by_one}");
         assert!(alone > 100, "pops fixing their group alone: {alone}");
         assert!(walked > 100, "pops walking their flows: {walked}");
+        let by_groups = mm.walked_by_groups;
+        assert!(
+            by_groups > 10,
+            "of them, walking the groups crossing them: {by_groups}"
+        );
         assert!(removed > 10, "flows removed without a sweep: {removed}");
         assert!(added > 40, "flows added without a sweep: {added}");
     }
