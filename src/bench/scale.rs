@@ -19,7 +19,7 @@ use serde::Serialize;
 
 use super::instructions::{self, Counts, Stretch};
 use super::{overhead, overhead_command_line, phold_report, PholdConfig};
-use crate::net::pattern::{random_staggered, run_pattern_counted};
+use crate::net::pattern::{random_staggered, run_pattern_counted, Pattern};
 use crate::net::transport::SolveCounters;
 use crate::net::{Fidelity, NetworkConfig, TopologyKind};
 use crate::output::cost::peak_host_memory;
@@ -524,8 +524,22 @@ fn torus_wall(
     count: usize,
     fidelity: Fidelity,
 ) -> Result<(f64, SolveCounters), String> {
+    let (network, pattern) = staggered_torus(machine, count, fidelity)?;
+    let start = Instant::now();
+    let (_, counters) = run_pattern_counted(&network, &pattern).map_err(|e| e.to_string())?;
+    Ok((start.elapsed().as_secs_f64(), counters))
+}
+
+/// The network and pattern of the staggered torus figures: `count` messages (4 KiB or
+/// 64 KiB, random pairs, one start every 2 us on average, seed 1) on the links of `machine`
+/// (the Delta's) wired as a 16x32 torus at `fidelity`, without its interfaces' gap, so that
+/// the transports alone are measured.
+pub fn staggered_torus(
+    machine: &Path,
+    count: usize,
+    fidelity: Fidelity,
+) -> Result<(NetworkConfig, Pattern), String> {
     let delta = crate::spec::machine::load_machine(machine).map_err(|e| e.to_string())?;
-    // The transports alone: the Delta's links wired as a torus, without its interfaces' gap.
     let network = NetworkConfig {
         topology: TopologyKind::Torus,
         dims: vec![16, 32],
@@ -535,10 +549,7 @@ fn torus_wall(
     };
     let sizes = [Bytes::new(4096), Bytes::new(65536)];
     let spread = STAGGER_PER_MESSAGE.times(count as u64);
-    let pattern = random_staggered(512, count, &sizes, spread, 1);
-    let start = Instant::now();
-    let (_, counters) = run_pattern_counted(&network, &pattern).map_err(|e| e.to_string())?;
-    Ok((start.elapsed().as_secs_f64(), counters))
+    Ok((network, random_staggered(512, count, &sizes, spread, 1)))
 }
 
 /// The report as a table: one line per figure, then the curves.
