@@ -33,7 +33,10 @@
 //! link takes a state of its own and leaves the group at the commit. A solve reports such a
 //! group once, with its old rate ([`Changes::groups`]), and each flow fixed alone by itself.
 //! A pop that must fix flows other than its group's finds them among the members of the groups
-//! crossing its link that are not fixed yet, or among its flows when those are fewer.
+//! crossing its link that are not fixed yet, or among its flows when those are fewer. A dirty
+//! link on which flows drawn in were fixed is not evaluated at once: a flow fixed at the
+//! sweep's key takes no more than the share of any link it crosses that has not popped, so
+//! their pops can only move later, and such a link is evaluated again when its entry comes up.
 //!
 //! Most links a changed flow crosses fixed nothing last time and fix nothing now; evaluating
 //! each would cost more than the rest of the solve. Such a link (old key `NONE`, no flow
@@ -167,6 +170,9 @@ pub struct MaxMin {
     popped_as: (u64, u64),
     #[cfg(test)]
     walked_by_groups: u64,
+    /// Evaluations put off until the link's entry came up (`SweepLink::stale`).
+    #[cfg(test)]
+    evaluated_late: u64,
     /// Flows removed without a sweep (`leaves_every_rate_as_it_is`).
     #[cfg(test)]
     removed_alone: u64,
@@ -327,6 +333,10 @@ struct SweepLink {
     /// the group's, unfixed until `fixed_whole`, then fixed at the link's pop.
     whole: bool,
     fixed_whole: bool,
+    /// Dirty, and flows drawn in on it were fixed since it was last evaluated: fixing a flow at
+    /// the sweep's key only raises the shares of the other links it crosses, so its pop can
+    /// only have moved later, and it is evaluated again when its entry comes up, not at once.
+    stale: bool,
 }
 
 const POP: u128 = 0;
@@ -405,6 +415,8 @@ impl MaxMin {
             popped_as: (0, 0),
             #[cfg(test)]
             walked_by_groups: 0,
+            #[cfg(test)]
+            evaluated_late: 0,
             #[cfg(test)]
             removed_alone: 0,
             #[cfg(test)]
@@ -835,8 +847,23 @@ impl MaxMin {
             let at = entry >> 1;
             let link = link_of(at);
             if entry & 1 == POP {
-                if self.sweep.pops[link as usize] == at && !self.sweep.links[link as usize].popped {
-                    self.pop(link, at);
+                let sl = &self.sweep.links[link as usize];
+                if self.sweep.pops[link as usize] == at && !sl.popped {
+                    match sl.stale {
+                        true => {
+                            self.evaluate(link);
+                            #[cfg(test)]
+                            {
+                                self.evaluated_late += 1;
+                            }
+                            #[cfg(test)]
+                            assert!(
+                                self.sweep.pops[link as usize] >= at,
+                                "link {link}'s pop moved earlier while it waited"
+                            );
+                        }
+                        false => self.pop(link, at),
+                    }
                 }
             } else {
                 self.pass_old_key(link, at);
@@ -1035,6 +1062,7 @@ impl MaxMin {
             pending: true,
             whole,
             fixed_whole: false,
+            stale: false,
             ..self.sweep.links[l]
         };
         self.sweep.dirty.push(link);
@@ -1096,6 +1124,8 @@ impl MaxMin {
         let pop = self.pop_by_groups(link);
         #[cfg(test)]
         assert_eq!(pop, self.pop_by_flows(link), "link {link}: by groups");
+        let sl = &mut self.sweep.links[link as usize];
+        sl.stale = false;
         debug_assert!(
             pop >= self.sweep.now,
             "link {link}'s pop fell below the sweep"
@@ -1416,10 +1446,7 @@ impl MaxMin {
         sl.drawn_unfixed -= fixed;
         sl.drawn_load += load;
         if sl.epoch == epoch {
-            if !sl.popped && !sl.pending {
-                sl.pending = true;
-                self.sweep.pending.push(link);
-            }
+            sl.stale |= !sl.popped && !sl.pending;
         } else if moved {
             if self.keys[link as usize] != NONE {
                 self.mark_dirty(link);
@@ -1978,6 +2005,11 @@ mod tests {
         assert!(one_by_one > 100, "flows settled one by one: {one_by_one}");
         assert!(alone > 100, "pops fixing their group alone: {alone}");
         assert!(walked > 100, "pops walking their flows: {walked}");
+        let late = mm.evaluated_late;
+        assert!(
+            late > 10,
+            "evaluations put off until a link's entry came up: {late}"
+        );
         let by_groups = mm.walked_by_groups;
         assert!(
             by_groups > 10,
