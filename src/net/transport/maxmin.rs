@@ -271,7 +271,8 @@ struct Sweep {
     /// Where each dirty link pops, as last evaluated; `NONE` if it fixes nothing as things
     /// stand. Apart from `links`, which every visit of a link reads.
     pops: Vec<Key>,
-    /// `unsettled[start..end]`: the flows a dirty link had fixed last time.
+    /// `unsettled[start..end]`: the flows a dirty link had fixed last time, when its group was
+    /// not drawn in whole (one drawn in whole has no run: its members are in its state).
     unsettled_of: Vec<(u32, u32)>,
     dirty: Vec<LinkId>,
     /// Flows fixed one by one, and the dirty links that fixed their whole group again
