@@ -1315,10 +1315,10 @@ impl MaxMin {
         self.groups[link as usize].slots.len() - self.sweep.drawn_alone(link) as usize
     }
 
-    /// Whether, with `link`'s group (those of it in the group's state) unfixed at `at`, they are the only flows
-    /// unfixed on it: no other flow drawn into the sweep is, and every other group crossing it
-    /// either is drawn in (its link is dirty) or was fixed below `at`. Read from the link's
-    /// tallies and its groups, without walking its flows.
+    /// Whether, with `link`'s group (those of it in the group's state) unfixed at `at`, they
+    /// are the only flows unfixed on it: no other flow drawn into the sweep is, and every other
+    /// group crossing it either is drawn in (its link is dirty) or was fixed below `at`. Read
+    /// from the link's tallies and its groups, without walking its flows.
     fn fixes_its_group_alone(&self, link: LinkId, at: Key) -> bool {
         let (drawn_unfixed, _) = self.sweep.drawn_on(link);
         drawn_unfixed as usize == self.in_group_state(link)
