@@ -18,16 +18,21 @@ fn main() {
         .skip(1)
         .filter(|a| a != "--bench")
         .collect();
-    let count = args
-        .first()
-        .map_or(16_384, |a| a.parse().expect("a count of messages"));
-    let fidelity = match args.get(1).map(String::as_str) {
-        None | Some("flow") => Fidelity::Flow,
-        Some("hops") => Fidelity::Hops,
-        Some(other) => panic!("fidelity `{other}`: hops or flow"),
+    let (count, fidelity) = match parse(&args) {
+        Ok(figures) => figures,
+        Err(why) => {
+            eprintln!("error: {why}\nusage: cargo bench --bench torus -- [MESSAGES] [hops|flow]");
+            std::process::exit(2);
+        }
     };
     let machine = Path::new(env!("CARGO_MANIFEST_DIR")).join("machines/delta.json");
-    let (network, pattern) = staggered_torus(&machine, count, fidelity).expect("the Delta's spec");
+    let (network, pattern) = match staggered_torus(&machine, count, fidelity) {
+        Ok(both) => both,
+        Err(why) => {
+            eprintln!("error: {why}");
+            std::process::exit(2);
+        }
+    };
     let start = Instant::now();
     let report = run_pattern(&network, &pattern).expect("the pattern runs");
     let wall = start.elapsed().as_secs_f64();
@@ -40,4 +45,24 @@ fn main() {
         "{count} staggered messages, 16x32 torus, {fidelity:?}: {wall:.3} s wall; makespan {} ps, completions summing to {completions} ps",
         report.makespan_ps
     );
+}
+
+/// The count of messages (16,384 when absent, at least 1) and the fidelity (`flow` when absent).
+fn parse(args: &[String]) -> Result<(usize, Fidelity), String> {
+    let count = match args.first() {
+        None => 16_384,
+        Some(a) => match a.parse::<usize>() {
+            Ok(n) if n > 0 => n,
+            _ => return Err(format!("messages `{a}`: a whole number of at least 1")),
+        },
+    };
+    let fidelity = match args.get(1).map(String::as_str) {
+        None | Some("flow") => Fidelity::Flow,
+        Some("hops") => Fidelity::Hops,
+        Some(other) => return Err(format!("fidelity `{other}`: hops or flow")),
+    };
+    match args.get(2) {
+        Some(extra) => Err(format!("unexpected `{extra}`")),
+        None => Ok((count, fidelity)),
+    }
 }

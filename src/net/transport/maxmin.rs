@@ -836,9 +836,7 @@ impl MaxMin {
         for i in 0..self.added.len() {
             let slot = self.added[i];
             self.mark_fixer_of_added(slot);
-            for j in 0..self.flows[slot as usize].route.len() {
-                self.note(self.flows[slot as usize].route[j]);
-            }
+            self.note_route(slot);
         }
         for i in 0..self.shrunk.len() {
             self.note(self.shrunk[i]);
@@ -987,13 +985,14 @@ impl MaxMin {
         if g == NO_GROUP || !self.sweep.drawn_whole(g) {
             return None;
         }
-        let key = match self.sweep.links[g as usize].fixed_whole {
+        let settled = self.sweep.links[g as usize].fixed_whole;
+        let key = match settled {
             true => self.sweep.pops[g as usize],
             false => self.keys[g as usize],
         };
         Some(SweepFlow {
             epoch,
-            settled: self.sweep.links[g as usize].fixed_whole,
+            settled,
             rate: rate_at(key),
             key,
         })
@@ -1463,59 +1462,44 @@ impl MaxMin {
     /// be evaluated.
     fn pass_old_key(&mut self, link: LinkId, at: Key) {
         self.sweep.now = self.sweep.now.max(at);
-        if self.sweep.drawn_whole(link) {
-            self.pass_group_drawn_whole(link);
-            return;
-        }
-        let (start, end) = self.sweep.unsettled_of[link as usize];
-        let run = &self.sweep.unsettled[start as usize..end as usize];
-        let unfixed = run
-            .iter()
-            .filter(|&&slot| !self.flows[slot as usize].settled)
-            .count();
-        if unfixed == self.groups[link as usize].slots.len() {
-            // The whole group is still unfixed: its links once each.
-            for i in 0..self.groups[link as usize].links.len() {
-                let l = self.groups[link as usize].links[i].link;
-                self.note(l);
+        let epoch = self.sweep.epoch;
+        if !self.sweep.drawn_whole(link) {
+            // Drawn in flow by flow: a member was fixed alone before, so the group is never
+            // still whole here; the run holds the rest.
+            let (start, end) = self.sweep.unsettled_of[link as usize];
+            for i in start..end {
+                let slot = self.sweep.unsettled[i as usize];
+                if !self.flows[slot as usize].settled {
+                    self.note_route(slot);
+                }
             }
             return;
         }
-        for i in start..end {
-            let slot = self.sweep.unsettled[i as usize];
-            if self.flows[slot as usize].settled {
-                continue;
-            }
-            for j in 0..self.flows[slot as usize].route.len() {
-                let l = self.flows[slot as usize].route[j];
-                self.note(l);
-            }
-        }
-    }
-
-    /// [`MaxMin::pass_old_key`] for a group drawn in whole: the members still in the group's
-    /// state are its unfixed ones.
-    fn pass_group_drawn_whole(&mut self, link: LinkId) {
         if self.sweep.links[link as usize].fixed_whole {
             return;
         }
         if self.sweep.drawn_alone(link) == 0 {
+            // Still whole and unfixed: its links once each.
             for i in 0..self.groups[link as usize].links.len() {
                 let l = self.groups[link as usize].links[i].link;
                 self.note(l);
             }
             return;
         }
-        let epoch = self.sweep.epoch;
+        // The members still in the group's state are its unfixed ones.
         for i in 0..self.groups[link as usize].slots.len() {
             let slot = self.groups[link as usize].slots[i];
-            if self.flows[slot as usize].swept_epoch == epoch {
-                continue; // fixed alone
+            if self.flows[slot as usize].swept_epoch != epoch {
+                self.note_route(slot);
             }
-            for j in 0..self.flows[slot as usize].route.len() {
-                let l = self.flows[slot as usize].route[j];
-                self.note(l);
-            }
+        }
+    }
+
+    /// Notes every link flow `slot` crosses.
+    fn note_route(&mut self, slot: u32) {
+        for j in 0..self.flows[slot as usize].route.len() {
+            let l = self.flows[slot as usize].route[j];
+            self.note(l);
         }
     }
 
@@ -1528,8 +1512,9 @@ impl MaxMin {
             let sf = self.flows[slot as usize].swept();
             let old = self.flows[slot as usize].group;
             let regrouped = old != link_of(sf.key);
-            if self.old_rate(slot) != sf.rate || regrouped {
-                changes.flows.push((slot, self.old_rate(slot)));
+            let old_rate = self.old_rate(slot);
+            if old_rate != sf.rate || regrouped {
+                changes.flows.push((slot, old_rate));
             }
             if regrouped {
                 if old != NO_GROUP {
