@@ -376,6 +376,10 @@ pub struct OverheadReport {
     /// Simulate over render by instructions: `ratio` without the host's noise.
     #[serde(skip_serializing_if = "Option::is_none")]
     pub instruction_ratio: Option<f64>,
+    /// The flow model's work on the frame (zero unless built with the `counters` feature;
+    /// `bench scale` prints it).
+    #[serde(skip)]
+    pub flow_solves: crate::net::transport::SolveCounters,
 }
 
 impl OverheadReport {
@@ -475,6 +479,7 @@ pub fn overhead(
         messages: result.frames.iter().map(|f| f.messages).sum(),
         instructions: None,
         instruction_ratio: None,
+        flow_solves: result.stats.flow_solves,
     })
 }
 

@@ -102,8 +102,8 @@ pub struct ScaleReport {
     pub wall_against_messages: Vec<CurvePoint>,
     pub wall_against_procs: Vec<CurvePoint>,
     pub wall_against_triangles: Vec<CurvePoint>,
-    /// The flow model's work on each torus pattern (empty unless built with the `counters`
-    /// feature).
+    /// The flow model's work on one polio frame and on each torus pattern (empty unless built
+    /// with the `counters` feature).
     pub flow_solves: Vec<(String, SolveCounters)>,
 }
 
@@ -183,6 +183,7 @@ pub fn scale(cfg: &ScaleConfig, progress: &mut dyn FnMut(&str)) -> Result<ScaleR
     // The `hops` frame's ratio: a floor under the `flow` frame's, which does the same work
     // and its solves besides.
     let mut hops_ratio = None;
+    let mut flow_solves = Vec::new();
     for (fidelity, limit) in [(Fidelity::Hops, 2.0), (Fidelity::Flow, 3.0)] {
         progress(&format!("one polio frame, 512 nodes, {}", fidelity.name()));
         let set = [(
@@ -218,6 +219,9 @@ pub fn scale(cfg: &ScaleConfig, progress: &mut dyn FnMut(&str)) -> Result<ScaleR
             ),
         ));
         hops_ratio = Some(ratio);
+        if r.flow_solves.solves > 0 {
+            flow_solves.push(("polio frame, 512".into(), r.flow_solves));
+        }
         if cfg.instructions && fidelity == Fidelity::Hops {
             progress("one polio frame, 512 nodes, hops, under callgrind");
             let line = overhead_command_line(
@@ -244,7 +248,6 @@ pub fn scale(cfg: &ScaleConfig, progress: &mut dyn FnMut(&str)) -> Result<ScaleR
     }
 
     let mut messages_curve = Vec::new();
-    let mut flow_solves = Vec::new();
     for &count in &cfg.messages {
         for fidelity in CURVE_FIDELITIES {
             progress(&format!(
@@ -262,7 +265,7 @@ pub fn scale(cfg: &ScaleConfig, progress: &mut dyn FnMut(&str)) -> Result<ScaleR
             }
             let wall = median(walls);
             if counters.solves > 0 {
-                flow_solves.push((format!("{count} messages"), counters));
+                flow_solves.push((format!("torus, {count} msgs"), counters));
             }
             messages_curve.push(CurvePoint {
                 x: count as f64,
@@ -602,13 +605,15 @@ pub fn table(report: &ScaleReport) -> String {
     }
     if !report.flow_solves.is_empty() {
         s += &format!(
-            "\nflow solves (16x32 torus, per solve)\n{:<20} {:>7} {:>7} {:>7} {:>8} {:>10} {:>11} {:>7} {:>11}\n",
-            "", "solves", "flows", "groups", "switched", "flows/link", "groups/link", "swept", "swept-links"
+            "\nflow solves (per solve, but the last four: how many solves swept, swept again, or \
+             added or removed a flow with no sweep)\n{:<20} {:>7} {:>7} {:>7} {:>8} {:>10} {:>11} {:>7} {:>11} {:>7} {:>7} {:>7} {:>7}\n",
+            "", "solves", "flows", "groups", "switched", "flows/link", "groups/link", "swept",
+            "swept-links", "sweeps", "again", "added", "removed"
         );
         for (label, c) in &report.flow_solves {
             let per = |n: u64, d: u64| n as f64 / d.max(1) as f64;
             s += &format!(
-                "{:<20} {:>7} {:>7.1} {:>7.1} {:>8.2} {:>10.1} {:>11.1} {:>7.1} {:>11.1}\n",
+                "{:<20} {:>7} {:>7.1} {:>7.1} {:>8.2} {:>10.1} {:>11.1} {:>7.1} {:>11.1} {:>7} {:>7} {:>7} {:>7}\n",
                 label,
                 c.solves,
                 per(c.flows_changed, c.solves),
@@ -618,6 +623,10 @@ pub fn table(report: &ScaleReport) -> String {
                 per(c.groups_crossing, c.link_evaluations),
                 per(c.flows_swept, c.solves),
                 per(c.swept_route_links, c.solves),
+                c.sweeps,
+                c.reruns,
+                c.added_alone,
+                c.removed_alone,
             );
         }
     }
@@ -687,6 +696,10 @@ mod tests {
                     groups_crossing: 12,
                     flows_swept: 6,
                     swept_route_links: 30,
+                    sweeps: 2,
+                    reruns: 1,
+                    added_alone: 1,
+                    removed_alone: 1,
                 },
             )],
         };
@@ -703,7 +716,8 @@ mod tests {
         assert!(line("1024 messages").contains("flow"));
         // Per solve: 2.5 flows and 0.5 groups changed, 0.25 switched; per evaluated link 2.5
         // flows walked against 1.5 groups crossing; per solve 1.5 flows swept, crossing 7.5
-        // links.
+        // links; of the 4 solves, 2 swept (one of them twice), 1 added a flow alone and 1
+        // removed one alone.
         let solves = text.split("flow solves").nth(1).unwrap();
         let row: Vec<&str> = solves
             .lines()
@@ -713,7 +727,7 @@ mod tests {
             .collect();
         assert_eq!(
             row[2..],
-            ["4", "2.5", "0.5", "0.25", "2.5", "1.5", "1.5", "7.5"]
+            ["4", "2.5", "0.5", "0.25", "2.5", "1.5", "1.5", "7.5", "2", "1", "1", "1"]
         );
     }
 }

@@ -70,6 +70,9 @@ pub struct RunStats {
     pub link_timeline: Option<Vec<crate::net::LinkSpan>>,
     /// Operations the programs charged that the machine does not price (charged at zero).
     pub unpriced_ops: Vec<crate::machine::Op>,
+    /// The flow model's work (zero at other fidelities, and unless built with the `counters`
+    /// feature).
+    pub flow_solves: crate::net::transport::SolveCounters,
 }
 
 impl RunStats {

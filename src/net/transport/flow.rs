@@ -384,12 +384,18 @@ impl Transport for Flow {
     fn counters(&self) -> super::SolveCounters {
         let (link_evaluations, flows_on_links, groups_crossing) = self.shares.evaluations;
         let (flows_swept, swept_route_links) = self.shares.swept;
+        let (sweeps, reruns) = self.shares.sweeps;
+        let (added_alone, removed_alone) = self.shares.alone;
         super::SolveCounters {
             link_evaluations,
             flows_on_links,
             groups_crossing,
             flows_swept,
             swept_route_links,
+            sweeps,
+            reruns,
+            added_alone,
+            removed_alone,
             ..self.counted
         }
     }
@@ -671,6 +677,10 @@ mod tests {
         assert_eq!(c.groups_changed, 1 + 1 + 1);
         assert_eq!(c.flows_switched, 0);
         assert!(c.flows_on_links >= c.link_evaluations);
+        // The two starts at 0 sweep, and so does the third (its link 0 fixes the first two),
+        // and the first two ending together; the last end, alone on both its links, needs none.
+        assert_eq!((c.sweeps, c.reruns), (3, 0));
+        assert_eq!((c.added_alone, c.removed_alone), (0, 1));
     }
 
     proptest! {

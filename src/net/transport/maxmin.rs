@@ -154,9 +154,6 @@ pub struct MaxMin {
     /// no groups).
     #[cfg(test)]
     scratch_rates: Option<Vec<u64>>,
-    /// Sweeps run again because a suspect failed its check.
-    #[cfg(test)]
-    reruns: u64,
     /// Groups fixed again whole, and flows settled one by one.
     #[cfg(test)]
     settled_as: (u64, u64),
@@ -173,16 +170,15 @@ pub struct MaxMin {
     /// Evaluations put off until the link's entry came up (`SweepLink::stale`).
     #[cfg(test)]
     evaluated_late: u64,
-    /// Flows removed without a sweep (`leaves_every_rate_as_it_is`).
-    #[cfg(test)]
-    removed_alone: u64,
-    /// Flows added without a sweep (`fixer_if_added_alone`).
-    #[cfg(test)]
-    added_alone: u64,
     /// Dirty-link evaluations, the flows and the groups crossing those links; flows drawn into
-    /// a sweep and the links of their routes (counted with the `counters` feature only).
+    /// a sweep and the links of their routes; solves that swept and sweeps run again because
+    /// a suspect failed its check; flows added without a sweep (`fixer_if_added_alone`) and
+    /// removed without one (`leaves_every_rate_as_it_is`). Counted with the `counters`
+    /// feature and in tests only.
     pub(super) evaluations: (u64, u64, u64),
     pub(super) swept: (u64, u64),
+    pub(super) sweeps: (u64, u64),
+    pub(super) alone: (u64, u64),
 }
 
 #[derive(Default)]
@@ -407,8 +403,6 @@ impl MaxMin {
             #[cfg(test)]
             scratch_rates: None,
             #[cfg(test)]
-            reruns: 0,
-            #[cfg(test)]
             settled_as: (0, 0),
             #[cfg(test)]
             fixed_as_groups: (0, 0),
@@ -418,12 +412,10 @@ impl MaxMin {
             walked_by_groups: 0,
             #[cfg(test)]
             evaluated_late: 0,
-            #[cfg(test)]
-            removed_alone: 0,
-            #[cfg(test)]
-            added_alone: 0,
             evaluations: (0, 0, 0),
             swept: (0, 0),
+            sweeps: (0, 0),
+            alone: (0, 0),
             sweep: Sweep {
                 links: vec![SweepLink::default(); links],
                 pops: vec![NONE; links],
@@ -489,9 +481,9 @@ impl MaxMin {
         }
         if alone {
             self.keys[link_of(old) as usize] = NONE;
-            #[cfg(test)]
+            #[cfg(any(test, feature = "counters"))]
             {
-                self.removed_alone += 1;
+                self.alone.1 += 1;
             }
         } else {
             self.shrunk.extend_from_slice(&f.route);
@@ -614,9 +606,9 @@ impl MaxMin {
         }
         self.keys[link_of(at) as usize] = at;
         self.join(slot, link_of(at));
-        #[cfg(test)]
+        #[cfg(any(test, feature = "counters"))]
         {
-            self.added_alone += 1;
+            self.alone.0 += 1;
         }
     }
 
@@ -781,10 +773,14 @@ impl MaxMin {
             }
             _ => {}
         }
+        #[cfg(any(test, feature = "counters"))]
+        {
+            self.sweeps.0 += 1;
+        }
         while !self.sweep_and_check() {
-            #[cfg(test)]
+            #[cfg(any(test, feature = "counters"))]
             {
-                self.reruns += 1;
+                self.sweeps.1 += 1;
             }
         }
         self.commit(changes);
@@ -1928,9 +1924,9 @@ mod tests {
         for slot in 4..9 {
             mm.remove(slot);
         }
-        let reruns = mm.reruns;
+        let reruns = mm.sweeps.1;
         mm.solve(&mut changed);
-        assert_eq!(mm.reruns, reruns + 1, "Z's check failed once");
+        assert_eq!(mm.sweeps.1, reruns + 1, "Z's check failed once");
         assert_eq!(mm.rate(3), 8, "e is fixed by Z");
         assert_eq!(
             reference_rates(&Capacities::Uniform(12), 3, &routes[..4]),
@@ -1977,7 +1973,7 @@ mod tests {
         let mm = check_counting(Capacities::Uniform(1_000_003), links, &steps).unwrap();
         let (whole, one_by_one) = mm.settled_as;
         let (alone, walked) = mm.popped_as;
-        let (removed, added) = (mm.removed_alone, mm.added_alone);
+        let (added, removed) = mm.alone;
         // Both ways of settling and of popping a link ran, and removals and adds that need no
         // sweep were taken, so the agreement covers each (every evaluation by groups is held
         // to one by flows as it happens).

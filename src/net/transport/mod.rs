@@ -39,6 +39,14 @@ pub struct SolveCounters {
     /// cross: each such visit updates that link's tallies of the flows drawn in.
     pub flows_swept: u64,
     pub swept_route_links: u64,
+    /// Solves that ran the max-min sweep, and sweeps run again because a link left out of
+    /// the first (a suspect) failed its check.
+    pub sweeps: u64,
+    pub reruns: u64,
+    /// Flows added, and flows removed, with no sweep (the only change, and every other rate
+    /// provably unchanged).
+    pub added_alone: u64,
+    pub removed_alone: u64,
 }
 
 /// What a transport knows about one link.
