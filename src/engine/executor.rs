@@ -626,7 +626,11 @@ impl<M: Payload> Sim<M> {
             timeline: None,
             unpriced_ops: crate::machine::Op::from_bits(st.unpriced_used),
             link_timeline: None,
-            flow_solves: st.net.as_ref().map(Network::solve_counters).unwrap_or_default(),
+            flow_solves: st
+                .net
+                .as_ref()
+                .map(Network::solve_counters)
+                .unwrap_or_default(),
         }
     }
 
