@@ -45,7 +45,10 @@
 //! share always stays above the key of the next flow to be fixed, it never is the smallest
 //! link during the filling, so leaving it out changed nothing; `capacity - load >= flows`
 //! proves that without sorting (every share then exceeds each flow's rate by at least 1). A
-//! suspect that fails is made dirty and the solve runs again from the same state.
+//! suspect that fails is made dirty and the solve runs again from the same state. A link
+//! that fixed nothing and only lost flows is not even a suspect: it gained room, so as long as
+//! none of its other flows changes (which would note it), each share on its walk is at least
+//! what it was.
 //!
 //! A flow removed when nothing else is pending, whose bottleneck fixed it alone and none of
 //! whose other links fixed anything, needs no sweep at all: removing a flow only raises the
@@ -835,7 +838,12 @@ impl MaxMin {
             self.note_route(slot);
         }
         for i in 0..self.shrunk.len() {
-            self.note(self.shrunk[i]);
+            // A link that fixed nothing only gained room when a flow left it, so it still fixes
+            // nothing unless a flow on it gets another rate or key, and that notes it then.
+            let link = self.shrunk[i];
+            if self.keys[link as usize] != NONE {
+                self.note(link);
+            }
         }
         self.evaluate_pending();
         while let Some(Reverse(entry)) = self.sweep.heap.pop() {
