@@ -842,7 +842,7 @@ impl MaxMin {
             // nothing unless a flow on it gets another rate or key, and that notes it then.
             let link = self.shrunk[i];
             if self.keys[link as usize] != NONE {
-                self.note(link);
+                self.mark_dirty(link);
             }
         }
         self.evaluate_pending();
