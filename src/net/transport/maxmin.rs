@@ -137,9 +137,6 @@ impl Changes {
 pub struct MaxMin {
     capacity: Capacities,
     links: Vec<Link>,
-    /// Each link's key in the last solve (`NONE` if it fixed nothing); apart from `links`,
-    /// whose flow lists most visits never read.
-    keys: Vec<Key>,
     flows: Vec<Flow>,
     /// Links that lost a flow since the last solve.
     shrunk: Vec<LinkId>,
@@ -266,6 +263,8 @@ impl Flow {
 #[derive(Default)]
 struct Sweep {
     epoch: u64,
+    /// Each link's record: its key in the last solve and its state in this one, in one cache
+    /// line (a visit to a link reads both).
     links: Vec<SweepLink>,
     /// Where each dirty link pops, as last evaluated; `NONE` if it fixes nothing as things
     /// stand. Apart from `links`, which every visit of a link reads.
@@ -309,19 +308,24 @@ struct SweepFlow {
     key: Key,
 }
 
-/// What a visit to a link reads, packed small: settling a flow visits every link it crosses.
-#[derive(Clone, Copy, Default)]
+/// What a visit to a link reads, packed into one cache line: settling a flow visits every
+/// link it crosses.
+#[derive(Clone, Copy)]
+#[repr(C, align(64))]
 struct SweepLink {
+    /// Its key in the last solve (`NONE` if it fixed nothing): kept from solve to solve, the
+    /// one field here that is not the current sweep's.
+    key: Key,
     /// Equal to the sweep's epoch while the link is dirty in this solve.
     epoch: u64,
     /// `suspect` and `delta` belong to the solve of this epoch.
     seen: u64,
     /// How much the flows settled in this sweep add to its load.
     delta: i64,
-    /// Of its flows drawn into this sweep (added, unsettled or fixed again), how many are
-    /// not fixed yet and the rates of those that are.
-    drawn_unfixed: u32,
+    /// Of its flows drawn into this sweep (added, unsettled or fixed again), the rates of
+    /// those fixed and how many are not fixed yet.
     drawn_load: u64,
+    drawn_unfixed: u32,
     /// Of the flows it fixed last time (its group), how many have a sweep state of their
     /// own: fixed one by one by some link (or, for a group not drawn in whole, drawn in).
     drawn_alone: u32,
@@ -337,6 +341,28 @@ struct SweepLink {
     /// the sweep's key only raises the shares of the other links it crosses, so its pop can
     /// only have moved later, and it is evaluated again when its entry comes up, not at once.
     stale: bool,
+}
+
+const _: () = assert!(std::mem::size_of::<SweepLink>() == 64);
+
+impl Default for SweepLink {
+    fn default() -> SweepLink {
+        SweepLink {
+            key: NONE,
+            epoch: 0,
+            seen: 0,
+            delta: 0,
+            drawn_unfixed: 0,
+            drawn_load: 0,
+            drawn_alone: 0,
+            popped: false,
+            pending: false,
+            suspect: false,
+            whole: false,
+            fixed_whole: false,
+            stale: false,
+        }
+    }
 }
 
 const POP: u128 = 0;
@@ -396,7 +422,6 @@ impl MaxMin {
         MaxMin {
             capacity,
             links: (0..links).map(|_| Link::default()).collect(),
-            keys: vec![NONE; links],
             groups: (0..links).map(|_| Group::default()).collect(),
             group_entries: vec![Vec::new(); links],
             flows: Vec::new(),
@@ -483,7 +508,7 @@ impl MaxMin {
             flows.swap_remove(pos);
         }
         if alone {
-            self.keys[link_of(old) as usize] = NONE;
+            self.sweep.links[link_of(old) as usize].key = NONE;
             #[cfg(any(test, feature = "counters"))]
             {
                 self.alone.1 += 1;
@@ -507,7 +532,7 @@ impl MaxMin {
         self.groups[g as usize].slots.len() == 1
             && f.route
                 .iter()
-                .all(|&l| l == g || self.keys[l as usize] == NONE)
+                .all(|&l| l == g || self.sweep.links[l as usize].key == NONE)
     }
 
     /// If adding flow `slot` (the only change since the last solve) leaves every other rate
@@ -524,7 +549,7 @@ impl MaxMin {
         }
         let mut fixer = NONE;
         for &l in &f.route {
-            if self.keys[l as usize] != NONE {
+            if self.sweep.links[l as usize].key != NONE {
                 return None;
             }
             let room = self
@@ -607,7 +632,7 @@ impl MaxMin {
         for &l in &f.route {
             self.links[l as usize].load += rate;
         }
-        self.keys[link_of(at) as usize] = at;
+        self.sweep.links[link_of(at) as usize].key = at;
         self.join(slot, link_of(at));
         #[cfg(any(test, feature = "counters"))]
         {
@@ -722,7 +747,7 @@ impl MaxMin {
     fn old_key(&self, slot: u32) -> Key {
         match self.flows[slot as usize].group {
             NO_GROUP => NONE,
-            g => self.keys[g as usize],
+            g => self.sweep.links[g as usize].key,
         }
     }
 
@@ -757,7 +782,8 @@ impl MaxMin {
 
     /// The rate of the flows link `g` fixed in the last solve; `None` if it fixed none.
     pub fn group_rate(&self, g: LinkId) -> Option<u64> {
-        (!self.groups[g as usize].slots.is_empty()).then(|| share_of(self.keys[g as usize]).max(1))
+        (!self.groups[g as usize].slots.is_empty())
+            .then(|| share_of(self.sweep.links[g as usize].key).max(1))
     }
 
     /// Brings every rate up to date with the adds and removes since the last solve, and
@@ -841,7 +867,7 @@ impl MaxMin {
             // A link that fixed nothing only gained room when a flow left it, so it still fixes
             // nothing unless a flow on it gets another rate or key, and that notes it then.
             let link = self.shrunk[i];
-            if self.keys[link as usize] != NONE {
+            if self.sweep.links[link as usize].key != NONE {
                 self.mark_dirty(link);
             }
         }
@@ -912,7 +938,7 @@ impl MaxMin {
         for i in 0..self.flows[slot as usize].route.len() {
             let l = self.flows[slot as usize].route[i];
             let link = &self.links[l as usize];
-            if self.keys[l as usize] != NONE {
+            if self.sweep.links[l as usize].key != NONE {
                 fixer = None;
             } else if link.load + guess + link.flows.len() as u64 > self.capacity.of(l) {
                 self.mark_dirty(l);
@@ -928,7 +954,7 @@ impl MaxMin {
     /// none is a suspect.
     #[inline]
     fn note(&mut self, link: LinkId) {
-        if self.keys[link as usize] != NONE {
+        if self.sweep.links[link as usize].key != NONE {
             // Most notes find the link dirty already: that test stays out of the call.
             if !self.sweep.is_dirty(link) {
                 self.mark_dirty(link);
@@ -992,7 +1018,7 @@ impl MaxMin {
         let settled = self.sweep.links[g as usize].fixed_whole;
         let key = match settled {
             true => self.sweep.pops[g as usize],
-            false => self.keys[g as usize],
+            false => self.sweep.links[g as usize].key,
         };
         Some(SweepFlow {
             epoch,
@@ -1012,7 +1038,7 @@ impl MaxMin {
         if self.sweep.links[l].epoch == epoch {
             return;
         }
-        let old = self.keys[l];
+        let old = self.sweep.links[l].key;
         debug_assert!(
             old >= self.sweep.now,
             "link {link} turned dirty after its old key had passed"
@@ -1158,7 +1184,7 @@ impl MaxMin {
             if self.sweep.is_dirty(e.group) {
                 continue; // its members are drawn in and tallied
             }
-            let old = self.keys[e.group as usize];
+            let old = self.sweep.links[e.group as usize].key;
             let rate = share_of(old).max(1);
             let n = e.crossing as u64;
             if old < now {
@@ -1277,7 +1303,7 @@ impl MaxMin {
         let open = |g: LinkId| match (g == link, self.sweep.is_dirty(g)) {
             (true, _) => !whole,
             (false, true) => !self.sweep.links[g as usize].popped,
-            (false, false) => self.keys[g as usize] >= at,
+            (false, false) => self.sweep.links[g as usize].key >= at,
         };
         let entries = &self.group_entries[link as usize];
         let mut by_groups = self.added.len();
@@ -1326,7 +1352,9 @@ impl MaxMin {
         let (drawn_unfixed, _) = self.sweep.drawn_on(link);
         drawn_unfixed as usize == self.in_group_state(link)
             && self.group_entries[link as usize].iter().all(|e| {
-                e.group == link || self.sweep.is_dirty(e.group) || self.keys[e.group as usize] < at
+                e.group == link
+                    || self.sweep.is_dirty(e.group)
+                    || self.sweep.links[e.group as usize].key < at
             })
     }
 
@@ -1365,7 +1393,7 @@ impl MaxMin {
     /// one (no member visited): what [`MaxMin::settle`] does to each member's links, done to
     /// each of the group's links once, with the count of members crossing it.
     fn settle_group(&mut self, link: LinkId, rate: u64, at: Key) {
-        let old = self.keys[link as usize];
+        let old = self.sweep.links[link as usize].key;
         let old_rate = share_of(old).max(1);
         let delta = rate as i64 - old_rate as i64;
         let moved = old_rate != rate || old != at;
@@ -1452,7 +1480,7 @@ impl MaxMin {
         if sl.epoch == epoch {
             sl.stale |= !sl.popped && !sl.pending;
         } else if moved {
-            if self.keys[link as usize] != NONE {
+            if sl.key != NONE {
                 self.mark_dirty(link);
             } else if !sl.suspect {
                 sl.suspect = true;
@@ -1529,7 +1557,10 @@ impl MaxMin {
             }
         }
         for &g in &self.sweep.settled_groups {
-            let (old, new) = (self.keys[g as usize], self.sweep.pops[g as usize]);
+            let (old, new) = (
+                self.sweep.links[g as usize].key,
+                self.sweep.pops[g as usize],
+            );
             if rate_at(old) != rate_at(new) {
                 changes.groups.push((g, rate_at(old)));
             }
@@ -1538,7 +1569,7 @@ impl MaxMin {
         for &l in &s.dirty {
             let sl = &mut s.links[l as usize];
             let link = &mut self.links[l as usize];
-            self.keys[l as usize] = if sl.popped { s.pops[l as usize] } else { NONE };
+            sl.key = if sl.popped { s.pops[l as usize] } else { NONE };
             if sl.seen == s.epoch {
                 link.load = (link.load as i64 + sl.delta) as u64;
             }
@@ -1928,7 +1959,10 @@ mod tests {
         mm.solve(&mut changed);
         assert_eq!(mm.rate(0), 4);
         assert_eq!(mm.rate(3), 2);
-        assert_eq!(mm.keys[z as usize], NONE, "Z fixes nothing at first");
+        assert_eq!(
+            mm.sweep.links[z as usize].key, NONE,
+            "Z fixes nothing at first"
+        );
         for slot in 4..9 {
             mm.remove(slot);
         }
