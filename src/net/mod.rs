@@ -410,7 +410,8 @@ impl Network {
             links,
             topology.links_per_hop(),
             &node_link,
-        );
+        )
+        .map_err(NetError::Config)?;
         Ok(Network {
             topology,
             transport,

@@ -71,30 +71,59 @@ use dary_heap::QuaternaryHeap;
 
 use crate::net::LinkId;
 
-/// `(share << 32) | link`: the order in which links fix their flows.
-type Key = u128;
+/// `(share << link_bits) | link`: the order in which links fix their flows ([`Keys`]).
+type Key = u64;
 
 /// A link that fixed no flow (every flow on it was fixed before it), or a flow not yet rated.
 const NONE: Key = Key::MAX;
 
-fn key(share: u64, link: LinkId) -> Key {
-    (share as Key) << 32 | link as Key
+/// How a key packs a share and a link: the link in the low `link_bits` bits, as few as the
+/// network's links need, so that a key is one machine word (and a heap entry, a key and one
+/// bit more, too). [`Keys::for_links`] says which capacities that leaves room for.
+#[derive(Clone, Copy, Debug)]
+struct Keys {
+    link_bits: u32,
 }
 
-fn share_of(key: Key) -> u64 {
-    (key >> 32) as u64
-}
-
-fn link_of(key: Key) -> LinkId {
-    key as LinkId
-}
-
-/// The rate of the flows fixed at `key`; 0 for a flow not rated.
-fn rate_at(key: Key) -> u64 {
-    match key {
-        NONE => 0,
-        k => share_of(k).max(1),
+impl Keys {
+    /// The packing for `links` links, if every share up to `capacity` bits per second fits
+    /// (below `2^(63 - link_bits)`, so that no key reaches the heap's top bit or `NONE`);
+    /// otherwise the largest capacity that would.
+    fn for_links(links: usize, capacity: u64) -> Result<Keys, u64> {
+        let link_bits = usize::BITS - links.saturating_sub(1).leading_zeros();
+        let room = 63 - link_bits;
+        match capacity >> room {
+            0 => Ok(Keys { link_bits }),
+            _ => Err((1u64 << room) - 1),
+        }
     }
+
+    fn key(self, share: u64, link: LinkId) -> Key {
+        share << self.link_bits | link as Key
+    }
+
+    fn share_of(self, key: Key) -> u64 {
+        key >> self.link_bits
+    }
+
+    fn link_of(self, key: Key) -> LinkId {
+        (key & ((1 << self.link_bits) - 1)) as LinkId
+    }
+
+    /// The rate of the flows fixed at `key`; 0 for a flow not rated.
+    fn rate_at(self, key: Key) -> u64 {
+        match key {
+            NONE => 0,
+            k => self.share_of(k).max(1),
+        }
+    }
+}
+
+/// The fastest link, in bits per second, that the flow model can rate exactly on a network of
+/// `links` links (its rates are whole bits per second, packed with a link's index in one
+/// word): `Err` with that limit when `capacity` exceeds it.
+pub fn fastest_link(links: usize, capacity: &Capacities) -> Result<(), u64> {
+    Keys::for_links(links, capacity.max()).map(|_| ())
 }
 
 /// Each link's capacity in bits per second: one for every link, or one per link (a network
@@ -110,6 +139,14 @@ impl Capacities {
         match self {
             Capacities::Uniform(c) => *c,
             Capacities::PerLink(c) => c[link as usize],
+        }
+    }
+
+    /// The largest capacity of any link.
+    pub fn max(&self) -> u64 {
+        match self {
+            Capacities::Uniform(c) => *c,
+            Capacities::PerLink(c) => c.iter().copied().max().unwrap_or(0),
         }
     }
 }
@@ -136,6 +173,7 @@ impl Changes {
 /// Flows sharing links, and their max-min fair rates as of the last [`MaxMin::solve`].
 pub struct MaxMin {
     capacity: Capacities,
+    keys: Keys,
     links: Vec<Link>,
     flows: Vec<Flow>,
     /// Links that lost a flow since the last solve.
@@ -288,7 +326,7 @@ struct Sweep {
     /// Min-heap of `key << 1 | kind`: kind 0 is a dirty link's pop as last evaluated (live
     /// while it equals the link's `pop`), kind 1 passes the old key of a dirty link whose
     /// flows were unsettled. At one key, a pop comes before a pass.
-    heap: QuaternaryHeap<Reverse<u128>>,
+    heap: QuaternaryHeap<Reverse<u64>>,
     /// The key of the last link that fixed flows or of the last old key passed.
     now: Key,
     /// The untouched flows a link will see fixed as the sweep rises, as (old key, old rate,
@@ -365,8 +403,8 @@ impl Default for SweepLink {
     }
 }
 
-const POP: u128 = 0;
-const PASS: u128 = 1;
+const POP: u64 = 0;
+const PASS: u64 = 1;
 
 impl Sweep {
     /// Whether `link` is dirty in this sweep (so the flows it fixed last time, its group, are
@@ -417,10 +455,14 @@ impl Sweep {
 }
 
 impl MaxMin {
-    /// `links` links of the given capacities.
+    /// `links` links of the given capacities, none faster than [`fastest_link`] allows (the
+    /// network refuses a faster one before building its model).
     pub fn new(capacity: Capacities, links: usize) -> MaxMin {
+        let keys = Keys::for_links(links, capacity.max())
+            .expect("link capacities within what the flow model's keys hold");
         MaxMin {
             capacity,
+            keys,
             links: (0..links).map(|_| Link::default()).collect(),
             groups: (0..links).map(|_| Group::default()).collect(),
             group_entries: vec![Vec::new(); links],
@@ -484,9 +526,9 @@ impl MaxMin {
         let old = self.old_key(slot);
         let alone = self.leaves_every_rate_as_it_is(slot);
         if old != NONE {
-            self.leave(slot, link_of(old));
+            self.leave(slot, self.keys.link_of(old));
         }
-        let rate = rate_at(old);
+        let rate = self.keys.rate_at(old);
         #[cfg(test)]
         if let Some(r) = self
             .scratch_rates
@@ -508,7 +550,7 @@ impl MaxMin {
             flows.swap_remove(pos);
         }
         if alone {
-            self.sweep.links[link_of(old) as usize].key = NONE;
+            self.sweep.links[self.keys.link_of(old) as usize].key = NONE;
             #[cfg(any(test, feature = "counters"))]
             {
                 self.alone.1 += 1;
@@ -556,9 +598,9 @@ impl MaxMin {
                 .capacity
                 .of(l)
                 .saturating_sub(self.links[l as usize].load);
-            fixer = fixer.min(key(room, l));
+            fixer = fixer.min(self.keys.key(room, l));
         }
-        let b = link_of(fixer);
+        let b = self.keys.link_of(fixer);
         if !self.fixes_only_the_added(b, slot, fixer) {
             return None;
         }
@@ -577,7 +619,7 @@ impl MaxMin {
     /// above it too). With room of at least their largest rate plus their count plus one,
     /// every share on the walk exceeds the next flow's rate, so no sort is needed.
     fn fixes_only_the_added(&mut self, b: LinkId, slot: u32, at: Key) -> bool {
-        let room = share_of(at);
+        let room = self.keys.share_of(at);
         let flows = &self.links[b as usize].flows;
         let others = flows.len() as u64 - 1;
         let largest = flows
@@ -593,9 +635,9 @@ impl MaxMin {
         ahead.clear();
         ahead.extend(flows.iter().filter(|&&s| s != slot).map(|&s| {
             let key = self.old_key(s);
-            (key, rate_at(key), 1)
+            (key, self.keys.rate_at(key), 1)
         }));
-        let alone = share_stays_above(self.capacity.of(b), b, &mut ahead, 1);
+        let alone = share_stays_above(self.keys, self.capacity.of(b), b, &mut ahead, 1);
         self.sweep.ahead = ahead;
         alone
     }
@@ -605,7 +647,7 @@ impl MaxMin {
     /// room, ties to the lower index; with slack for every flow, `stays_out`'s certificate;
     /// otherwise its walk.
     fn stays_out_with_added(&mut self, l: LinkId, slot: u32, at: Key) -> bool {
-        let rate = share_of(at).max(1);
+        let rate = self.keys.share_of(at).max(1);
         let link = &self.links[l as usize];
         if link.flows.len() == 1
             || link.load + rate + link.flows.len() as u64 <= self.capacity.of(l)
@@ -618,22 +660,22 @@ impl MaxMin {
             true => (at, rate, 1),
             false => (self.old_key(s), self.old_rate(s), 1),
         }));
-        let out = share_stays_above(self.capacity.of(l), l, &mut ahead, 0);
+        let out = share_stays_above(self.keys, self.capacity.of(l), l, &mut ahead, 0);
         self.sweep.ahead = ahead;
         out
     }
 
     /// Commits flow `slot`, added alone, as fixed by its link `b` alone at key `at`.
     fn fix_added_alone(&mut self, slot: u32, at: Key, changes: &mut Changes) {
-        let rate = share_of(at).max(1);
+        let rate = self.keys.share_of(at).max(1);
         changes.flows.push((slot, 0));
         let f = &mut self.flows[slot as usize];
-        f.group = link_of(at);
+        f.group = self.keys.link_of(at);
         for &l in &f.route {
             self.links[l as usize].load += rate;
         }
-        self.sweep.links[link_of(at) as usize].key = at;
-        self.join(slot, link_of(at));
+        self.sweep.links[self.keys.link_of(at) as usize].key = at;
+        self.join(slot, self.keys.link_of(at));
         #[cfg(any(test, feature = "counters"))]
         {
             self.alone.0 += 1;
@@ -752,7 +794,7 @@ impl MaxMin {
     }
 
     fn old_rate(&self, slot: u32) -> u64 {
-        rate_at(self.old_key(slot))
+        self.keys.rate_at(self.old_key(slot))
     }
 
     /// The link that fixes flow `slot` (its bottleneck) as of the last solve. Every flow one
@@ -783,7 +825,7 @@ impl MaxMin {
     /// The rate of the flows link `g` fixed in the last solve; `None` if it fixed none.
     pub fn group_rate(&self, g: LinkId) -> Option<u64> {
         (!self.groups[g as usize].slots.is_empty())
-            .then(|| share_of(self.sweep.links[g as usize].key).max(1))
+            .then(|| self.keys.share_of(self.sweep.links[g as usize].key).max(1))
     }
 
     /// Brings every rate up to date with the adds and removes since the last solve, and
@@ -874,7 +916,7 @@ impl MaxMin {
         self.evaluate_pending();
         while let Some(Reverse(entry)) = self.sweep.heap.pop() {
             let at = entry >> 1;
-            let link = link_of(at);
+            let link = self.keys.link_of(at);
             if entry & 1 == POP {
                 let sl = &self.sweep.links[link as usize];
                 if self.sweep.pops[link as usize] == at && !sl.popped {
@@ -989,7 +1031,7 @@ impl MaxMin {
                 }
             }
         }
-        let out = share_stays_above(self.capacity.of(link), link, &mut ahead, 0);
+        let out = share_stays_above(self.keys, self.capacity.of(link), link, &mut ahead, 0);
         self.sweep.ahead = ahead;
         out
     }
@@ -1000,7 +1042,7 @@ impl MaxMin {
             return sf.settled.then_some((sf.rate, sf.key));
         }
         let key = self.old_key(slot);
-        (key != NONE).then_some((rate_at(key), key))
+        (key != NONE).then_some((self.keys.rate_at(key), key))
     }
 
     /// Flow `slot`'s state in this sweep if it is drawn in: its own, or its group's when its
@@ -1023,7 +1065,7 @@ impl MaxMin {
         Some(SweepFlow {
             epoch,
             settled,
-            rate: rate_at(key),
+            rate: self.keys.rate_at(key),
             key,
         })
     }
@@ -1072,7 +1114,7 @@ impl MaxMin {
                     f.sweep_to(SweepFlow {
                         epoch,
                         settled: false,
-                        rate: rate_at(old),
+                        rate: self.keys.rate_at(old),
                         key: old,
                     });
                     self.sweep.unsettled.push(slot);
@@ -1138,7 +1180,7 @@ impl MaxMin {
             return sf.settled.then_some(sf.rate);
         }
         let key = self.old_key(slot);
-        (key < at).then_some(rate_at(key))
+        (key < at).then_some(self.keys.rate_at(key))
     }
 
     /// Finds where dirty `link` pops as things stand at `now`: its share from the flows fixed
@@ -1185,7 +1227,7 @@ impl MaxMin {
                 continue; // its members are drawn in and tallied
             }
             let old = self.sweep.links[e.group as usize].key;
-            let rate = share_of(old).max(1);
+            let rate = self.keys.share_of(old).max(1);
             let n = e.crossing as u64;
             if old < now {
                 fixed_load += rate as u128 * n as u128;
@@ -1193,13 +1235,13 @@ impl MaxMin {
                 unfixed += n;
                 ahead_flows += n;
                 ahead_rates += rate * n;
-                ahead_share = ahead_share.max(share_of(old));
+                ahead_share = ahead_share.max(self.keys.share_of(old));
                 ahead.push((old, rate, n));
             }
         }
         let left = (self.capacity.of(link) as u128).saturating_sub(fixed_load) as u64;
         let totals = (ahead_flows, ahead_rates, ahead_share);
-        let pop = pop_from(left, unfixed, link, &mut ahead, totals);
+        let pop = pop_from(self.keys, left, unfixed, link, &mut ahead, totals);
         self.sweep.ahead = ahead;
         pop
     }
@@ -1229,12 +1271,12 @@ impl MaxMin {
             } else {
                 unfixed += 1;
                 ahead_rates += rate;
-                ahead_share = ahead_share.max(share_of(key));
+                ahead_share = ahead_share.max(self.keys.share_of(key));
                 ahead.push((key, rate, 1));
             }
         }
         let totals = (ahead.len() as u64, ahead_rates, ahead_share);
-        let pop = pop_from(left, unfixed, link, &mut ahead, totals);
+        let pop = pop_from(self.keys, left, unfixed, link, &mut ahead, totals);
         self.sweep.ahead = ahead;
         pop
     }
@@ -1245,7 +1287,7 @@ impl MaxMin {
     fn pop(&mut self, link: LinkId, at: Key) {
         self.sweep.now = at;
         self.sweep.links[link as usize].popped = true;
-        let rate = share_of(at).max(1);
+        let rate = self.keys.share_of(at).max(1);
         let whole = self.group_unfixed(link);
         #[cfg(test)]
         {
@@ -1371,7 +1413,7 @@ impl MaxMin {
                     self.swept.1 += self.flows[slot as usize].route.len() as u64;
                 }
                 let key = self.old_key(slot);
-                (rate_at(key), key, false)
+                (self.keys.rate_at(key), key, false)
             }
         };
         let f = &self.flows[slot as usize];
@@ -1394,7 +1436,7 @@ impl MaxMin {
     /// each of the group's links once, with the count of members crossing it.
     fn settle_group(&mut self, link: LinkId, rate: u64, at: Key) {
         let old = self.sweep.links[link as usize].key;
-        let old_rate = share_of(old).max(1);
+        let old_rate = self.keys.share_of(old).max(1);
         let delta = rate as i64 - old_rate as i64;
         let moved = old_rate != rate || old != at;
         #[cfg(test)]
@@ -1543,7 +1585,7 @@ impl MaxMin {
             let slot = self.sweep.settled[i];
             let sf = self.flows[slot as usize].swept();
             let old = self.flows[slot as usize].group;
-            let regrouped = old != link_of(sf.key);
+            let regrouped = old != self.keys.link_of(sf.key);
             let old_rate = self.old_rate(slot);
             if old_rate != sf.rate || regrouped {
                 changes.flows.push((slot, old_rate));
@@ -1552,8 +1594,8 @@ impl MaxMin {
                 if old != NO_GROUP {
                     self.leave(slot, old);
                 }
-                self.flows[slot as usize].group = link_of(sf.key);
-                self.join(slot, link_of(sf.key));
+                self.flows[slot as usize].group = self.keys.link_of(sf.key);
+                self.join(slot, self.keys.link_of(sf.key));
             }
         }
         for &g in &self.sweep.settled_groups {
@@ -1561,8 +1603,8 @@ impl MaxMin {
                 self.sweep.links[g as usize].key,
                 self.sweep.pops[g as usize],
             );
-            if rate_at(old) != rate_at(new) {
-                changes.groups.push((g, rate_at(old)));
+            if self.keys.rate_at(old) != self.keys.rate_at(new) {
+                changes.groups.push((g, self.keys.rate_at(old)));
             }
         }
         let s = &mut self.sweep;
@@ -1664,6 +1706,7 @@ impl MaxMin {
 /// fixed elsewhere (`totals`: how many, their rates' sum and the largest share among them):
 /// by [`passes_all_ahead`]'s certificate if it holds, else by [`walk_to_pop`].
 fn pop_from(
+    keys: Keys,
     left: u64,
     unfixed: u64,
     link: LinkId,
@@ -1671,8 +1714,8 @@ fn pop_from(
     (flows, rates, share): (u64, u64, u64),
 ) -> Key {
     match passes_all_ahead(left, unfixed, flows, rates, share) {
-        Some(share) => share.map_or(NONE, |share| key(share, link)),
-        None => walk_to_pop(left, unfixed, link, ahead).0,
+        Some(share) => share.map_or(NONE, |share| keys.key(share, link)),
+        None => walk_to_pop(keys, left, unfixed, link, ahead).0,
     }
 }
 
@@ -1680,12 +1723,18 @@ fn pop_from(
 /// still to be fixed elsewhere, `count` at each (key, rate), in key order: the first share,
 /// as they are, that does not lie above the next one's key (`NONE` if none is left unfixed);
 /// and how many of the flows ahead were fixed before it. Sorts `ahead`.
-fn walk_to_pop(mut left: u64, mut unfixed: u64, link: LinkId, ahead: &mut [Ahead]) -> (Key, u64) {
+fn walk_to_pop(
+    keys: Keys,
+    mut left: u64,
+    mut unfixed: u64,
+    link: LinkId,
+    ahead: &mut [Ahead],
+) -> (Key, u64) {
     ahead.sort_unstable();
     // The flows ahead one by one: `taken` of entry `next`'s count are passed.
     let (mut passed, mut next, mut taken) = (0, 0, 0);
     while unfixed > 0 {
-        let candidate = key(left / unfixed, link);
+        let candidate = keys.key(left / unfixed, link);
         match ahead.get(next) {
             Some(&(k, rate, count)) if k < candidate => {
                 left = left.saturating_sub(rate);
@@ -1726,9 +1775,15 @@ fn passes_all_ahead(
 /// Whether `link`'s share, as the flows in `ahead` (key, rate) are fixed elsewhere in key
 /// order and `extra` more stay unfixed throughout, always stays above the key of the next one
 /// to be fixed (so it never is the smallest link while they are). Sorts `ahead`.
-fn share_stays_above(capacity: u64, link: LinkId, ahead: &mut [Ahead], extra: u64) -> bool {
+fn share_stays_above(
+    keys: Keys,
+    capacity: u64,
+    link: LinkId,
+    ahead: &mut [Ahead],
+    extra: u64,
+) -> bool {
     let all: u64 = ahead.iter().map(|a| a.2).sum();
-    walk_to_pop(capacity, all + extra, link, ahead).1 == all
+    walk_to_pop(keys, capacity, all + extra, link, ahead).1 == all
 }
 
 #[cfg(test)]
@@ -1930,6 +1985,48 @@ mod tests {
             let capacity = Capacities::PerLink(if use_small { small } else { two_rates });
             check_counting(capacity, 10, &s)?;
         }
+
+        /// Links as fast as a key can hold on 24 links (the share takes every bit the link's
+        /// index leaves), one of them 2 below, so shares and keys reach the top of their word.
+        #[test]
+        fn equals_progressive_filling_at_the_fastest_link_the_keys_hold(s in steps(24)) {
+            let fastest = Keys::for_links(24, u64::MAX).unwrap_err();
+            let mut capacity = vec![fastest; 24];
+            capacity[3] = fastest - 2;
+            check_counting(Capacities::PerLink(capacity), 24, &s)?;
+        }
+    }
+
+    #[test]
+    fn keys_hold_links_up_to_the_bits_their_index_leaves() {
+        // 8 links take 3 bits, leaving 60 for the share below the heap's bit.
+        assert_eq!(
+            Keys::for_links(8, (1 << 60) - 1).map(|k| k.link_bits),
+            Ok(3)
+        );
+        assert_eq!(
+            Keys::for_links(8, 1 << 60).map(|k| k.link_bits),
+            Err((1 << 60) - 1)
+        );
+        assert_eq!(
+            Keys::for_links(9, 1 << 59).map(|k| k.link_bits),
+            Err((1 << 59) - 1)
+        );
+        assert_eq!(
+            Keys::for_links(1, (1 << 63) - 1).map(|k| k.link_bits),
+            Ok(0)
+        );
+        assert_eq!(
+            Keys::for_links(2048, 17_000_000 * 8).map(|k| k.link_bits),
+            Ok(11)
+        );
+        let k = Keys::for_links(9, (1 << 59) - 1).unwrap();
+        let top = k.key((1 << 59) - 1, 8);
+        assert_eq!((k.share_of(top), k.link_of(top)), ((1 << 59) - 1, 8));
+        assert!(
+            top < 1 << 63 && top < NONE,
+            "a key leaves the heap's bit free"
+        );
     }
 
     /// A link that fixed nothing must fix a flow after a change elsewhere: its suspect check

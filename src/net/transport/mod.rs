@@ -79,19 +79,20 @@ pub trait Transport: Send {
 }
 
 /// The level `fidelity` for `links` links, a network hop taking `links_per_hop` of them;
-/// `node_link[l]` says link `l` is a node link (empty when the network has none).
+/// `node_link[l]` says link `l` is a node link (empty when the network has none). `Err`
+/// says why the level cannot model these links.
 pub fn build(
     fidelity: Fidelity,
     timing: Timing,
     links: usize,
     links_per_hop: u32,
     node_link: &[bool],
-) -> Box<dyn Transport> {
+) -> Result<Box<dyn Transport>, String> {
     let rate = |l: usize| match timing.node_links {
         Some(node) if node_link.get(l) == Some(&true) => node.bandwidth,
         _ => timing.bandwidth,
     };
-    match fidelity {
+    Ok(match fidelity {
         Fidelity::Ideal => Box::new(contention_free::ContentionFree::ideal(timing, links, rate)),
         Fidelity::Hops => Box::new(contention_free::ContentionFree::hops(timing, links, rate)),
         Fidelity::Flow => {
@@ -100,8 +101,26 @@ pub fn build(
             } else {
                 maxmin::Capacities::PerLink((0..links).map(|l| rate(l).bits_per_s()).collect())
             };
+            maxmin::fastest_link(links, &capacities)
+                .map_err(|limit| too_fast(timing, links, limit))?;
             Box::new(flow::Flow::new(timing, links, capacities))
         }
         Fidelity::Packet => Box::new(packet::Packet::new(timing, links, links_per_hop, node_link)),
-    }
+    })
+}
+
+/// Why `flow` cannot rate links of `timing` on `links` links, the fastest it can being `limit`
+/// bits per second: the field as a machine spec spells it, and what would do.
+fn too_fast(timing: Timing, links: usize, limit: u64) -> String {
+    let (field, bandwidth) = match timing.node_links {
+        Some(node) if node.bandwidth > timing.bandwidth => ("node.link_bandwidth", node.bandwidth),
+        _ => ("link_bandwidth", timing.bandwidth),
+    };
+    format!(
+        "{field} {bandwidth} is too fast for the `flow` fidelity on {links} links: its exact rates \
+         are whole bits per second, which on this many links must stay below 2^{} bit/s \
+         ({:.3e} B/s); use a slower link, or the `hops` or `packet` fidelity",
+        (limit + 1).trailing_zeros(),
+        (limit + 1) as f64 / 8.0
+    )
 }
