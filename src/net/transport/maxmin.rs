@@ -304,9 +304,6 @@ struct Sweep {
     /// Each link's record: its key in the last solve and its state in this one, in one cache
     /// line (a visit to a link reads both).
     links: Vec<SweepLink>,
-    /// Where each dirty link pops, as last evaluated; `NONE` if it fixes nothing as things
-    /// stand. Apart from `links`, which every visit of a link reads.
-    pops: Vec<Key>,
     /// `unsettled[start..end]`: the flows a dirty link had fixed last time, when its group was
     /// not drawn in whole (one drawn in whole has no run: its members are in its state).
     unsettled_of: Vec<(u32, u32)>,
@@ -354,6 +351,9 @@ struct SweepLink {
     /// Its key in the last solve (`NONE` if it fixed nothing): kept from solve to solve, the
     /// one field here that is not the current sweep's.
     key: Key,
+    /// Where it pops, as last evaluated while dirty; `NONE` if it fixes nothing as things
+    /// stand.
+    pop: Key,
     /// Equal to the sweep's epoch while the link is dirty in this solve.
     epoch: u64,
     /// `suspect` and `delta` belong to the solve of this epoch.
@@ -387,6 +387,7 @@ impl Default for SweepLink {
     fn default() -> SweepLink {
         SweepLink {
             key: NONE,
+            pop: NONE,
             epoch: 0,
             seen: 0,
             delta: 0,
@@ -488,7 +489,6 @@ impl MaxMin {
             alone: (0, 0),
             sweep: Sweep {
                 links: vec![SweepLink::default(); links],
-                pops: vec![NONE; links],
                 unsettled_of: vec![(0, 0); links],
                 ..Sweep::default()
             },
@@ -919,7 +919,7 @@ impl MaxMin {
             let link = self.keys.link_of(at);
             if entry & 1 == POP {
                 let sl = &self.sweep.links[link as usize];
-                if self.sweep.pops[link as usize] == at && !sl.popped {
+                if self.sweep.links[link as usize].pop == at && !sl.popped {
                     match sl.stale {
                         true => {
                             self.evaluate(link);
@@ -929,7 +929,7 @@ impl MaxMin {
                             }
                             #[cfg(test)]
                             assert!(
-                                self.sweep.pops[link as usize] >= at,
+                                self.sweep.links[link as usize].pop >= at,
                                 "link {link}'s pop moved earlier while it waited"
                             );
                         }
@@ -1059,7 +1059,7 @@ impl MaxMin {
         }
         let settled = self.sweep.links[g as usize].fixed_whole;
         let key = match settled {
-            true => self.sweep.pops[g as usize],
+            true => self.sweep.links[g as usize].pop,
             false => self.sweep.links[g as usize].key,
         };
         Some(SweepFlow {
@@ -1126,10 +1126,10 @@ impl MaxMin {
             }
         }
         let end = self.sweep.unsettled.len() as u32;
-        self.sweep.pops[l] = NONE;
         self.sweep.unsettled_of[l] = (start, end);
         self.sweep.links[l] = SweepLink {
             epoch,
+            pop: NONE,
             popped: false,
             pending: true,
             whole,
@@ -1202,7 +1202,7 @@ impl MaxMin {
             pop >= self.sweep.now,
             "link {link}'s pop fell below the sweep"
         );
-        self.sweep.pops[link as usize] = pop;
+        self.sweep.links[link as usize].pop = pop;
         if pop != NONE {
             self.sweep.heap.push(Reverse(pop << 1 | POP));
         }
@@ -1601,7 +1601,7 @@ impl MaxMin {
         for &g in &self.sweep.settled_groups {
             let (old, new) = (
                 self.sweep.links[g as usize].key,
-                self.sweep.pops[g as usize],
+                self.sweep.links[g as usize].pop,
             );
             if self.keys.rate_at(old) != self.keys.rate_at(new) {
                 changes.groups.push((g, self.keys.rate_at(old)));
@@ -1611,7 +1611,7 @@ impl MaxMin {
         for &l in &s.dirty {
             let sl = &mut s.links[l as usize];
             let link = &mut self.links[l as usize];
-            sl.key = if sl.popped { s.pops[l as usize] } else { NONE };
+            sl.key = if sl.popped { sl.pop } else { NONE };
             if sl.seen == s.epoch {
                 link.load = (link.load as i64 + sl.delta) as u64;
             }
