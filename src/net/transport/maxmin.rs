@@ -453,6 +453,19 @@ impl Sweep {
         let sl = &self.links[link as usize];
         sl.epoch == self.epoch && sl.whole
     }
+
+    /// `flows` more flows crossing `link` are drawn in unfixed; a dirty link that has not
+    /// fixed its flows is evaluated again.
+    #[inline]
+    fn count_drawn(&mut self, link: LinkId, flows: u32) {
+        let epoch = self.epoch;
+        let sl = self.link_seen(link);
+        sl.drawn_unfixed += flows;
+        if sl.epoch == epoch && !sl.popped && !sl.pending {
+            sl.pending = true;
+            self.pending.push(link);
+        }
+    }
 }
 
 impl MaxMin {
@@ -1097,9 +1110,8 @@ impl MaxMin {
                 let crossings = self.groups[l].links.iter().map(|gl| gl.crossing as u64);
                 self.swept.1 += crossings.sum::<u64>();
             }
-            for i in 0..self.groups[l].links.len() {
-                let gl = self.groups[l].links[i];
-                self.count_drawn(gl.link, gl.crossing);
+            for gl in &self.groups[l].links {
+                self.sweep.count_drawn(gl.link, gl.crossing);
             }
         } else {
             for i in 0..members {
@@ -1147,22 +1159,8 @@ impl MaxMin {
     /// Flow `slot` is drawn into this sweep unfixed: the links it crosses count it so, and
     /// the dirty ones that have not fixed their flows must be evaluated again.
     fn draw_route(&mut self, slot: u32) {
-        for i in 0..self.flows[slot as usize].route.len() {
-            let l = self.flows[slot as usize].route[i];
-            self.count_drawn(l, 1);
-        }
-    }
-
-    /// `flows` more flows crossing `link` are drawn in unfixed; a dirty link that has not
-    /// fixed its flows is evaluated again.
-    #[inline]
-    fn count_drawn(&mut self, link: LinkId, flows: u32) {
-        let epoch = self.sweep.epoch;
-        let sl = self.sweep.link_seen(link);
-        sl.drawn_unfixed += flows;
-        if sl.epoch == epoch && !sl.popped && !sl.pending {
-            sl.pending = true;
-            self.sweep.pending.push(link);
+        for &l in &self.flows[slot as usize].route {
+            self.sweep.count_drawn(l, 1);
         }
     }
 
@@ -1463,13 +1461,17 @@ impl MaxMin {
                 sl.delta -= delta;
             });
         }
-        for i in 0..self.groups[link as usize].links.len() {
-            let GroupLink {
-                link: l, crossing, ..
-            } = self.groups[link as usize].links[i];
+        // Its links are read while their records change (noting a link reads only that
+        // link's group, never this one: `link` is dirty already).
+        let links = std::mem::take(&mut self.groups[link as usize].links);
+        for &GroupLink {
+            link: l, crossing, ..
+        } in &links
+        {
             let load = rate * crossing as u64;
             self.count_fixed(l, delta * crossing as i64, crossing, load, moved);
         }
+        self.groups[link as usize].links = links;
         if alone {
             self.for_links_of_drawn_alone(link, |sl| sl.drawn_load -= rate);
         }
@@ -1479,13 +1481,12 @@ impl MaxMin {
     /// such member crossing it.
     fn for_links_of_drawn_alone(&mut self, link: LinkId, f: impl Fn(&mut SweepLink)) {
         let epoch = self.sweep.epoch;
-        for i in 0..self.groups[link as usize].slots.len() {
-            let slot = self.groups[link as usize].slots[i];
-            if self.flows[slot as usize].swept_epoch != epoch {
+        for &slot in &self.groups[link as usize].slots {
+            let flow = &self.flows[slot as usize];
+            if flow.swept_epoch != epoch {
                 continue;
             }
-            for j in 0..self.flows[slot as usize].route.len() {
-                let l = self.flows[slot as usize].route[j];
+            for &l in &flow.route {
                 f(self.sweep.link_seen(l));
             }
         }
@@ -1502,10 +1503,13 @@ impl MaxMin {
         let delta = rate as i64 - old_rate as i64;
         // An added flow's links were all noted when the sweep began.
         let moved = old_key != NONE && (old_rate != rate || old_key != at);
-        for i in 0..self.flows[slot as usize].route.len() {
-            let l = self.flows[slot as usize].route[i];
+        // Its route is read while its links' records change (a link it makes dirty draws in
+        // only flows not yet fixed in this sweep, never this one).
+        let route = std::mem::take(&mut self.flows[slot as usize].route);
+        for &l in &route {
             self.count_fixed(l, delta, drawn as u32, rate, moved);
         }
+        self.flows[slot as usize].route = route;
     }
 
     /// Flows crossing `link` were fixed in this sweep: they add `delta` to its load change and
@@ -1553,11 +1557,13 @@ impl MaxMin {
             return;
         }
         if self.sweep.drawn_alone(link) == 0 {
-            // Still whole and unfixed: its links once each.
-            for i in 0..self.groups[link as usize].links.len() {
-                let l = self.groups[link as usize].links[i].link;
-                self.note(l);
+            // Still whole and unfixed: its links once each (noting them reads only their
+            // own groups: `link` is dirty already).
+            let links = std::mem::take(&mut self.groups[link as usize].links);
+            for gl in &links {
+                self.note(gl.link);
             }
+            self.groups[link as usize].links = links;
             return;
         }
         // The members still in the group's state are its unfixed ones.
