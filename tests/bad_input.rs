@@ -1315,6 +1315,57 @@ fn a_pattern_past_the_packet_budget_is_refused_at_packet_fidelity_only() {
     );
 }
 
+/// A network too fast for `flow`'s one-word keys (tests/bad_input/machine/too-fast-for-flow.json
+/// at `hops`): `netsim --fidelity flow` refuses it naming the flag and `link_bandwidth`, and
+/// `--compare` runs the other levels and says why `flow` was not run.
+#[test]
+fn a_network_too_fast_for_flow_is_refused_at_flow_only() {
+    let dir = tempfile::tempdir().unwrap();
+    let corpus = std::fs::read_to_string("tests/bad_input/machine/too-fast-for-flow.json").unwrap();
+    let machine = dir.path().join("too-fast-at-hops.json");
+    std::fs::write(
+        &machine,
+        corpus.replace(r#""fidelity": "flow""#, r#""fidelity": "hops""#),
+    )
+    .unwrap();
+    let pattern = dir.path().join("one.json");
+    std::fs::write(
+        &pattern,
+        r#"{"messages": [{"src": 0, "dst": 2, "bytes": "64KiB", "start": "0us"}]}"#,
+    )
+    .unwrap();
+    let netsim = |extra: &[&str]| {
+        let mut args = vec![
+            "netsim",
+            machine.to_str().unwrap(),
+            pattern.to_str().unwrap(),
+        ];
+        args.extend_from_slice(extra);
+        sortsim(&args)
+    };
+    let refused = netsim(&["--fidelity", "flow"]);
+    check_refusal(&refused, &machine, "--fidelity flow: ");
+    let stderr = String::from_utf8_lossy(&refused.stderr);
+    assert!(
+        stderr.contains(
+            "link_bandwidth 500000000GB/s is too fast for the `flow` fidelity on 8 links"
+        ),
+        "{stderr}"
+    );
+    let compare = netsim(&["--compare"]);
+    let stdout = String::from_utf8_lossy(&compare.stdout);
+    assert!(
+        compare.status.success(),
+        "{}",
+        String::from_utf8_lossy(&compare.stderr)
+    );
+    assert!(
+        stdout.contains("flow: not run on this network: invalid network: link_bandwidth"),
+        "{stdout}"
+    );
+    assert!(stdout.lines().any(|l| l.starts_with("packet ")), "{stdout}");
+}
+
 /// Outside a checkout, with no data root given and a data folder that cannot be written, the
 /// bundled machines cannot be unpacked: one message saying so and how to give a root, exit 2,
 /// nothing written.
