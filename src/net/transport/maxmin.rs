@@ -297,12 +297,13 @@ impl Flow {
     }
 }
 
-/// Per-solve state; `epoch` stamps what belongs to the current solve.
+/// Per-solve state, and each link's key in the last solve beside it; `epoch` stamps what
+/// belongs to the current solve.
 #[derive(Default)]
 struct Sweep {
     epoch: u64,
-    /// Each link's record: its key in the last solve and its state in this one, in one cache
-    /// line (a visit to a link reads both).
+    /// Each link's record: its key in the last solve, its pop as last evaluated and its state
+    /// in this solve, in one cache line (a visit to a link reads them together).
     links: Vec<SweepLink>,
     /// `unsettled[start..end]`: the flows a dirty link had fixed last time, when its group was
     /// not drawn in whole (one drawn in whole has no run: its members are in its state).
@@ -585,9 +586,7 @@ impl MaxMin {
         }
         let g = f.group;
         self.groups[g as usize].slots.len() == 1
-            && f.route
-                .iter()
-                .all(|&l| l == g || self.sweep.links[l as usize].key == NONE)
+            && f.route.iter().all(|&l| l == g || self.last_key(l) == NONE)
     }
 
     /// If adding flow `slot` (the only change since the last solve) leaves every other rate
@@ -604,7 +603,7 @@ impl MaxMin {
         }
         let mut fixer = NONE;
         for &l in &f.route {
-            if self.sweep.links[l as usize].key != NONE {
+            if self.last_key(l) != NONE {
                 return None;
             }
             let room = self
@@ -798,11 +797,16 @@ impl MaxMin {
         }
     }
 
+    /// Link `link`'s key in the last solve; `NONE` if it fixed nothing.
+    fn last_key(&self, link: LinkId) -> Key {
+        self.sweep.links[link as usize].key
+    }
+
     /// Flow `slot`'s key as of the last solve (its group's); `NONE` before its first.
     fn old_key(&self, slot: u32) -> Key {
         match self.flows[slot as usize].group {
             NO_GROUP => NONE,
-            g => self.sweep.links[g as usize].key,
+            g => self.last_key(g),
         }
     }
 
@@ -838,7 +842,7 @@ impl MaxMin {
     /// The rate of the flows link `g` fixed in the last solve; `None` if it fixed none.
     pub fn group_rate(&self, g: LinkId) -> Option<u64> {
         (!self.groups[g as usize].slots.is_empty())
-            .then(|| self.keys.share_of(self.sweep.links[g as usize].key).max(1))
+            .then(|| self.keys.share_of(self.last_key(g)).max(1))
     }
 
     /// Brings every rate up to date with the adds and removes since the last solve, and
@@ -922,7 +926,7 @@ impl MaxMin {
             // A link that fixed nothing only gained room when a flow left it, so it still fixes
             // nothing unless a flow on it gets another rate or key, and that notes it then.
             let link = self.shrunk[i];
-            if self.sweep.links[link as usize].key != NONE {
+            if self.last_key(link) != NONE {
                 self.mark_dirty(link);
             }
         }
@@ -993,7 +997,7 @@ impl MaxMin {
         for i in 0..self.flows[slot as usize].route.len() {
             let l = self.flows[slot as usize].route[i];
             let link = &self.links[l as usize];
-            if self.sweep.links[l as usize].key != NONE {
+            if self.last_key(l) != NONE {
                 fixer = None;
             } else if link.load + guess + link.flows.len() as u64 > self.capacity.of(l) {
                 self.mark_dirty(l);
@@ -1009,7 +1013,7 @@ impl MaxMin {
     /// none is a suspect.
     #[inline]
     fn note(&mut self, link: LinkId) {
-        if self.sweep.links[link as usize].key != NONE {
+        if self.last_key(link) != NONE {
             // Most notes find the link dirty already: that test stays out of the call.
             if !self.sweep.is_dirty(link) {
                 self.mark_dirty(link);
@@ -1073,7 +1077,7 @@ impl MaxMin {
         let settled = self.sweep.links[g as usize].fixed_whole;
         let key = match settled {
             true => self.sweep.links[g as usize].pop,
-            false => self.sweep.links[g as usize].key,
+            false => self.last_key(g),
         };
         Some(SweepFlow {
             epoch,
@@ -1093,7 +1097,7 @@ impl MaxMin {
         if self.sweep.links[l].epoch == epoch {
             return;
         }
-        let old = self.sweep.links[l].key;
+        let old = self.last_key(link);
         debug_assert!(
             old >= self.sweep.now,
             "link {link} turned dirty after its old key had passed"
@@ -1224,7 +1228,7 @@ impl MaxMin {
             if self.sweep.is_dirty(e.group) {
                 continue; // its members are drawn in and tallied
             }
-            let old = self.sweep.links[e.group as usize].key;
+            let old = self.last_key(e.group);
             let rate = self.keys.share_of(old).max(1);
             let n = e.crossing as u64;
             if old < now {
@@ -1392,9 +1396,7 @@ impl MaxMin {
         let (drawn_unfixed, _) = self.sweep.drawn_on(link);
         drawn_unfixed as usize == self.in_group_state(link)
             && self.group_entries[link as usize].iter().all(|e| {
-                e.group == link
-                    || self.sweep.is_dirty(e.group)
-                    || self.sweep.links[e.group as usize].key < at
+                e.group == link || self.sweep.is_dirty(e.group) || self.last_key(e.group) < at
             })
     }
 
@@ -1433,7 +1435,7 @@ impl MaxMin {
     /// one (no member visited): what [`MaxMin::settle`] does to each member's links, done to
     /// each of the group's links once, with the count of members crossing it.
     fn settle_group(&mut self, link: LinkId, rate: u64, at: Key) {
-        let old = self.sweep.links[link as usize].key;
+        let old = self.last_key(link);
         let old_rate = self.keys.share_of(old).max(1);
         let delta = rate as i64 - old_rate as i64;
         let moved = old_rate != rate || old != at;
@@ -1605,10 +1607,7 @@ impl MaxMin {
             }
         }
         for &g in &self.sweep.settled_groups {
-            let (old, new) = (
-                self.sweep.links[g as usize].key,
-                self.sweep.links[g as usize].pop,
-            );
+            let (old, new) = (self.last_key(g), self.sweep.links[g as usize].pop);
             if self.keys.rate_at(old) != self.keys.rate_at(new) {
                 changes.groups.push((g, self.keys.rate_at(old)));
             }
