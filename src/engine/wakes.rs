@@ -13,8 +13,6 @@
 //! Owns the armed instant and the pending places; must never run the network itself or
 //! decide what a wake-up does.
 
-use std::collections::VecDeque;
-
 use super::queue::{EventQueue, Place};
 use crate::units::SimTime;
 
@@ -22,9 +20,10 @@ use crate::units::SimTime;
 pub(super) struct NetWakes {
     /// The instant the network next has work, while a wake-up for it is pending.
     armed: Option<SimTime>,
-    /// Places of the wake-ups armed and not yet reached, in order: a handful as a rule, most
-    /// armed before the ones pending (an earlier instant), so a sorted deque beats a tree.
-    pending: VecDeque<Place>,
+    /// Places of the wake-ups armed and not yet reached, latest first: a handful as a rule,
+    /// most armed before the ones pending (an earlier instant), so each goes in at or near
+    /// the end of a sorted list, and those passed come off the end.
+    pending: Vec<Place>,
     /// The first pending place at the armed instant: the wake-up that does the work. Fixed
     /// from one arming to the next, since the events taken meanwhile all come before it; so
     /// the executor's question before every event is a field read, not a search.
@@ -37,19 +36,33 @@ impl NetWakes {
         if self.armed.is_none_or(|armed| at < armed) {
             // Places already passed can never be due; one of them may be at `at` itself.
             let passed = queue.last_taken();
-            while self.pending.front().is_some_and(|&p| p < passed) {
-                self.pending.pop_front();
+            while self.pending.last().is_some_and(|&p| p < passed) {
+                self.pending.pop();
             }
             self.armed = Some(at);
             let place = queue.reserve(at);
-            let mut i = self.pending.partition_point(|&p| p < place);
-            self.pending.insert(i, place);
-            // The due one is the first at `at`: this one, or one armed there before it.
-            while i > 0 && self.pending[i - 1].time() == at {
-                i -= 1;
-            }
-            self.due = Some(self.pending[i]);
+            let i = self.insert(place);
+            // The due one is the first at `at`: this one, or one armed there before it (after
+            // it in the list, which runs latest first).
+            let first_at = self.pending[i..]
+                .iter()
+                .take_while(|p| p.time() == at)
+                .last();
+            self.due = first_at.copied();
         }
+    }
+
+    /// Puts `place` in the list, latest first, moving the few earlier places up by one (a
+    /// loop, not a block move: it is one or two as a rule); returns its index.
+    fn insert(&mut self, place: Place) -> usize {
+        self.pending.push(place);
+        let mut i = self.pending.len() - 1;
+        while i > 0 && self.pending[i - 1] < place {
+            self.pending[i] = self.pending[i - 1];
+            i -= 1;
+        }
+        self.pending[i] = place;
+        i
     }
 
     /// The wake-up that does the network's work next: the first pending at the armed
@@ -66,8 +79,8 @@ impl NetWakes {
 
     /// Takes the wake-up at `place` (the one `due` gave) and disarms: its work is being done.
     pub fn take(&mut self, place: Place) {
-        while self.pending.front().is_some_and(|&p| p <= place) {
-            self.pending.pop_front();
+        while self.pending.last().is_some_and(|&p| p <= place) {
+            self.pending.pop();
         }
         self.armed = None;
         self.due = None;

@@ -149,13 +149,20 @@ impl Interfaces {
 
     /// Takes `src`'s first waiting message off its queue (it is the next to leave).
     fn leave(&mut self, src: NodeId) -> Due {
-        self.heads.pop();
         let queue = &mut self.waiting[src as usize];
         let w = queue
             .pop_front()
             .expect("a head stands for a waiting message");
-        if let Some(next) = queue.front() {
-            self.heads.push(Reverse((next.key, src)));
+        // The node's next message takes its place at the top: one sift down, where a pop and
+        // a push would sift twice. Keys are distinct, so the heap's order is the same.
+        match queue.front() {
+            Some(next) => {
+                *self.heads.peek_mut().expect("the node's head is the top") =
+                    Reverse((next.key, src));
+            }
+            None => {
+                self.heads.pop();
+            }
         }
         Due::Start {
             msg: w.msg,
