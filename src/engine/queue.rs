@@ -144,6 +144,8 @@ impl<E> EventQueue<E> {
 
     /// Takes the earliest event if it is due at or before `horizon` and comes before `place`
     /// (a reserved place whose event is kept elsewhere) when there is one.
+    /// Inlined: it runs once per event, and its caller's loop is where its tests fold away.
+    #[inline]
     pub fn pop_before(&mut self, horizon: SimTime, place: Option<Place>) -> Option<(SimTime, E)> {
         let key = self.keys.pop_if(|key| {
             (key >> 64) as u64 <= horizon.ps() && place.is_none_or(|Place(first)| key < first)
@@ -249,6 +251,7 @@ impl Keys {
         }
     }
 
+    #[inline]
     fn pop_if(&mut self, take: impl FnOnce(u128) -> bool) -> Option<u128> {
         let key = match &mut self.store {
             Store::Heap(h) => {

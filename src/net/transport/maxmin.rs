@@ -847,7 +847,10 @@ impl MaxMin {
 
     /// Brings every rate up to date with the adds and removes since the last solve, and
     /// appends to `changes` every flow whose rate or bottleneck changed: one by one, or as a
-    /// group fixed again whole at a new rate.
+    /// group fixed again whole at a new rate. Never inlined: it is large and called from one
+    /// place, where inlining it only crowds its caller (one polio frame measured 1.4% more
+    /// instructions with it inlined).
+    #[inline(never)]
     pub fn solve(&mut self, changes: &mut Changes) {
         match (&self.added[..], &self.shrunk[..]) {
             // Nothing since the last solve but removals that moved no other rate.
