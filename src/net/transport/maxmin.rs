@@ -848,7 +848,7 @@ impl MaxMin {
     /// Brings every rate up to date with the adds and removes since the last solve, and
     /// appends to `changes` every flow whose rate or bottleneck changed: one by one, or as a
     /// group fixed again whole at a new rate. Never inlined: it is large and called from one
-    /// place, where inlining it only crowds its caller (one polio frame measured 1.4% more
+    /// place, where inlining it only crowds its caller (one polio frame measured 1.3% more
     /// instructions with it inlined).
     #[inline(never)]
     pub fn solve(&mut self, changes: &mut Changes) {
