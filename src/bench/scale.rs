@@ -153,7 +153,7 @@ pub fn scale(cfg: &ScaleConfig, progress: &mut dyn FnMut(&str)) -> Result<ScaleR
         "same run: peak host memory",
         memory,
         "GB",
-        Target::AtMost(2.0),
+        Target::AtMost(0.5),
         "VmHWM of this process, which ran nothing bigger before".into(),
     ));
 
