@@ -42,10 +42,11 @@ struct Shared {
 impl Shared {
     fn new(geometry: Rc<FrameGeometry>, viewport: Viewport, spare: Option<VertexCache>) -> Shared {
         let count = geometry.vertices.len();
-        let vertices = match spare {
+        let mut vertices = match spare {
             Some(cache) => cache.emptied(count, viewport),
             None => VertexCache::new(count, viewport),
         };
+        vertices.prepare_all(&geometry.vertices);
         Shared {
             geometry,
             vertices: Rc::new(RefCell::new(vertices)),

@@ -299,6 +299,21 @@ impl VertexCache {
         self.viewport
     }
 
+    /// Prepares every vertex now, in order: what [`VertexCache::get`] would fill in on first
+    /// use, so it changes no result. Triangles dealt out by stride (sort-middle's processors)
+    /// reach their vertices far apart, and preparing each on first use there read a vertex
+    /// and its slot out of cache; one pass in order streams both.
+    pub fn prepare_all(&mut self, vertices: &[Vertex]) {
+        for (slot, v) in self.slots.iter_mut().zip(vertices) {
+            if let Slot::Empty = slot {
+                *slot = match prepare(v, self.viewport) {
+                    Some(p) => Slot::Ready(p),
+                    None => Slot::Invalid,
+                };
+            }
+        }
+    }
+
     fn get(&mut self, vertices: &[Vertex], i: u32) -> Option<PreparedVertex> {
         let slot = self.slots.get_mut(i as usize)?;
         if let Slot::Empty = slot {

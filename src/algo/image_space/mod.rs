@@ -11,6 +11,7 @@
 pub mod assign;
 pub mod buffers;
 pub mod canvas;
+mod dealing;
 pub mod holders;
 pub mod options;
 pub(crate) mod redistribute;
@@ -225,6 +226,8 @@ pub(crate) struct Ctx {
     background: [u8; 3],
     pub(crate) raster: RasterOptions,
     book: FrameBook,
+    /// Each frame's front end, run once for every processor (`transform`).
+    dealer: dealing::Dealer,
     /// Processor 0's assignment for the next frame, once computed.
     pub(crate) next_assignment: RefCell<Option<Rc<Assignment>>>,
     /// Each processor's regions after the last frame, for the output image.
@@ -462,25 +465,24 @@ where
     node.phase("transform");
     let geometry = ctx.geometry(node, frame)?;
     let vertices = ctx.vertices(node, frame)?;
-    let share: Vec<u32> = (node.id()..geometry.triangles.len() as u32)
-        .step_by(ctx.n as usize)
-        .collect();
-    let mut tris = Vec::new();
-    for batch in share.chunks(ctx.batch()) {
-        tris.clear();
-        let c = setup_subset(
-            &geometry.vertices,
-            &geometry.triangles,
-            batch,
-            &mut vertices.borrow_mut(),
-            &ctx.raster,
-            &mut tris,
-        );
+    // Triangles node.id(), node.id() + n, ... in batches of ctx.batch(), set up in one pass
+    // for every processor (see `dealing`).
+    let dealt = ctx.dealer.take(
+        frame,
+        node.id(),
+        ctx.n,
+        ctx.batch(),
+        &geometry,
+        &mut vertices.borrow_mut(),
+        &ctx.raster,
+    );
+    drop((geometry, vertices));
+    for (tris, c) in dealt.batches() {
         ctx.record(frame, |r| {
             r.triangles_in_view += c.triangles_in - c.culled_outside - c.culled_invalid
         });
         let mut work = charge::front_end(&c);
-        let out = place(&tris, &mut work);
+        let out = place(tris, &mut work);
         node.compute(&work).await;
         redistribute::send_all(node, ctx, out).await;
     }
@@ -723,6 +725,7 @@ where
             Rc::new(first),
             cfg.timeline.then(|| cfg.timeline_frames.clone()).flatten(),
         ),
+        dealer: dealing::Dealer::default(),
         next_assignment: RefCell::default(),
         images: RefCell::new(vec![None; n as usize]),
         holders: Default::default(),
