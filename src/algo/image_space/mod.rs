@@ -381,13 +381,16 @@ pub(crate) async fn collect_image(node: &Node<Msg>, ctx: &Ctx, frame: u32, regio
     }
 }
 
-/// Sums per-region counts up the tree; processor 0 ends with the total.
+/// Sums per-region counts up the tree: processor 0 ends with the total (`Some`); every other
+/// processor hands its partial sum on to its parent (moved into the message: a 512-node
+/// frame's counts are tens of kilobytes, and a copy kept by a processor that never reads it
+/// again cost a frame 16 MB of copying).
 pub(crate) async fn sum_counts(
     node: &Node<Msg>,
     ctx: &Ctx,
     frame: u32,
     mut counts: Vec<u32>,
-) -> Vec<u32> {
+) -> Option<Vec<u32>> {
     let me = node.id();
     for child in children(me, ctx.n) {
         let env = node.recv(Filter::tag(TAG_COUNTS).and_source(child)).await;
@@ -400,18 +403,12 @@ pub(crate) async fn sum_counts(
         node.compute(&Counts::of(Op::CountSum, counts.len() as u64))
             .await;
     }
-    if me != 0 {
-        ctx.send(
-            node,
-            parent(me),
-            Msg::Counts {
-                frame,
-                counts: counts.clone(),
-            },
-        )
-        .await;
+    if me == 0 {
+        return Some(counts);
     }
-    counts
+    ctx.send(node, parent(me), Msg::Counts { frame, counts })
+        .await;
+    None
 }
 
 /// Processor 0 assigns regions by greedy bin packing on estimated costs, charging its own

@@ -93,8 +93,7 @@ pub(crate) async fn processor(node: Node<Msg>, ctx: Rc<Ctx>) -> Result<(), SimEr
         }
         if ctx.settings.first.regions == RegionRule::Adaptive && !ctx.is_last(frame) {
             node.phase("load balance");
-            let total = sum_counts(&node, &ctx, frame, sorted.counts).await;
-            if me == 0 {
+            if let Some(total) = sum_counts(&node, &ctx, frame, sorted.counts).await {
                 let next = compute_assignment(&node, &ctx, &total).await;
                 *ctx.next_assignment.borrow_mut() = Some(Rc::new(next));
             }

@@ -75,10 +75,9 @@ pub(super) async fn processor(node: Node<Msg>, ctx: Rc<Ctx>) -> Result<(), SimEr
                 .await?;
                 node.phase("load balance");
                 let total = sum_counts(&node, &ctx, frame, region_counts(&ctx, &screen)).await;
-                let new = if me == 0 {
-                    Some(Rc::new(compute_assignment(&node, &ctx, &total).await))
-                } else {
-                    None
+                let new = match total {
+                    Some(total) => Some(Rc::new(compute_assignment(&node, &ctx, &total).await)),
+                    None => None,
                 };
                 node.phase("synchronize");
                 if let Some(new) = start_frame(&node, &ctx, frame, new).await {
@@ -166,7 +165,7 @@ async fn assign_next_frame(
 ) -> Result<(), SimError> {
     node.phase("load balance");
     let total = sum_counts(&node, &ctx, frame, counts).await;
-    if node.id() == 0 && !ctx.is_last(frame) {
+    if let (Some(total), false) = (total, ctx.is_last(frame)) {
         let next = compute_assignment(&node, &ctx, &total).await;
         *ctx.next_assignment.borrow_mut() = Some(Rc::new(next));
         node.post(0, SimTime::ZERO, Msg::Assigned { frame });
