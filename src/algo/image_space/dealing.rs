@@ -189,7 +189,10 @@ mod tests {
                         .map(|(_, c)| c.clipped + c.culled_backface + c.culled_invalid)
                         .sum::<u64>();
                 }
-                assert!(clipped_or_culled > 0, "the geometry exercises the hard cases");
+                assert!(
+                    clipped_or_culled > 0,
+                    "the geometry exercises the hard cases"
+                );
                 assert!(dealer.frames.borrow().is_empty(), "every share was taken");
             }
         }
