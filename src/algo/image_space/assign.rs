@@ -14,14 +14,39 @@ use crate::units::SimTime;
 #[derive(Clone, Debug, PartialEq, Eq)]
 pub struct Assignment {
     pub owner: Vec<u32>,
+    /// The regions again, processor by processor in index order (processor `p`'s are
+    /// `by_processor[starts[p]..starts[p + 1]]`): listed once, where each processor of a
+    /// 512-node frame used to filter every region's owner for its own.
+    by_processor: Vec<u32>,
+    starts: Vec<u32>,
 }
 
 impl Assignment {
+    /// The assignment `owner` gives, over `processors` processors (each owner below it).
+    fn from_owner(owner: Vec<u32>, processors: u32) -> Assignment {
+        let mut starts = vec![0u32; processors as usize + 1];
+        for &p in &owner {
+            starts[p as usize + 1] += 1;
+        }
+        for p in 0..processors as usize {
+            starts[p + 1] += starts[p];
+        }
+        let mut next = starts.clone();
+        let mut by_processor = vec![0; owner.len()];
+        for (r, &p) in owner.iter().enumerate() {
+            by_processor[next[p as usize] as usize] = r as u32;
+            next[p as usize] += 1;
+        }
+        Assignment {
+            owner,
+            by_processor,
+            starts,
+        }
+    }
+
     /// Region `r` to processor `r mod n`.
     pub fn interleaved(regions: u32, processors: u32) -> Assignment {
-        Assignment {
-            owner: (0..regions).map(|r| r % processors).collect(),
-        }
+        Assignment::from_owner((0..regions).map(|r| r % processors).collect(), processors)
     }
 
     /// A fixed interleaved pattern over a `cols x rows` grid that also shifts each row, so
@@ -39,14 +64,16 @@ impl Assignment {
                 })
             })
             .collect();
-        Assignment { owner }
+        Assignment::from_owner(owner, processors)
     }
 
     /// The regions processor `p` rasterizes, in index order.
-    pub fn regions_of(&self, p: u32) -> Vec<u32> {
-        (0..self.owner.len() as u32)
-            .filter(|&r| self.owner[r as usize] == p)
-            .collect()
+    pub fn regions_of(&self, p: u32) -> &[u32] {
+        let p = p as usize;
+        match self.starts.get(p..p + 2) {
+            Some(&[start, end]) => &self.by_processor[start as usize..end as usize],
+            _ => &[],
+        }
     }
 
     /// Greedy multiple-bin packing: regions in decreasing estimated cost (ties by index) go
@@ -68,7 +95,7 @@ impl Assignment {
             owner[r as usize] = p;
             loads.push(Reverse((load + costs[r as usize], p)));
         }
-        Assignment { owner }
+        Assignment::from_owner(owner, initial_load.len() as u32)
     }
 
     /// Each processor's total estimated cost under this assignment.
@@ -127,6 +154,33 @@ mod tests {
             vec![0, 1, 1, 0],
             "a checkerboard"
         );
+    }
+
+    /// Each processor's list is exactly the regions it owns, in index order, for every way
+    /// an assignment is made, including processors left with none.
+    #[test]
+    fn regions_of_lists_what_each_processor_owns() {
+        let costs: Vec<SimTime> = (0..40u64).map(|r| SimTime::from_ns(r * 7 % 13)).collect();
+        let mut loads = vec![SimTime::ZERO; 6];
+        loads[2] = SimTime::from_us(1);
+        for a in [
+            Assignment::interleaved(23, 5),
+            Assignment::interleaved(3, 5),
+            Assignment::interleaved_2d(8, 5, 6),
+            Assignment::greedy(&costs, &loads),
+        ] {
+            let processors = a.starts.len() as u32 - 1;
+            let mut listed = 0;
+            for p in 0..processors + 2 {
+                let own: Vec<u32> = (0..a.owner.len() as u32)
+                    .filter(|&r| a.owner[r as usize] == p)
+                    .collect();
+                assert_eq!(a.regions_of(p), own, "processor {p} of {a:?}");
+                listed += own.len();
+            }
+            assert_eq!(listed, a.owner.len());
+        }
+        assert!(Assignment::greedy(&costs, &loads).regions_of(2).is_empty());
     }
 
     #[test]

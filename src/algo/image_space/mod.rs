@@ -510,8 +510,8 @@ pub(crate) async fn rasterize(
     let me = node.id();
     let rects: Vec<_> = assignment
         .regions_of(me)
-        .into_iter()
-        .map(|r| ctx.settings.grid.rect(r))
+        .iter()
+        .map(|&r| ctx.settings.grid.rect(r))
         .collect();
     let grid = ctx.aa_grid.borrow()[me as usize];
     let mut canvas = Canvas::new(
