@@ -382,9 +382,9 @@ pub(crate) async fn collect_image(node: &Node<Msg>, ctx: &Ctx, frame: u32, regio
 }
 
 /// Sums per-region counts up the tree: processor 0 ends with the total (`Some`); every other
-/// processor hands its partial sum on to its parent (moved into the message: a 512-node
-/// frame's counts are tens of kilobytes, and a copy kept by a processor that never reads it
-/// again cost a frame 16 MB of copying).
+/// processor hands its partial sum on to its parent, moved into the message (a 512-node
+/// frame's counts are 16 KB, and a copy kept by a processor that never read it again cost
+/// the frame 8 MB of copying).
 pub(crate) async fn sum_counts(
     node: &Node<Msg>,
     ctx: &Ctx,
