@@ -278,6 +278,16 @@ enum Slot {
     Ready(PreparedVertex),
 }
 
+impl Slot {
+    /// `v` prepared for `viewport`: invalid when it is missing or not finite.
+    fn of(v: Option<&Vertex>, viewport: Viewport) -> Slot {
+        match v.and_then(|v| prepare(v, viewport)) {
+            Some(p) => Slot::Ready(p),
+            None => Slot::Invalid,
+        }
+    }
+}
+
 impl VertexCache {
     pub fn new(vertex_count: usize, viewport: Viewport) -> VertexCache {
         VertexCache {
@@ -300,16 +310,13 @@ impl VertexCache {
     }
 
     /// Prepares every vertex now, in order: what [`VertexCache::get`] would fill in on first
-    /// use, so it changes no result. Triangles dealt out by stride (sort-middle's processors)
-    /// reach their vertices far apart, and preparing each on first use there read a vertex
-    /// and its slot out of cache; one pass in order streams both.
+    /// use, so it changes no result. Triangles dealt out scattered (sort-last's processors) reach
+    /// their vertices far apart, and preparing each on first use there read a vertex and its
+    /// slot out of cache; one pass in order streams both.
     pub fn prepare_all(&mut self, vertices: &[Vertex]) {
         for (slot, v) in self.slots.iter_mut().zip(vertices) {
             if let Slot::Empty = slot {
-                *slot = match prepare(v, self.viewport) {
-                    Some(p) => Slot::Ready(p),
-                    None => Slot::Invalid,
-                };
+                *slot = Slot::of(Some(v), self.viewport);
             }
         }
     }
@@ -317,13 +324,7 @@ impl VertexCache {
     fn get(&mut self, vertices: &[Vertex], i: u32) -> Option<PreparedVertex> {
         let slot = self.slots.get_mut(i as usize)?;
         if let Slot::Empty = slot {
-            *slot = match vertices
-                .get(i as usize)
-                .and_then(|v| prepare(v, self.viewport))
-            {
-                Some(p) => Slot::Ready(p),
-                None => Slot::Invalid,
-            };
+            *slot = Slot::of(vertices.get(i as usize), self.viewport);
         }
         match slot {
             Slot::Ready(p) => Some(*p),
