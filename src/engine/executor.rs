@@ -138,51 +138,75 @@ struct InFlight<M> {
     notify: Option<ProgramId>,
 }
 
-/// A node's state. The fields a message's hand-over touches come first, so that with the
-/// alignment they share the node's first cache lines (a run with many nodes takes most of its
-/// time missing in cache on them).
+/// A node's state. What a message's hand-over and the next `recv` touch fill the node's first
+/// two cache lines (a run with many nodes takes most of its time missing in cache on them):
+/// the waiters and the mailbox the first, the received counters and the message handed over
+/// the second. With the counters among the other statistics, on a third line, a delivery
+/// missed one line more (PHOLD, 16,384 logical processes: docs/performance.md).
 #[repr(C, align(64))]
 pub(super) struct NodeState<M> {
     /// Programs waiting for a message, one as a rule: kept inline, so handing a message over
     /// touches no memory beyond the node's own.
     pub waiters: SmallVec<[(ProgramId, Filter); 1]>,
-    /// Messages handed straight to programs that were waiting for them, until each runs: kept
-    /// on the node too, where a `recv` looks first.
-    pub handoffs: Handoffs<M>,
     pub mailbox: VecDeque<Envelope<M>>,
-    pub stats: NodeStats,
+    /// What every delivery counts; [`NodeStats`] takes them when a run's counters are read.
+    pub received: Received,
+    /// The message handed over to one of its programs, as a rule the only one ([`Handoffs`]).
+    pub handoff: Handoff<M>,
     pub cpu_free_at: SimTime,
+    pub stats: NodeStats,
     pub pool: MemoryPool,
 }
 
-/// A node's messages handed over and not yet taken, one per program: one as a rule, kept
-/// inline (several only when a node's programs are handed messages before any of them runs).
+/// The bytes and messages delivered to a node.
+#[derive(Clone, Copy, Default)]
+pub(super) struct Received {
+    pub bytes: Bytes,
+    pub messages: u64,
+}
+
+impl<M> NodeState<M> {
+    /// The node's statistics with the received counters in them.
+    fn stats(&self) -> NodeStats {
+        NodeStats {
+            bytes_received: self.received.bytes,
+            messages_received: self.received.messages,
+            ..self.stats.clone()
+        }
+    }
+}
+
+/// Messages handed straight to programs that were waiting for them, until each runs, one per
+/// program: a node's first on the node (`NodeState::handoff`), where a `recv` looks first;
+/// the rest (several only when a node's programs are handed messages before any of them runs)
+/// in one list of the run's, so that the node's second cache line holds the one it has as a
+/// rule and nothing else.
 pub(super) struct Handoffs<M> {
-    first: Option<(ProgramId, Envelope<M>)>,
     more: Vec<(ProgramId, Envelope<M>)>,
 }
 
 impl<M> Default for Handoffs<M> {
     fn default() -> Self {
-        Handoffs {
-            first: None,
-            more: Vec::new(),
-        }
+        Handoffs { more: Vec::new() }
     }
 }
 
+/// The message handed over that a node keeps on itself, and the program it is for.
+pub(super) type Handoff<M> = Option<(ProgramId, Envelope<M>)>;
+
 impl<M> Handoffs<M> {
-    fn put(&mut self, p: ProgramId, env: Envelope<M>) {
-        match self.first {
-            None => self.first = Some((p, env)),
+    /// Hands `env` to program `p` of the node whose own hand-off slot is `first`.
+    fn put(&mut self, first: &mut Handoff<M>, p: ProgramId, env: Envelope<M>) {
+        match first {
+            None => *first = Some((p, env)),
             Some(_) => self.more.push((p, env)),
         }
     }
 
-    /// The message handed to program `p`, if one was.
-    pub fn take(&mut self, p: ProgramId) -> Option<Envelope<M>> {
-        if self.first.as_ref().is_some_and(|&(q, _)| q == p) {
-            return self.first.take().map(|(_, env)| env);
+    /// The message handed to program `p` of the node whose own slot is `first`, if one was.
+    pub fn take(&mut self, first: &mut Handoff<M>, p: ProgramId) -> Option<Envelope<M>> {
+        if first.as_ref().is_some_and(|&(q, _)| q == p) {
+            return first.take().map(|(_, env)| env);
         }
         let i = self.more.iter().position(|&(q, _)| q == p)?;
         Some(self.more.swap_remove(i).1)
@@ -198,6 +222,7 @@ pub(super) struct State<M> {
     pub programs: Vec<ProgramMeta>,
     pub spawned: Vec<Program>,
     pub nodes: Vec<NodeState<M>>,
+    pub handoffs: Handoffs<M>,
     /// Where each node's first program keeps its state, while it runs, for the look ahead
     /// (`warm_for_next`).
     first_program: Vec<Option<Warm>>,
@@ -396,12 +421,12 @@ impl<M: Payload> State<M> {
     #[inline]
     pub fn deliver(&mut self, env: Envelope<M>) {
         let node = &mut self.nodes[env.dst as usize];
-        node.stats.bytes_received += env.bytes;
-        node.stats.messages_received += 1;
+        node.received.bytes += env.bytes;
+        node.received.messages += 1;
         match node.waiters.iter().position(|(_, f)| f.matches(&env)) {
             Some(i) => {
                 let (p, _) = node.waiters.swap_remove(i);
-                node.handoffs.put(p, env);
+                self.handoffs.put(&mut node.handoff, p, env);
                 self.ready.push_back(p);
             }
             None => node.mailbox.push_back(env),
@@ -444,9 +469,10 @@ impl<M: Payload> Sim<M> {
         let nodes: Vec<NodeState<M>> = (0..nodes)
             .map(|i| NodeState {
                 cpu_free_at: SimTime::ZERO,
+                received: Received::default(),
                 mailbox: VecDeque::new(),
                 waiters: SmallVec::new(),
-                handoffs: Handoffs::default(),
+                handoff: None,
                 pool: MemoryPool::new(i, memory),
                 stats: NodeStats::default(),
             })
@@ -461,6 +487,7 @@ impl<M: Payload> Sim<M> {
             programs: Vec::new(),
             spawned: Vec::new(),
             nodes,
+            handoffs: Handoffs::default(),
             look_ahead: first_program.len() >= LOOK_AHEAD_NODES,
             first_program,
             cpu,
@@ -620,7 +647,7 @@ impl<M: Payload> Sim<M> {
             end: st.now,
             seed: st.seed,
             events: st.events,
-            nodes: st.nodes.iter().map(|n| n.stats.clone()).collect(),
+            nodes: st.nodes.iter().map(NodeState::stats).collect(),
             links: st.net.as_ref().map(Network::link_stats).unwrap_or_default(),
             memory: st.nodes.iter().map(|n| n.pool.stats()).collect(),
             timeline: None,
@@ -872,15 +899,39 @@ mod tests {
     #[test]
     fn each_program_takes_its_own_handoff() {
         let mut h = Handoffs::default();
-        h.put(7, envelope(1));
-        h.put(3, envelope(2));
-        h.put(5, envelope(3));
-        assert!(h.take(4).is_none());
-        assert_eq!(h.take(5).map(|e| e.payload), Some(3));
-        assert_eq!(h.take(7).map(|e| e.payload), Some(1));
-        h.put(4, envelope(4));
-        assert_eq!(h.take(4).map(|e| e.payload), Some(4));
-        assert_eq!(h.take(3).map(|e| e.payload), Some(2));
-        assert!(h.take(3).is_none() && h.take(7).is_none());
+        let (mut a, mut b) = (None, None);
+        h.put(&mut a, 7, envelope(1));
+        h.put(&mut a, 3, envelope(2));
+        h.put(&mut b, 9, envelope(5));
+        h.put(&mut a, 5, envelope(3));
+        h.put(&mut b, 8, envelope(6));
+        assert!(h.take(&mut a, 4).is_none());
+        assert_eq!(h.take(&mut a, 5).map(|e| e.payload), Some(3));
+        assert_eq!(h.take(&mut b, 8).map(|e| e.payload), Some(6));
+        assert_eq!(h.take(&mut a, 7).map(|e| e.payload), Some(1));
+        h.put(&mut a, 4, envelope(4));
+        assert_eq!(h.take(&mut a, 4).map(|e| e.payload), Some(4));
+        assert_eq!(h.take(&mut a, 3).map(|e| e.payload), Some(2));
+        assert!(h.take(&mut a, 3).is_none() && h.take(&mut a, 7).is_none());
+        assert_eq!(h.take(&mut b, 9).map(|e| e.payload), Some(5));
+        assert!(h.take(&mut b, 9).is_none() && h.more.is_empty());
+    }
+
+    /// A delivery and the next `recv` of a node touch its first two cache lines only, for a
+    /// payload as small as PHOLD's: the waiters and the mailbox in the first, the received
+    /// counters and the message handed over in the second.
+    #[test]
+    fn a_handover_touches_two_lines_of_the_node() {
+        use std::mem::{offset_of, size_of};
+        type N = NodeState<u32>;
+        let line = |start: usize, len: usize| (start / 64, (start + len - 1) / 64);
+        let waiters = size_of::<SmallVec<[(ProgramId, Filter); 1]>>();
+        assert_eq!(line(offset_of!(N, waiters), waiters), (0, 0));
+        let mailbox = size_of::<VecDeque<Envelope<u32>>>();
+        assert_eq!(line(offset_of!(N, mailbox), mailbox), (0, 0));
+        let received = size_of::<Received>();
+        assert_eq!(line(offset_of!(N, received), received), (1, 1));
+        let handoff = size_of::<Handoff<u32>>();
+        assert_eq!(line(offset_of!(N, handoff), handoff), (1, 1));
     }
 }

@@ -377,8 +377,9 @@ impl<M: Payload> Future for Receive<'_, M> {
         }
         let p = st.current;
         let filter = this.filter;
+        let st = &mut *st;
         let node = &mut st.nodes[this.node.id as usize];
-        let env = match node.handoffs.take(p) {
+        let env = match st.handoffs.take(&mut node.handoff, p) {
             Some(env) => env,
             None => match node.mailbox.iter().position(|e| filter.matches(e)) {
                 Some(i) => node.mailbox.remove(i).expect("position is in range"),

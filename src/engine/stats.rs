@@ -7,10 +7,9 @@ use crate::machine::PoolStats;
 use crate::net::{LinkStats, NodeId};
 use crate::units::{Bytes, SimTime};
 
-/// The received counters come first: every delivery updates them, next to the node's waiters
-/// (see the engine's `NodeState`).
+/// A node's counters as a run reports them (the engine counts the received ones beside the
+/// node's waiters, where every delivery is, and copies them in when the run's counters are read).
 #[derive(Clone, Debug, Default, PartialEq, Eq)]
-#[repr(C)]
 pub struct NodeStats {
     pub bytes_received: Bytes,
     pub messages_received: u64,
