@@ -7,8 +7,9 @@ use crate::machine::PoolStats;
 use crate::net::{LinkStats, NodeId};
 use crate::units::{Bytes, SimTime};
 
-/// A node's counters as a run reports them (the engine counts the received ones beside the
-/// node's waiters, where every delivery is, and copies them in when the run's counters are read).
+/// A node's counters as a run reports them. The engine counts the received ones on the node's
+/// record beside the message handed over, which every delivery touches, and copies them in
+/// only when the run's counters are read: during a run these two fields stay zero.
 #[derive(Clone, Debug, Default, PartialEq, Eq)]
 pub struct NodeStats {
     pub bytes_received: Bytes,
