@@ -605,15 +605,16 @@ pub fn table(report: &ScaleReport) -> String {
     }
     if !report.flow_solves.is_empty() {
         s += &format!(
-            "\nflow solves (per solve, but the last four: how many solves swept, swept again, or \
-             added or removed a flow with no sweep)\n{:<20} {:>7} {:>7} {:>7} {:>8} {:>10} {:>11} {:>7} {:>11} {:>7} {:>7} {:>7} {:>7}\n",
+            "\nflow solves (per solve, then how many solves swept, swept again, or added or \
+             removed a flow with no sweep, then per sweep run the links made dirty and those left \
+             out and checked after it)\n{:<20} {:>7} {:>7} {:>7} {:>8} {:>10} {:>11} {:>7} {:>11} {:>7} {:>7} {:>7} {:>7} {:>7} {:>8}\n",
             "", "solves", "flows", "groups", "switched", "flows/link", "groups/link", "swept",
-            "swept-links", "sweeps", "again", "added", "removed"
+            "swept-links", "sweeps", "again", "added", "removed", "dirty", "left-out"
         );
         for (label, c) in &report.flow_solves {
             let per = |n: u64, d: u64| n as f64 / d.max(1) as f64;
             s += &format!(
-                "{:<20} {:>7} {:>7.1} {:>7.1} {:>8.2} {:>10.1} {:>11.1} {:>7.1} {:>11.1} {:>7} {:>7} {:>7} {:>7}\n",
+                "{:<20} {:>7} {:>7.1} {:>7.1} {:>8.2} {:>10.1} {:>11.1} {:>7.1} {:>11.1} {:>7} {:>7} {:>7} {:>7} {:>7.1} {:>8.1}\n",
                 label,
                 c.solves,
                 per(c.flows_changed, c.solves),
@@ -627,6 +628,8 @@ pub fn table(report: &ScaleReport) -> String {
                 c.reruns,
                 c.added_alone,
                 c.removed_alone,
+                per(c.dirty_links, c.sweeps + c.reruns),
+                per(c.left_out_links, c.sweeps + c.reruns),
             );
         }
     }
@@ -700,6 +703,8 @@ mod tests {
                     reruns: 1,
                     added_alone: 1,
                     removed_alone: 1,
+                    dirty_links: 6,
+                    left_out_links: 12,
                 },
             )],
         };
@@ -717,7 +722,7 @@ mod tests {
         // Per solve: 2.5 flows and 0.5 groups changed, 0.25 switched; per evaluated link 2.5
         // flows walked against 1.5 groups crossing; per solve 1.5 flows swept, crossing 7.5
         // links; of the 4 solves, 2 swept (one of them twice), 1 added a flow alone and 1
-        // removed one alone.
+        // removed one alone; the 3 sweep runs made 2 links dirty and left 4 out each.
         let solves = text.split("flow solves").nth(1).unwrap();
         let row: Vec<&str> = solves
             .lines()
@@ -727,7 +732,10 @@ mod tests {
             .collect();
         assert_eq!(
             row[2..],
-            ["4", "2.5", "0.5", "0.25", "2.5", "1.5", "1.5", "7.5", "2", "1", "1", "1"]
+            [
+                "4", "2.5", "0.5", "0.25", "2.5", "1.5", "1.5", "7.5", "2", "1", "1", "1", "2.0",
+                "4.0"
+            ]
         );
     }
 }

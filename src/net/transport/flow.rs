@@ -386,6 +386,7 @@ impl Transport for Flow {
         let (flows_swept, swept_route_links) = self.shares.swept;
         let (sweeps, reruns) = self.shares.sweeps;
         let (added_alone, removed_alone) = self.shares.alone;
+        let (dirty_links, left_out_links) = self.shares.left_out;
         super::SolveCounters {
             link_evaluations,
             flows_on_links,
@@ -396,6 +397,8 @@ impl Transport for Flow {
             reruns,
             added_alone,
             removed_alone,
+            dirty_links,
+            left_out_links,
             ..self.counted
         }
     }
@@ -681,6 +684,10 @@ mod tests {
         // and the first two ending together; the last end, alone on both its links, needs none.
         assert_eq!((c.sweeps, c.reruns), (3, 0));
         assert_eq!((c.added_alone, c.removed_alone), (0, 1));
+        // Dirty: link 0 in each of the three sweeps. Link 1, crossed by the third flow
+        // alone, is left out of both sweeps that change its rate, unchecked: the rate stays
+        // below the link's capacity.
+        assert_eq!((c.dirty_links, c.left_out_links), (3, 0));
     }
 
     proptest! {

@@ -211,18 +211,22 @@ pub struct MaxMin {
     /// Dirty-link evaluations, the flows and the groups crossing those links; flows drawn into
     /// a sweep and the links of their routes; solves that swept and sweeps run again because
     /// a suspect failed its check; flows added without a sweep (`fixer_if_added_alone`) and
-    /// removed without one (`leaves_every_rate_as_it_is`). Counted with the `counters`
-    /// feature and in tests only.
+    /// removed without one (`leaves_every_rate_as_it_is`); per sweep run, the links made
+    /// dirty and the links left out of it and checked after it (suspects). Counted with the
+    /// `counters` feature and in tests only.
     pub(super) evaluations: (u64, u64, u64),
     pub(super) swept: (u64, u64),
     pub(super) sweeps: (u64, u64),
     pub(super) alone: (u64, u64),
+    pub(super) left_out: (u64, u64),
 }
 
 #[derive(Default)]
 struct Link {
     flows: Vec<u32>,
-    /// The sum of its flows' rates.
+    /// The sum of its flows' rates while two or more cross it. A link one flow crosses keeps
+    /// none ([`MaxMin::load`] is that flow's rate), so that a sweep that changes the flow's
+    /// rate need not visit it (`Sweep::lone`).
     load: u64,
 }
 
@@ -330,6 +334,9 @@ struct Sweep {
     /// The untouched flows a link will see fixed as the sweep rises, as (old key, old rate,
     /// how many).
     ahead: Vec<Ahead>,
+    /// Lone links are left out of this sweep (`Sweep::lone`): set once its first dirty links
+    /// are marked, on a network whose links have one capacity.
+    skip_lone: bool,
 }
 
 /// Flows a link sees fixed elsewhere at one key: `(key, rate, count)`.
@@ -380,6 +387,9 @@ struct SweepLink {
     /// the sweep's key only raises the shares of the other links it crosses, so its pop can
     /// only have moved later, and it is evaluated again when its entry comes up, not at once.
     stale: bool,
+    /// Exactly one flow crosses it (kept from solve to solve, like `key`): read where the
+    /// link's other fields are, so that leaving a lone link out reads nothing more.
+    single: bool,
 }
 
 const _: () = assert!(std::mem::size_of::<SweepLink>() == 64);
@@ -401,6 +411,7 @@ impl Default for SweepLink {
             whole: false,
             fixed_whole: false,
             stale: false,
+            single: false,
         }
     }
 }
@@ -409,6 +420,19 @@ const POP: u64 = 0;
 const PASS: u64 = 1;
 
 impl Sweep {
+    /// Whether `link` is left out of this sweep altogether (*lone*): one flow crosses it, it
+    /// fixed nothing last time, and it is not dirty. A link that fixed nothing turns dirty
+    /// only as a sweep begins, so nothing ever reads what it would tally; with one flow on
+    /// it, it still fixes nothing unless that flow's rate reaches the link's capacity, which
+    /// is checked once the sweep is done (`MaxMin::lone_links_stay_out`). On a 512-node Delta
+    /// frame more than half the links a sweep would leave out and check after it are lone: a
+    /// message's route crosses links no other message is using.
+    #[inline]
+    fn lone(&self, link: LinkId) -> bool {
+        let sl = &self.links[link as usize];
+        self.skip_lone && sl.single && sl.key == NONE && sl.epoch != self.epoch
+    }
+
     /// Whether `link` is dirty in this sweep (so the flows it fixed last time, its group, are
     /// all drawn in).
     fn is_dirty(&self, link: LinkId) -> bool {
@@ -501,6 +525,7 @@ impl MaxMin {
             swept: (0, 0),
             sweeps: (0, 0),
             alone: (0, 0),
+            left_out: (0, 0),
             sweep: Sweep {
                 links: vec![SweepLink::default(); links],
                 unsettled_of: vec![(0, 0); links],
@@ -530,7 +555,14 @@ impl MaxMin {
         f.group = NO_GROUP;
         f.live = true;
         for &l in route {
-            self.links[l as usize].flows.push(slot);
+            let flows = &mut self.links[l as usize].flows;
+            flows.push(slot);
+            let (count, first) = (flows.len(), flows[0]);
+            if count == 2 {
+                // It kept no load with one flow; the new flow has no rate yet.
+                self.links[l as usize].load = self.old_rate(first);
+            }
+            self.sweep.links[l as usize].single = count == 1;
         }
         self.added.push(slot);
     }
@@ -555,13 +587,19 @@ impl MaxMin {
         f.group = NO_GROUP;
         f.live = false;
         for &l in &f.route {
-            self.links[l as usize].load -= rate;
-            let flows = &mut self.links[l as usize].flows;
-            let pos = flows
+            let link = &mut self.links[l as usize];
+            let pos = link
+                .flows
                 .iter()
                 .position(|&x| x == slot)
                 .expect("flow on its link");
-            flows.swap_remove(pos);
+            link.flows.swap_remove(pos);
+            // With one flow left, or none, the link keeps no load.
+            link.load = match link.flows.len() {
+                0 | 1 => 0,
+                _ => link.load - rate,
+            };
+            self.sweep.links[l as usize].single = link.flows.len() == 1;
         }
         if alone {
             self.sweep.links[self.keys.link_of(old) as usize].key = NONE;
@@ -606,10 +644,7 @@ impl MaxMin {
             if self.last_key(l) != NONE {
                 return None;
             }
-            let room = self
-                .capacity
-                .of(l)
-                .saturating_sub(self.links[l as usize].load);
+            let room = self.capacity.of(l).saturating_sub(self.load(l));
             fixer = fixer.min(self.keys.key(room, l));
         }
         let b = self.keys.link_of(fixer);
@@ -662,7 +697,7 @@ impl MaxMin {
         let rate = self.keys.share_of(at).max(1);
         let link = &self.links[l as usize];
         if link.flows.len() == 1
-            || link.load + rate + link.flows.len() as u64 <= self.capacity.of(l)
+            || self.load(l) + rate + link.flows.len() as u64 <= self.capacity.of(l)
         {
             return true;
         }
@@ -684,7 +719,11 @@ impl MaxMin {
         let f = &mut self.flows[slot as usize];
         f.group = self.keys.link_of(at);
         for &l in &f.route {
-            self.links[l as usize].load += rate;
+            // A link it alone crosses keeps no load: its rate is the flow's, set below.
+            let link = &mut self.links[l as usize];
+            if link.flows.len() > 1 {
+                link.load += rate;
+            }
         }
         self.sweep.links[self.keys.link_of(at) as usize].key = at;
         self.join(slot, self.keys.link_of(at));
@@ -797,6 +836,15 @@ impl MaxMin {
         }
     }
 
+    /// The sum of the rates of the flows on `link` as of the last solve.
+    fn load(&self, link: LinkId) -> u64 {
+        let l = &self.links[link as usize];
+        match l.flows[..] {
+            [only] => self.old_rate(only),
+            _ => l.load,
+        }
+    }
+
     /// Link `link`'s key in the last solve; `NONE` if it fixed nothing.
     fn last_key(&self, link: LinkId) -> Key {
         self.sweep.links[link as usize].key
@@ -892,6 +940,7 @@ impl MaxMin {
         s.unsettled.clear();
         s.suspects.clear();
         s.heap.clear();
+        s.skip_lone = false;
         #[cfg(any(test, feature = "counters"))]
         for &slot in &self.added {
             self.swept.0 += 1;
@@ -921,9 +970,12 @@ impl MaxMin {
             self.mark_dirty(self.forced[i]);
         }
         for i in 0..self.added.len() {
-            let slot = self.added[i];
-            self.mark_fixer_of_added(slot);
-            self.note_route(slot);
+            self.mark_fixer_of_added(self.added[i]);
+        }
+        // No link that fixed nothing turns dirty from here on.
+        self.sweep.skip_lone = matches!(self.capacity, Capacities::Uniform(_));
+        for i in 0..self.added.len() {
+            self.note_route(self.added[i]);
         }
         for i in 0..self.shrunk.len() {
             // A link that fixed nothing only gained room when a flow left it, so it still fixes
@@ -961,12 +1013,20 @@ impl MaxMin {
             }
             self.evaluate_pending();
         }
+        #[cfg(any(test, feature = "counters"))]
+        {
+            self.left_out.0 += self.sweep.dirty.len() as u64;
+            self.left_out.1 += self.sweep.suspects.len() as u64;
+        }
         let forced = self.forced.len();
         for i in 0..self.sweep.suspects.len() {
             let link = self.sweep.suspects[i];
             if !self.sweep.is_dirty(link) && !self.stays_out(link) {
                 self.forced.push(link);
             }
+        }
+        if self.sweep.skip_lone {
+            self.lone_links_stay_out();
         }
         self.forced.len() == forced
     }
@@ -990,7 +1050,7 @@ impl MaxMin {
             let link = &self.links[l as usize];
             let capacity = self.capacity.of(l);
             let share = capacity / link.flows.len() as u64;
-            let room = capacity.saturating_sub(link.load).max(share);
+            let room = capacity.saturating_sub(self.load(l)).max(share);
             if room < guess {
                 guess = room;
                 tightest = Some(l);
@@ -1002,7 +1062,7 @@ impl MaxMin {
             let link = &self.links[l as usize];
             if self.last_key(l) != NONE {
                 fixer = None;
-            } else if link.load + guess + link.flows.len() as u64 > self.capacity.of(l) {
+            } else if self.load(l) + guess + link.flows.len() as u64 > self.capacity.of(l) {
                 self.mark_dirty(l);
                 fixer = None;
             }
@@ -1023,6 +1083,9 @@ impl MaxMin {
             }
             return;
         }
+        if self.sweep.lone(link) {
+            return;
+        }
         let epoch = self.sweep.epoch;
         let sl = self.sweep.link_seen(link);
         if sl.epoch != epoch && !sl.suspect {
@@ -1031,12 +1094,73 @@ impl MaxMin {
         }
     }
 
+    /// Puts in `forced` every lone link (`Sweep::lone`: left out of this sweep) that would
+    /// have fixed its flow. Its one flow was drawn in (nothing else changes a lone link), and
+    /// every flow drawn in crosses a dirty link, so it is fixed; the link stays out while the
+    /// flow's rate is below the link's capacity, the one capacity of every link here. Only a
+    /// flow as fast as a link can be has its lone links checked, as a suspect is.
+    fn lone_links_stay_out(&mut self) {
+        let capacity = self.capacity.max();
+        for i in 0..self.sweep.settled.len() {
+            let slot = self.sweep.settled[i];
+            let sf = self.flows[slot as usize].swept();
+            if sf.rate >= capacity {
+                self.force_lone_links_of(slot, sf.rate, sf.key);
+            }
+        }
+        for i in 0..self.sweep.settled_groups.len() {
+            let g = self.sweep.settled_groups[i];
+            let at = self.sweep.links[g as usize].pop;
+            if self.keys.rate_at(at) < capacity {
+                continue;
+            }
+            for j in 0..self.groups[g as usize].slots.len() {
+                let slot = self.groups[g as usize].slots[j];
+                if let Some((rate, key)) = self.final_rate_and_key(slot) {
+                    self.force_lone_links_of(slot, rate, key);
+                }
+            }
+        }
+        for i in 0..self.added.len() {
+            let slot = self.added[i];
+            let f = &self.flows[slot as usize];
+            if f.live && !f.settled {
+                // Never so (see above); were it, its lone links would fix it.
+                self.force_lone_links_of(slot, 0, NONE);
+            }
+        }
+    }
+
+    /// Puts in `forced` each lone link of flow `slot`, fixed at `rate` and `key` in this
+    /// sweep (`NONE`: not fixed), that would have fixed it: the check `stays_out` makes, with
+    /// the flow alone on the link.
+    fn force_lone_links_of(&mut self, slot: u32, rate: u64, key: Key) {
+        for j in 0..self.flows[slot as usize].route.len() {
+            let l = self.flows[slot as usize].route[j];
+            if !self.sweep.lone(l) {
+                continue;
+            }
+            let out = key != NONE
+                && (rate < self.capacity.of(l)
+                    || share_stays_above(
+                        self.keys,
+                        self.capacity.of(l),
+                        l,
+                        &mut [(key, rate, 1)],
+                        0,
+                    ));
+            if !out {
+                self.forced.push(l);
+            }
+        }
+    }
+
     /// Whether suspect `link`, left out of this sweep, would have fixed nothing in it: as its
     /// flows are fixed in key order at the rates the sweep gave them, its share never falls
     /// to the key of the next one.
     fn stays_out(&mut self, link: LinkId) -> bool {
         let l = &self.links[link as usize];
-        let load = l.load as i128 + self.sweep.links[link as usize].delta as i128;
+        let load = self.load(link) as i128 + self.sweep.links[link as usize].delta as i128;
         if load + l.flows.len() as i128 <= self.capacity.of(link) as i128 {
             return true;
         }
@@ -1118,7 +1242,9 @@ impl MaxMin {
                 self.swept.1 += crossings.sum::<u64>();
             }
             for gl in &self.groups[l].links {
-                self.sweep.count_drawn(gl.link, gl.crossing);
+                if !self.sweep.lone(gl.link) {
+                    self.sweep.count_drawn(gl.link, gl.crossing);
+                }
             }
         } else {
             for i in 0..members {
@@ -1167,7 +1293,9 @@ impl MaxMin {
     /// the dirty ones that have not fixed their flows must be evaluated again.
     fn draw_route(&mut self, slot: u32) {
         for &l in &self.flows[slot as usize].route {
-            self.sweep.count_drawn(l, 1);
+            if !self.sweep.lone(l) {
+                self.sweep.count_drawn(l, 1);
+            }
         }
     }
 
@@ -1492,7 +1620,9 @@ impl MaxMin {
                 continue;
             }
             for &l in &flow.route {
-                f(self.sweep.link_seen(l));
+                if !self.sweep.lone(l) {
+                    f(self.sweep.link_seen(l));
+                }
             }
         }
     }
@@ -1523,6 +1653,9 @@ impl MaxMin {
     /// key other than last time), any other link is noted, in the same visit.
     #[inline]
     fn count_fixed(&mut self, link: LinkId, delta: i64, fixed: u32, load: u64, moved: bool) {
+        if self.sweep.lone(link) {
+            return;
+        }
         let epoch = self.sweep.epoch;
         let sl = self.sweep.link_seen(link);
         sl.delta += delta;
@@ -1620,7 +1753,7 @@ impl MaxMin {
             let sl = &mut s.links[l as usize];
             let link = &mut self.links[l as usize];
             sl.key = if sl.popped { sl.pop } else { NONE };
-            if sl.seen == s.epoch {
+            if sl.seen == s.epoch && !sl.single {
                 link.load = (link.load as i64 + sl.delta) as u64;
             }
         }
@@ -1628,7 +1761,7 @@ impl MaxMin {
             // A settled flow's links are all dirty or suspects, so every delta lands here
             // (once: a link suspected for one added flow and made dirty for another took its
             // delta above).
-            if s.links[l as usize].epoch == s.epoch {
+            if s.links[l as usize].epoch == s.epoch || s.links[l as usize].single {
                 continue;
             }
             let link = &mut self.links[l as usize];
@@ -1681,9 +1814,13 @@ impl MaxMin {
 
     /// Whether every link's load is the sum of its flows' rates.
     fn loads_add_up(&self) -> bool {
-        self.links
-            .iter()
-            .all(|l| l.load == l.flows.iter().map(|&s| self.old_rate(s)).sum::<u64>())
+        (0..self.links.len() as LinkId).all(|l| {
+            let flows = &self.links[l as usize].flows;
+            let sum = flows.iter().map(|&s| self.old_rate(s)).sum::<u64>();
+            self.load(l) == sum
+                && (flows.len() > 1 || self.links[l as usize].load == 0)
+                && self.sweep.links[l as usize].single == (flows.len() == 1)
+        })
     }
 
     /// What [`MaxMin::solve`] must do, done plainly: every rate from [`reference_rates`],

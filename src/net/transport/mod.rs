@@ -47,6 +47,12 @@ pub struct SolveCounters {
     /// provably unchanged).
     pub added_alone: u64,
     pub removed_alone: u64,
+    /// Over every sweep run: the links made dirty (evaluated and popped in key order), and
+    /// the links left out and checked once it is done (suspects: their flows changed, but
+    /// they fixed nothing last time, and more than one flow crosses them or the links'
+    /// capacities differ).
+    pub dirty_links: u64,
+    pub left_out_links: u64,
 }
 
 /// What a transport knows about one link.
