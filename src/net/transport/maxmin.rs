@@ -837,6 +837,7 @@ impl MaxMin {
     }
 
     /// The sum of the rates of the flows on `link` as of the last solve.
+    #[inline]
     fn load(&self, link: LinkId) -> u64 {
         let l = &self.links[link as usize];
         match l.flows[..] {
