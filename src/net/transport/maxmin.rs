@@ -2221,6 +2221,37 @@ mod tests {
         assert!(mm.groups_add_up());
     }
 
+    /// A lone link (one flow crosses it, and it fixed nothing) is left out of the sweep, but
+    /// not when its flow's rate reaches the capacity: `a` shares link 1 with `b`, which fixes
+    /// both; when `b` leaves, `a` gets the whole capacity on both its links, and the filling
+    /// fixes it at the lower index, link 0, the lone one. Its check fails once and the sweep
+    /// runs again with link 0 in.
+    #[test]
+    fn a_lone_link_that_must_fix_its_flow_is_put_back() {
+        let mut mm = MaxMin::new(Capacities::Uniform(10), 2);
+        mm.add(0, &[0, 1]); // a
+        mm.add(1, &[1]); // b
+        let mut changed = Changes::default();
+        mm.solve(&mut changed);
+        assert_eq!((mm.rate(0), mm.bottleneck(0)), (5, 1));
+        assert_eq!(mm.sweep.links[0].key, NONE, "link 0 fixes nothing at first");
+        mm.remove(1);
+        let (sweeps, reruns) = mm.sweeps;
+        mm.solve(&mut changed);
+        assert_eq!(
+            mm.sweeps,
+            (sweeps + 1, reruns + 1),
+            "link 0's check failed once"
+        );
+        assert_eq!(
+            (mm.rate(0), mm.bottleneck(0)),
+            (10, 0),
+            "a is fixed by link 0"
+        );
+        assert!(mm.loads_add_up());
+        assert!(mm.groups_add_up());
+    }
+
     #[test]
     fn equals_progressive_filling_on_a_long_random_pattern() {
         use rand::{Rng, SeedableRng};
