@@ -1759,9 +1759,9 @@ impl MaxMin {
             }
         }
         for &l in &s.suspects {
-            // A settled flow's links are all dirty or suspects, so every delta lands here
-            // (once: a link suspected for one added flow and made dirty for another took its
-            // delta above).
+            // A settled flow's links are all dirty, suspects or lone (keeping no load), so every
+            // delta lands here (once: a link suspected for one added flow and made dirty for
+            // another took its delta above).
             if s.links[l as usize].epoch == s.epoch || s.links[l as usize].single {
                 continue;
             }
