@@ -1132,24 +1132,18 @@ impl MaxMin {
         }
     }
 
-    /// Puts in `forced` each lone link of flow `slot`, fixed at `rate` and `key` in this
-    /// sweep (`NONE`: not fixed), that would have fixed it: the check `stays_out` makes, with
-    /// the flow alone on the link.
+    /// Puts in `forced` each lone link of flow `slot`, fixed at `rate` (the links' capacity:
+    /// a slower flow leaves them all out) and `key` in this sweep (`NONE`: not fixed), that
+    /// would have fixed it: `stays_out`'s walk, with the flow alone on the link.
     fn force_lone_links_of(&mut self, slot: u32, rate: u64, key: Key) {
         for j in 0..self.flows[slot as usize].route.len() {
             let l = self.flows[slot as usize].route[j];
             if !self.sweep.lone(l) {
                 continue;
             }
-            let out = key != NONE
-                && (rate < self.capacity.of(l)
-                    || share_stays_above(
-                        self.keys,
-                        self.capacity.of(l),
-                        l,
-                        &mut [(key, rate, 1)],
-                        0,
-                    ));
+            let capacity = self.capacity.of(l);
+            let out =
+                key != NONE && share_stays_above(self.keys, capacity, l, &mut [(key, rate, 1)], 0);
             if !out {
                 self.forced.push(l);
             }
