@@ -18,6 +18,7 @@ mod cli;
 mod docs;
 mod engine_network;
 mod engine_programs;
+mod front_end_ahead;
 mod fuzz_corpus;
 mod install;
 mod instructions;

@@ -1,7 +1,8 @@
 //! What every algorithm family's processors share on the host during one run: the scene's
 //! geometry per frame and its prepared vertices (computed once per frame, not once per
-//! processor, in the memory of the frame dropped before it) and the per-frame records being
-//! written (start, end, traffic, rasterization finishing times).
+//! processor, in the memory of the frame dropped before it; a run's later frames made ahead on
+//! a thread of their own, `ahead`) and the per-frame records being written (start, end,
+//! traffic, rasterization finishing times).
 //!
 //! Must never hold simulated state: nothing here is charged to the machine, and nothing here
 //! may change what a node program decides, only what the run reports.
@@ -12,7 +13,9 @@ use std::ops::Range;
 use std::rc::Rc;
 use std::sync::Arc;
 
-use super::FrameRecord;
+use super::ahead::{self, Ahead, Deal};
+use super::image_space::dealing::Dealt;
+use super::{FrameRecord, RunConfig};
 use crate::engine::{Node, Payload, SimError};
 use crate::raster::{VertexCache, Viewport};
 use crate::scene::{FrameGeometry, Scene};
@@ -25,6 +28,8 @@ pub(crate) struct FrameBook {
     /// Where the run draws: every processor's vertices are prepared for it.
     viewport: Viewport,
     geometry: RefCell<BTreeMap<u32, Shared>>,
+    /// The thread making the later frames' front end, when the run has one.
+    ahead: RefCell<Option<Ahead>>,
     records: RefCell<BTreeMap<u32, FrameRecord>>,
     /// The frames a recorded timeline covers (all when `None`).
     timeline_frames: Option<Range<u32>>,
@@ -37,19 +42,21 @@ pub(crate) struct FrameBook {
 struct Shared {
     geometry: Rc<FrameGeometry>,
     vertices: Rc<RefCell<VertexCache>>,
+    /// Every processor's dealt share, when it was made ahead and not yet taken.
+    dealt: Rc<RefCell<Option<Vec<Dealt>>>>,
 }
 
 impl Shared {
     fn new(geometry: Rc<FrameGeometry>, viewport: Viewport, spare: Option<VertexCache>) -> Shared {
-        let count = geometry.vertices.len();
-        let mut vertices = match spare {
-            Some(cache) => cache.emptied(count, viewport),
-            None => VertexCache::new(count, viewport),
-        };
-        vertices.prepare_all(&geometry.vertices);
+        let vertices = ahead::prepared(&geometry, viewport, spare);
+        Shared::of(geometry, vertices, None)
+    }
+
+    fn of(geometry: Rc<FrameGeometry>, vertices: VertexCache, dealt: Option<Vec<Dealt>>) -> Shared {
         Shared {
             geometry,
             vertices: Rc::new(RefCell::new(vertices)),
+            dealt: Rc::new(RefCell::new(dealt)),
         }
     }
 
@@ -62,26 +69,31 @@ impl Shared {
 }
 
 impl FrameBook {
-    /// A book whose cache already holds `first`, the geometry of frame `frame`, drawn to
-    /// `viewport`.
+    /// The book of `cfg`'s run, whose cache already holds `first`, the geometry of its first
+    /// frame, drawn to `viewport`; the later frames are made ahead (when `cfg` says so), and
+    /// dealt out as `deal` says when it is given.
     pub fn new(
-        scene: Arc<Scene>,
-        n: u32,
+        cfg: &RunConfig,
         viewport: Viewport,
-        frame: u32,
         first: Rc<FrameGeometry>,
-        timeline_frames: Option<Range<u32>>,
+        deal: Option<Deal>,
     ) -> FrameBook {
+        let later = cfg.frames.start + 1..cfg.frames.end;
+        let ahead = cfg
+            .front_end_ahead
+            .then(|| Ahead::start(cfg.scene.clone(), later, viewport, deal))
+            .flatten();
         FrameBook {
-            scene,
-            n,
+            scene: cfg.scene.clone(),
+            n: cfg.machine.nodes,
             viewport,
             geometry: RefCell::new(BTreeMap::from([(
-                frame,
+                cfg.frames.start,
                 Shared::new(first, viewport, None),
             )])),
+            ahead: RefCell::new(ahead),
             records: RefCell::default(),
-            timeline_frames,
+            timeline_frames: cfg.timeline.then(|| cfg.timeline_frames.clone()).flatten(),
         }
     }
 
@@ -133,15 +145,32 @@ impl FrameBook {
             .into_values()
             .filter_map(Shared::into_spare)
             .next_back();
-        let (old_geometry, old_vertices) = spare.unzip();
-        let g = Rc::new(
-            self.scene
-                .frame_reusing(frame, old_geometry)
-                .map_err(|e| node.error(e.to_string()))?,
-        );
-        let shared = Shared::new(g, self.viewport, old_vertices);
+        let made = match self.ahead.borrow_mut().as_mut() {
+            Some(ahead) => ahead.take(frame, spare),
+            None => Err(spare),
+        };
+        let shared = match made {
+            Ok(made) => Shared::of(Rc::new(made.geometry), made.vertices, made.dealt),
+            Err(spare) => {
+                let (old_geometry, old_vertices) = spare.unzip();
+                let g = Rc::new(
+                    self.scene
+                        .frame_reusing(frame, old_geometry)
+                        .map_err(|e| node.error(e.to_string()))?,
+                );
+                Shared::new(g, self.viewport, old_vertices)
+            }
+        };
         cache.insert(frame, shared.clone());
         Ok(shared)
+    }
+
+    /// Every processor's share of `frame`'s front end, when it was made ahead and not yet
+    /// taken (the first processor to ask takes it for all, see `image_space::dealing`).
+    pub fn take_dealt(&self, frame: u32) -> Option<Vec<Dealt>> {
+        let cache = self.geometry.borrow();
+        let dealt = cache.get(&frame)?.dealt.borrow_mut().take();
+        dealt
     }
 
     /// Edits `frame`'s record, creating it on first use.

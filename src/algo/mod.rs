@@ -7,6 +7,7 @@
 //! through `Node::now`, and never invent a time: every duration is charged from counts.
 
 pub mod aa;
+mod ahead;
 pub mod charge;
 mod frames;
 pub mod image_space;
@@ -261,6 +262,10 @@ pub struct RunConfig {
     /// the frame after the last (all of the run when `None`), so that a long run's timeline
     /// costs the memory of a few frames.
     pub timeline_frames: Option<Range<u32>>,
+    /// Make the later frames' front end (geometry, prepared vertices, sort-middle's dealt
+    /// shares) on a second host thread while the simulation runs (`ahead`). It changes no
+    /// answer, only the run's wall time; off, the simulation's thread makes every frame.
+    pub front_end_ahead: bool,
 }
 
 /// What one frame took.

@@ -127,6 +127,7 @@ impl RunSpec {
             seed: self.seed,
             timeline: false,
             timeline_frames: None,
+            front_end_ahead: true,
         })
     }
 

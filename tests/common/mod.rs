@@ -7,7 +7,7 @@ use std::path::Path;
 use std::process::Output;
 use std::sync::Arc;
 
-use sortsim::algo::{run, RunError, RunResult};
+use sortsim::algo::{run, RunConfig, RunError, RunResult};
 use sortsim::machine::MachineConfig;
 use sortsim::scene::Scene;
 use sortsim::spec::machine::{validate, MachineSpec};
@@ -116,6 +116,18 @@ pub fn run_frames(
     frames: &str,
     set: &[(&str, &str)],
 ) -> Result<RunResult, RunError> {
+    run(&frames_config(machine, scene, algo, procs, frames, set))
+}
+
+/// The resolved configuration [`run_frames`] runs.
+pub fn frames_config(
+    machine: &str,
+    scene: &Arc<Scene>,
+    algo: &str,
+    procs: u32,
+    frames: &str,
+    set: &[(&str, &str)],
+) -> RunConfig {
     let spec = RunSpec {
         schema: None,
         machine: root().join("machines").join(machine),
@@ -129,7 +141,7 @@ pub fn run_frames(
             .map(|(k, v)| (k.to_string(), v.to_string()))
             .collect(),
     };
-    run(&spec.resolve(Some(scene.clone())).expect("valid run spec"))
+    spec.resolve(Some(scene.clone())).expect("valid run spec")
 }
 
 /// The path of `binary`, installing the Debian `packages` (apt-get, as root) when it is not on

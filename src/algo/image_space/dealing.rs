@@ -17,7 +17,7 @@ use crate::raster::{setup_subset, Counters, RasterOptions, ScreenTriangle, Verte
 use crate::scene::FrameGeometry;
 
 /// One processor's share of a frame's front end.
-#[derive(Default)]
+#[derive(Debug, Default, PartialEq)]
 pub(crate) struct Dealt {
     tris: Vec<ScreenTriangle>,
     /// Per batch: its screen triangles in `tris`, and what the front end counted for it.
@@ -40,27 +40,15 @@ pub(crate) struct Dealer {
 }
 
 impl Dealer {
-    /// Processor `me`'s share of `frame`, its front end run for every processor on the first
-    /// call for the frame. A frame's shares are dropped once all are taken, and with them
-    /// the shares of earlier frames (a processor that never asked for its own).
-    #[allow(clippy::too_many_arguments)]
-    pub fn take(
-        &self,
-        frame: u32,
-        me: u32,
-        n: u32,
-        batch: usize,
-        geometry: &FrameGeometry,
-        cache: &mut VertexCache,
-        options: &RasterOptions,
-    ) -> Dealt {
+    /// Processor `me`'s share of `frame`; the first call for the frame makes every
+    /// processor's (`deal_all`: [`deal`], or the same made ahead). A frame's shares are dropped
+    /// once all are taken, and with them the shares of earlier frames (a processor that never
+    /// asked for its own).
+    pub fn take(&self, frame: u32, me: u32, deal_all: impl FnOnce() -> Vec<Dealt>) -> Dealt {
         let mut frames = self.frames.borrow_mut();
-        let shares = frames.entry(frame).or_insert_with(|| {
-            deal(geometry, cache, options, n, batch)
-                .into_iter()
-                .map(Some)
-                .collect()
-        });
+        let shares = frames
+            .entry(frame)
+            .or_insert_with(|| deal_all().into_iter().map(Some).collect());
         let dealt = shares[me as usize]
             .take()
             .expect("each processor takes its share of a frame once");
@@ -73,7 +61,7 @@ impl Dealer {
 }
 
 /// Every processor's share of the front end over `geometry`, run in triangle order.
-fn deal(
+pub(crate) fn deal(
     geometry: &FrameGeometry,
     cache: &mut VertexCache,
     options: &RasterOptions,
@@ -160,7 +148,7 @@ mod tests {
                 let mut shared = VertexCache::new(g.vertices.len(), viewport);
                 let mut clipped_or_culled = 0;
                 for me in 0..n {
-                    let dealt = dealer.take(0, me, n, batch, &g, &mut shared, &options);
+                    let dealt = dealer.take(0, me, || deal(&g, &mut shared, &options, n, batch));
                     let stride: Vec<u32> =
                         (me..g.triangles.len() as u32).step_by(n as usize).collect();
                     let mut own = VertexCache::new(g.vertices.len(), viewport);

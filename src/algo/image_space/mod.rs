@@ -11,7 +11,7 @@
 pub mod assign;
 pub mod buffers;
 pub mod canvas;
-mod dealing;
+pub(crate) mod dealing;
 pub mod holders;
 pub mod options;
 pub(crate) mod redistribute;
@@ -31,6 +31,7 @@ pub use options::DEFAULT_BUFFER;
 use regions::RegionGrid;
 use two_step::Groups;
 
+use super::ahead::Deal;
 use super::charge;
 use super::frames::FrameBook;
 use super::{bad_option as bad, simulate, FrameRecord, RunConfig, RunError, RunResult};
@@ -287,14 +288,14 @@ impl Ctx {
     /// Triangles per transformation batch: one buffer's worth, so compute is charged at the
     /// grain messages are sent (events grow with messages, not with pixels).
     pub(crate) fn batch(&self) -> usize {
-        ((self
-            .settings
-            .buffer
-            .get()
-            .saturating_sub(buffers::HEADER_BYTES))
-            / buffers::TRIANGLE_BYTES)
-            .max(1) as usize
+        batch_of(&self.settings)
     }
+}
+
+/// How many triangles one polygon buffer of `settings` holds.
+fn batch_of(settings: &Settings) -> usize {
+    ((settings.buffer.get().saturating_sub(buffers::HEADER_BYTES)) / buffers::TRIANGLE_BYTES).max(1)
+        as usize
 }
 
 /// The processors' summing and broadcast tree: a binary heap over ids, rooted at 0.
@@ -464,15 +465,12 @@ where
     let vertices = ctx.vertices(node, frame)?;
     // Triangles node.id(), node.id() + n, ... in batches of ctx.batch(), set up in one pass
     // for every processor (see `dealing`).
-    let dealt = ctx.dealer.take(
-        frame,
-        node.id(),
-        ctx.n,
-        ctx.batch(),
-        &geometry,
-        &mut vertices.borrow_mut(),
-        &ctx.raster,
-    );
+    let dealt = ctx.dealer.take(frame, node.id(), || {
+        ctx.book.take_dealt(frame).unwrap_or_else(|| {
+            let mut vertices = vertices.borrow_mut();
+            dealing::deal(&geometry, &mut vertices, &ctx.raster, ctx.n, ctx.batch())
+        })
+    });
     drop((geometry, vertices));
     for (tris, c) in dealt.batches() {
         ctx.record(frame, |r| {
@@ -690,10 +688,13 @@ pub(crate) fn check(cfg: &RunConfig, choice: Choice) -> Result<(), RunError> {
     settings(cfg, choice, super::reference::viewport(&first)).map(|_| ())
 }
 
-/// Runs `program` on every processor with the settings of `choice`.
+/// Runs `program` on every processor with the settings of `choice`; `dealt` when its
+/// processors take their front end from `transform` (sort-middle), which the run's later
+/// frames then have made ahead.
 pub(crate) fn run<F, Fut>(
     cfg: &RunConfig,
     choice: Choice,
+    dealt: bool,
     program: F,
 ) -> Result<RunResult, RunError>
 where
@@ -707,21 +708,20 @@ where
     let settings = settings(cfg, choice, viewport)?;
     let settings_start = settings.aa.start;
     let n = cfg.machine.nodes;
+    let raster = super::reference::raster_options(&first);
+    let deal = dealt.then(|| Deal {
+        n,
+        batch: batch_of(&settings),
+        options: raster,
+    });
     let ctx = Rc::new(Ctx {
         settings,
         n,
         cfg: cfg.clone(),
         viewport,
         background: first.background,
-        raster: super::reference::raster_options(&first),
-        book: FrameBook::new(
-            cfg.scene.clone(),
-            n,
-            viewport,
-            cfg.frames.start,
-            Rc::new(first),
-            cfg.timeline.then(|| cfg.timeline_frames.clone()).flatten(),
-        ),
+        raster,
+        book: FrameBook::new(cfg, viewport, Rc::new(first), deal),
         dealer: dealing::Dealer::default(),
         next_assignment: RefCell::default(),
         images: RefCell::new(vec![None; n as usize]),

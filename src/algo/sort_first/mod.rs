@@ -45,5 +45,5 @@ pub fn check(cfg: &RunConfig) -> Result<(), RunError> {
 
 /// Runs sort-first.
 pub fn run(cfg: &RunConfig) -> Result<RunResult, RunError> {
-    image_space::run(cfg, choice(cfg)?, mueller::processor)
+    image_space::run(cfg, choice(cfg)?, false, mueller::processor)
 }

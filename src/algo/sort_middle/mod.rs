@@ -74,7 +74,7 @@ pub fn check(cfg: &RunConfig, variant: Variant) -> Result<(), RunError> {
 pub fn run(cfg: &RunConfig, variant: Variant) -> Result<RunResult, RunError> {
     let choice = choice(cfg, variant)?;
     match variant {
-        Variant::Static => image_space::run(cfg, choice, static_regions::processor),
-        Variant::Ellsworth => image_space::run(cfg, choice, ellsworth::processor),
+        Variant::Static => image_space::run(cfg, choice, true, static_regions::processor),
+        Variant::Ellsworth => image_space::run(cfg, choice, true, ellsworth::processor),
     }
 }
