@@ -128,7 +128,8 @@ pub fn draw_subset<T: Target + ?Sized>(
 
 /// Front end only: clips, projects, snaps and culls the listed triangles and appends the
 /// resulting screen triangles to `out` (the sort-middle geometry stage), preparing vertices
-/// in `cache` as [`draw_subset`] does.
+/// in `cache` as [`draw_subset`] does. Inlined: dealing calls it for one triangle at a time.
+#[inline]
 pub fn setup_subset(
     vertices: &[Vertex],
     triangles: &[[u32; 3]],
@@ -177,8 +178,9 @@ pub fn setup_mesh(
 
 /// The front-end loop every entry point shares: clips, projects and snaps the listed
 /// triangles (vertices prepared once in `cache` when there is one), handing each screen
-/// triangle to `sink` in order.
+/// triangle to `sink` in order. Inlined: dealing calls it for one triangle at a time.
 #[allow(clippy::too_many_arguments)]
+#[inline]
 fn front_end(
     vertices: &[Vertex],
     triangles: &[[u32; 3]],

@@ -47,7 +47,7 @@ pub(crate) async fn processor(node: Node<Msg>, ctx: Rc<Ctx>) -> Result<(), SimEr
     let me = node.id();
     let n = ctx.n;
     let regions = ctx.settings.grid.count();
-    let mut assignment = Rc::new(Assignment::interleaved(regions, n));
+    let mut assignment = ctx.first_assignment(|| Assignment::interleaved(regions, n));
     let buffers = ctx.settings.buffer * u64::from(n - 1);
     node.alloc("record buffers", buffers)?;
     let prims = ctx.cfg.scene.triangle_count() as u32;

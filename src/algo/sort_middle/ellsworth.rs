@@ -34,7 +34,8 @@ use crate::units::SimTime;
 pub(super) async fn processor(node: Node<Msg>, ctx: Rc<Ctx>) -> Result<(), SimError> {
     let me = node.id();
     // The first frame's load balancing: region r goes to processor r mod N.
-    let mut assignment = Rc::new(Assignment::interleaved(ctx.settings.grid.count(), ctx.n));
+    let mut assignment =
+        ctx.first_assignment(|| Assignment::interleaved(ctx.settings.grid.count(), ctx.n));
     let buffers = ctx.settings.polygon_buffer_memory(me, ctx.n);
     node.alloc("polygon buffers", buffers)?;
     let database = ctx.database_memory(me);

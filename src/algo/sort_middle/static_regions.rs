@@ -27,7 +27,8 @@ use crate::units::Bytes;
 pub(super) async fn processor(node: Node<Msg>, ctx: Rc<Ctx>) -> Result<(), SimError> {
     let me = node.id();
     let grid = &ctx.settings.grid;
-    let assignment = Rc::new(Assignment::interleaved_2d(grid.cols(), grid.rows(), ctx.n));
+    let assignment =
+        ctx.first_assignment(|| Assignment::interleaved_2d(grid.cols(), grid.rows(), ctx.n));
     let buffers = ctx.settings.polygon_buffer_memory(me, ctx.n);
     node.alloc("polygon buffers", buffers)?;
     let database = ctx.database_memory(me);
