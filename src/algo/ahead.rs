@@ -29,6 +29,14 @@ pub(crate) struct Deal {
     pub options: RasterOptions,
 }
 
+impl Deal {
+    /// Every processor's share of `geometry`'s front end (`dealing::deal`), its vertices read
+    /// through `vertices`: the one call the thread and the book both deal with.
+    pub fn over(&self, geometry: &FrameGeometry, vertices: &mut VertexCache) -> Vec<Dealt> {
+        dealing::deal(geometry, vertices, &self.options, self.n, self.batch)
+    }
+}
+
 /// One frame's front end, made ahead.
 pub(crate) struct Made {
     pub geometry: FrameGeometry,
@@ -133,7 +141,7 @@ fn make(
     let (old_geometry, old_vertices) = spare.unzip();
     let geometry = scene.frame_reusing(frame, old_geometry).ok()?;
     let mut vertices = prepared(&geometry, viewport, old_vertices);
-    let dealt = deal.map(|d| dealing::deal(&geometry, &mut vertices, &d.options, d.n, d.batch));
+    let dealt = deal.map(|d| d.over(&geometry, &mut vertices));
     Some(Made {
         geometry,
         vertices,

@@ -302,12 +302,27 @@ impl Ctx {
     pub(crate) fn batch(&self) -> usize {
         batch_of(&self.settings)
     }
+
+    /// How this run deals each frame's front end out (`transform`), as the thread that makes
+    /// the later frames ahead deals them.
+    fn deal(&self) -> Deal {
+        deal_of(&self.settings, self.n, self.raster)
+    }
 }
 
 /// How many triangles one polygon buffer of `settings` holds.
 fn batch_of(settings: &Settings) -> usize {
     ((settings.buffer.get().saturating_sub(buffers::HEADER_BYTES)) / buffers::TRIANGLE_BYTES).max(1)
         as usize
+}
+
+/// The dealing of a run of `settings` on `n` processors: one polygon buffer's worth a batch.
+fn deal_of(settings: &Settings, n: u32, options: RasterOptions) -> Deal {
+    Deal {
+        n,
+        batch: batch_of(settings),
+        options,
+    }
 }
 
 /// The processors' summing and broadcast tree: a binary heap over ids, rooted at 0.
@@ -478,10 +493,9 @@ where
     // Triangles node.id(), node.id() + n, ... in batches of ctx.batch(), set up in one pass
     // for every processor (see `dealing`).
     let dealt = ctx.dealer.take(frame, node.id(), || {
-        ctx.book.take_dealt(frame).unwrap_or_else(|| {
-            let mut vertices = vertices.borrow_mut();
-            dealing::deal(&geometry, &mut vertices, &ctx.raster, ctx.n, ctx.batch())
-        })
+        ctx.book
+            .take_dealt(frame)
+            .unwrap_or_else(|| ctx.deal().over(&geometry, &mut vertices.borrow_mut()))
     });
     drop((geometry, vertices));
     for (tris, c) in dealt.batches() {
@@ -721,11 +735,7 @@ where
     let settings_start = settings.aa.start;
     let n = cfg.machine.nodes;
     let raster = super::reference::raster_options(&first);
-    let deal = dealt.then(|| Deal {
-        n,
-        batch: batch_of(&settings),
-        options: raster,
-    });
+    let deal = dealt.then(|| deal_of(&settings, n, raster));
     let ctx = Rc::new(Ctx {
         settings,
         n,
