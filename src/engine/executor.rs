@@ -182,7 +182,7 @@ impl<M> NodeState<M> {
 /// in one list of the run's, so that the node's second cache line holds the one it has as a
 /// rule and nothing else.
 pub(super) struct Handoffs<M> {
-    more: Vec<(ProgramId, Envelope<M>)>,
+    more: Vec<(ProgramId, bool, Envelope<M>)>,
 }
 
 impl<M> Default for Handoffs<M> {
@@ -191,25 +191,40 @@ impl<M> Default for Handoffs<M> {
     }
 }
 
-/// The message handed over that a node keeps on itself, and the program it is for.
-pub(super) type Handoff<M> = Option<(ProgramId, Envelope<M>)>;
+/// The message handed over that a node keeps on itself: the program it is for, whether that
+/// program has taken it and is paying its receive overhead (then it is ready when the
+/// program's wait for the clock is over), and the message.
+pub(super) type Handoff<M> = Option<(ProgramId, bool, Envelope<M>)>;
 
 impl<M> Handoffs<M> {
     /// Hands `env` to program `p` of the node whose own hand-off slot is `first`.
+    #[inline(always)]
     fn put(&mut self, first: &mut Handoff<M>, p: ProgramId, env: Envelope<M>) {
+        self.put_as(first, p, false, env);
+    }
+
+    /// Gives `env` back to program `p`, which took it and now pays its receive overhead.
+    pub fn put_paid(&mut self, first: &mut Handoff<M>, p: ProgramId, env: Envelope<M>) {
+        self.put_as(first, p, true, env);
+    }
+
+    #[inline(always)]
+    fn put_as(&mut self, first: &mut Handoff<M>, p: ProgramId, paid: bool, env: Envelope<M>) {
         match first {
-            None => *first = Some((p, env)),
-            Some(_) => self.more.push((p, env)),
+            None => *first = Some((p, paid, env)),
+            Some(_) => self.more.push((p, paid, env)),
         }
     }
 
-    /// The message handed to program `p` of the node whose own slot is `first`, if one was.
-    pub fn take(&mut self, first: &mut Handoff<M>, p: ProgramId) -> Option<Envelope<M>> {
-        if first.as_ref().is_some_and(|&(q, _)| q == p) {
-            return first.take().map(|(_, env)| env);
+    /// The message handed to program `p` of the node whose own slot is `first`, if one was,
+    /// and whether it is one `p` took and is paying for.
+    pub fn take(&mut self, first: &mut Handoff<M>, p: ProgramId) -> Option<(Envelope<M>, bool)> {
+        if first.as_ref().is_some_and(|&(q, _, _)| q == p) {
+            return first.take().map(|(_, paid, env)| (env, paid));
         }
-        let i = self.more.iter().position(|&(q, _)| q == p)?;
-        Some(self.more.swap_remove(i).1)
+        let i = self.more.iter().position(|&(q, _, _)| q == p)?;
+        let (_, paid, env) = self.more.swap_remove(i);
+        Some((env, paid))
     }
 }
 
@@ -416,20 +431,49 @@ impl<M: Payload> State<M> {
         }
     }
 
+    /// The message program `p` of node `node` took and is paying for, once the wait for its
+    /// receive overhead is over; until then it stays where it was.
+    pub fn paid(&mut self, node: NodeId, p: ProgramId, env: Envelope<M>) -> Poll<Envelope<M>> {
+        match self.programs[p as usize].wait {
+            Wait::Time(until) if self.now < until => {
+                let slot = &mut self.nodes[node as usize].handoff;
+                self.handoffs.put_paid(slot, p, env);
+                Poll::Pending
+            }
+            _ => Poll::Ready(env),
+        }
+    }
+
     /// Hands a message to the first program on its destination waiting for one like it, or
     /// else puts it in the destination's mailbox.
     #[inline]
     pub fn deliver(&mut self, env: Envelope<M>) {
-        let node = &mut self.nodes[env.dst as usize];
-        node.received.bytes += env.bytes;
+        let (src, dst, tag, bytes) = (env.src, env.dst, env.tag, env.bytes);
+        self.deliver_made(src, dst, tag, bytes, move || env);
+    }
+
+    /// [`State::deliver`] of the envelope `make` builds, from `src` to `dst` with `tag` and
+    /// `bytes`: built where it goes (a program's hand-off or the mailbox), as built first and
+    /// moved there, the move's wide loads would wait for the narrow stores that built it.
+    #[inline(always)]
+    fn deliver_made(
+        &mut self,
+        src: NodeId,
+        dst: NodeId,
+        tag: u32,
+        bytes: Bytes,
+        make: impl FnOnce() -> Envelope<M>,
+    ) {
+        let node = &mut self.nodes[dst as usize];
+        node.received.bytes += bytes;
         node.received.messages += 1;
-        match node.waiters.iter().position(|(_, f)| f.matches(&env)) {
+        match node.waiters.iter().position(|(_, f)| f.accepts(tag, src)) {
             Some(i) => {
                 let (p, _) = node.waiters.swap_remove(i);
-                self.handoffs.put(&mut node.handoff, p, env);
+                self.handoffs.put(&mut node.handoff, p, make());
                 self.ready.push_back(p);
             }
-            None => node.mailbox.push_back(env),
+            None => node.mailbox.push_back(make()),
         }
     }
 }
@@ -466,6 +510,10 @@ impl<M: Payload> Sim<M> {
     }
 
     fn build(nodes: u32, cpu: CpuConfig, memory: Bytes, net: Option<Network>, seed: u64) -> Sim<M> {
+        assert!(
+            nodes <= super::node::MAX_NODE_ID,
+            "{nodes} nodes: a filter names node ids below 2^31 - 1"
+        );
         let nodes: Vec<NodeState<M>> = (0..nodes)
             .map(|i| NodeState {
                 cpu_free_at: SimTime::ZERO,
@@ -778,7 +826,7 @@ impl<M: Payload> State<M> {
                 Event::Arrive(id) => self.arrive(id),
                 Event::Post { src, dst, payload } => {
                     let tag = payload.tag();
-                    self.deliver(Envelope {
+                    self.deliver_made(src, dst, tag, Bytes::ZERO, || Envelope {
                         src,
                         dst,
                         tag,
@@ -906,14 +954,14 @@ mod tests {
         h.put(&mut a, 5, envelope(3));
         h.put(&mut b, 8, envelope(6));
         assert!(h.take(&mut a, 4).is_none());
-        assert_eq!(h.take(&mut a, 5).map(|e| e.payload), Some(3));
-        assert_eq!(h.take(&mut b, 8).map(|e| e.payload), Some(6));
-        assert_eq!(h.take(&mut a, 7).map(|e| e.payload), Some(1));
+        assert_eq!(h.take(&mut a, 5).map(|(e, _)| e.payload), Some(3));
+        assert_eq!(h.take(&mut b, 8).map(|(e, _)| e.payload), Some(6));
+        assert_eq!(h.take(&mut a, 7).map(|(e, _)| e.payload), Some(1));
         h.put(&mut a, 4, envelope(4));
-        assert_eq!(h.take(&mut a, 4).map(|e| e.payload), Some(4));
-        assert_eq!(h.take(&mut a, 3).map(|e| e.payload), Some(2));
+        assert_eq!(h.take(&mut a, 4).map(|(e, _)| e.payload), Some(4));
+        assert_eq!(h.take(&mut a, 3).map(|(e, _)| e.payload), Some(2));
         assert!(h.take(&mut a, 3).is_none() && h.take(&mut a, 7).is_none());
-        assert_eq!(h.take(&mut b, 9).map(|e| e.payload), Some(5));
+        assert_eq!(h.take(&mut b, 9).map(|(e, _)| e.payload), Some(5));
         assert!(h.take(&mut b, 9).is_none() && h.more.is_empty());
     }
 

@@ -49,45 +49,72 @@ impl<M: Clone> Envelope<M> {
     }
 }
 
-/// Which messages a `recv` accepts.
-#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
-pub struct Filter {
-    tag: Option<u32>,
-    src: Option<NodeId>,
-}
+/// Which messages a `recv` accepts: one tag or any, one source or any.
+///
+/// One word (the tag in the low 32 bits, bit 32 set when a tag is asked for, the source plus
+/// one above it, 0 for any), so that a `Receive`, a node handle and a filter, is two words
+/// and moves in registers: built in memory and copied whole, as a larger one was, the copy's
+/// wide loads waited for the narrow stores that built it, on every `recv`.
+#[derive(Clone, Copy, Default, PartialEq, Eq)]
+pub struct Filter(u64);
+
+const TAG_GIVEN: u64 = 1 << 32;
+const SOURCE_SHIFT: u32 = 33;
 
 impl Filter {
-    pub const ANY: Filter = Filter {
-        tag: None,
-        src: None,
-    };
+    pub const ANY: Filter = Filter(0);
 
     pub fn tag(tag: u32) -> Filter {
-        Filter {
-            tag: Some(tag),
-            src: None,
-        }
+        Filter(TAG_GIVEN | tag as u64)
     }
     pub fn source(src: NodeId) -> Filter {
-        Filter {
-            tag: None,
-            src: Some(src),
-        }
+        Filter::ANY.and_source(src)
     }
     pub fn and_source(self, src: NodeId) -> Filter {
-        Filter {
-            src: Some(src),
-            ..self
+        // A simulation has at most `MAX_NODE_ID` nodes (checked when it is built).
+        assert!(
+            src < MAX_NODE_ID,
+            "node {src}: no simulation has such a node"
+        );
+        let tag_part = self.0 & (TAG_GIVEN | u32::MAX as u64);
+        Filter(tag_part | ((src as u64 + 1) << SOURCE_SHIFT))
+    }
+    fn tag_of(self) -> Option<u32> {
+        (self.0 & TAG_GIVEN != 0).then_some(self.0 as u32)
+    }
+    fn src_of(self) -> Option<NodeId> {
+        match self.0 >> SOURCE_SHIFT {
+            0 => None,
+            s => Some((s - 1) as NodeId),
         }
     }
+    #[inline]
     pub fn matches<M>(&self, env: &Envelope<M>) -> bool {
-        self.tag.is_none_or(|t| t == env.tag) && self.src.is_none_or(|s| s == env.src)
+        self.accepts(env.tag, env.src)
+    }
+    /// Whether a message with `tag` from `src` passes.
+    #[inline]
+    pub fn accepts(&self, tag: u32, src: NodeId) -> bool {
+        self.tag_of().is_none_or(|t| t == tag) && self.src_of().is_none_or(|s| s == src)
+    }
+}
+
+/// Node ids a [`Filter`] can name: those below 2^31 - 1 (a machine has at most
+/// `limits::MAX_NODES`, and PHOLD at most one logical process per event in flight).
+pub(super) const MAX_NODE_ID: NodeId = (1 << 31) - 1;
+
+impl fmt::Debug for Filter {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        f.debug_struct("Filter")
+            .field("tag", &self.tag_of())
+            .field("src", &self.src_of())
+            .finish()
     }
 }
 
 impl fmt::Display for Filter {
     fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
-        match (self.tag, self.src) {
+        match (self.tag_of(), self.src_of()) {
             (None, None) => write!(f, "of any kind from anyone"),
             (Some(t), None) => write!(f, "with tag {t} from anyone"),
             (None, Some(s)) => write!(f, "of any kind from node {s}"),
@@ -241,12 +268,7 @@ impl<M: Payload> Node<M> {
     /// Takes the first message in this node's mailbox that `filter` accepts (in arrival
     /// order), waiting for one if none is there, then pays the receive overhead.
     pub fn recv(&self, filter: Filter) -> Receive<'_, M> {
-        Receive {
-            node: self,
-            filter,
-            registered: false,
-            paying: None,
-        }
+        Receive { node: self, filter }
     }
 
     /// Delivers `payload` to `dst`'s mailbox after `delay`, with no network or cpu cost: a
@@ -355,39 +377,26 @@ impl<M: Payload> Future for Until<'_, M> {
 pub struct Receive<'a, M: Payload> {
     node: &'a Node<M>,
     filter: Filter,
-    registered: bool,
-    /// The message taken, and when its receive overhead will have been paid.
-    paying: Option<(Envelope<M>, SimTime)>,
 }
-
-// Nothing in a `Receive` is ever pinned in place: the envelope is moved out by value.
-impl<M: Payload> Unpin for Receive<'_, M> {}
 
 impl<M: Payload> Future for Receive<'_, M> {
     type Output = Envelope<M>;
-    fn poll(mut self: Pin<&mut Self>, _cx: &mut Context<'_>) -> Poll<Envelope<M>> {
-        let this = &mut *self;
-        let mut st = this.node.st.borrow_mut();
-        if let Some((_, until)) = &this.paying {
-            return if st.now >= *until {
-                Poll::Ready(this.paying.take().expect("checked").0)
-            } else {
-                Poll::Pending
-            };
-        }
+    fn poll(self: Pin<&mut Self>, _cx: &mut Context<'_>) -> Poll<Envelope<M>> {
+        let (id, filter) = (self.node.id, self.filter);
+        let mut st = self.node.st.borrow_mut();
         let p = st.current;
-        let filter = this.filter;
         let st = &mut *st;
-        let node = &mut st.nodes[this.node.id as usize];
+        let node = &mut st.nodes[id as usize];
         let env = match st.handoffs.take(&mut node.handoff, p) {
-            Some(env) => env,
+            Some((env, false)) => env,
+            Some((env, true)) => return st.paid(id, p, env),
             None => match node.mailbox.iter().position(|e| filter.matches(e)) {
                 Some(i) => node.mailbox.remove(i).expect("position is in range"),
                 None => {
-                    // Not registered yet, or woken for a message another program took.
-                    if !this.registered || !node.waiters.iter().any(|&(w, _)| w == p) {
+                    // Registered once: a program waits in one `recv` at a time, and it leaves
+                    // the waiters only when a message is handed to it.
+                    if !node.waiters.iter().any(|&(w, _)| w == p) {
                         node.waiters.push((p, filter));
-                        this.registered = true;
                     }
                     return Poll::Pending;
                 }
@@ -397,11 +406,13 @@ impl<M: Payload> Future for Receive<'_, M> {
         if cost == SimTime::ZERO {
             return Poll::Ready(env);
         }
-        let until = st.reserve_cpu(this.node.id, cost, true);
-        let p = st.current;
+        // The message waits, handed to this program and marked paid, until its receive
+        // overhead is: kept on the node rather than in this future, which stays two words.
+        let until = st.reserve_cpu(id, cost, true);
         st.schedule(until, Event::Wake(p));
         st.meta().wait = Wait::Time(until);
-        this.paying = Some((env, until));
+        st.handoffs
+            .put_paid(&mut st.nodes[id as usize].handoff, p, env);
         Poll::Pending
     }
 }
@@ -420,5 +431,49 @@ impl<M: Payload> Future for Delivery<'_, M> {
         }
         st.meta().wait = Wait::Delivery(self.dst);
         Poll::Pending
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn envelope(tag: u32, src: NodeId) -> Envelope<()> {
+        Envelope {
+            src,
+            dst: 0,
+            tag,
+            bytes: Bytes::ZERO,
+            payload: (),
+            arrived: SimTime::ZERO,
+        }
+    }
+
+    proptest::proptest! {
+        /// The one-word filter accepts exactly what a tag or any and a source or any accept,
+        /// at the ends of both ranges too (a tag of 2^32 - 1, the largest node id).
+        #[test]
+        fn a_filter_in_one_word_accepts_what_its_tag_and_source_say(
+            tag in proptest::option::of(proptest::prop_oneof![0..4u32, proptest::prelude::Just(u32::MAX)]),
+            src in proptest::option::of(proptest::prop_oneof![0..4u32, proptest::prelude::Just(MAX_NODE_ID - 1)]),
+            msg_tag in proptest::prop_oneof![0..4u32, proptest::prelude::Just(u32::MAX)],
+            msg_src in proptest::prop_oneof![0..4u32, proptest::prelude::Just(MAX_NODE_ID - 1)],
+        ) {
+            let filter = match (tag, src) {
+                (None, None) => Filter::ANY,
+                (Some(t), None) => Filter::tag(t),
+                (None, Some(s)) => Filter::source(s),
+                (Some(t), Some(s)) => Filter::tag(t).and_source(s),
+            };
+            proptest::prop_assert_eq!((filter.tag_of(), filter.src_of()), (tag, src));
+            let want = tag.is_none_or(|t| t == msg_tag) && src.is_none_or(|s| s == msg_src);
+            proptest::prop_assert_eq!(filter.matches(&envelope(msg_tag, msg_src)), want);
+        }
+    }
+
+    /// A `Receive` is a node handle and a filter, two words, so that it moves in registers.
+    #[test]
+    fn a_receive_is_two_words() {
+        assert_eq!(std::mem::size_of::<Receive<'_, ()>>(), 16);
     }
 }

@@ -88,19 +88,33 @@ impl<E> EventQueue<E> {
 
     /// Schedules `event` at `at`, after every event already scheduled at `at`; `at` must not
     /// be earlier than the last event taken.
+    ///
+    /// Inlined, and the event written in one place only, so that the caller stores its fields
+    /// straight into its slot: built apart and copied in, the copy's wide loads would wait for
+    /// the narrow stores that built it.
+    #[inline]
     pub fn push(&mut self, at: SimTime, event: E) {
-        let slot = match self.free.pop() {
-            Some(s) => {
-                self.slots[s as usize] = Some(event);
-                s
-            }
-            None => {
-                let s = self.slots.len() as u32;
-                assert!(s < 1 << SLOT_BITS, "more than 2^24 events pending at once");
-                self.slots.push(Some(event));
-                s
-            }
-        };
+        if self.free.is_empty() {
+            self.add_slot();
+        }
+        let slot = self.free.pop().expect("a free slot was just made");
+        self.slots[slot as usize] = Some(event);
+        self.file(at, slot);
+    }
+
+    /// A free slot at the slab's end (a run's first events, then only past its most pending).
+    #[cold]
+    #[inline(never)]
+    fn add_slot(&mut self) {
+        let s = self.slots.len() as u32;
+        assert!(s < 1 << SLOT_BITS, "more than 2^24 events pending at once");
+        self.slots.push(None);
+        self.free.push(s);
+    }
+
+    /// Queues the key of the event in `slot`, at `at`.
+    #[inline(never)]
+    fn file(&mut self, at: SimTime, slot: u32) {
         let Place(key) = self.reserve(at);
         self.keys.push(key | slot as u128);
     }
