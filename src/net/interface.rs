@@ -126,7 +126,7 @@ impl Interfaces {
     pub(super) fn next_time(&self) -> Option<SimTime> {
         let start = self.next_start().map(|((at, _), _)| at);
         let arrival = self.next_arrival().map(|((at, _), _)| at);
-        start.into_iter().chain(arrival).min()
+        SimTime::earliest(start, arrival)
     }
 
     /// The next held message due at or before `now`, with its instant: of a leaving and an

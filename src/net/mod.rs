@@ -617,10 +617,7 @@ impl Network {
     /// The earliest instant at which `advance` has something to do.
     pub fn next_event_time(&self) -> Option<SimTime> {
         let held = self.interfaces.as_ref().and_then(|i| i.next_time());
-        match (self.transport.next_event_time(), held) {
-            (Some(a), Some(b)) => Some(a.min(b)),
-            (a, b) => a.or(b),
-        }
+        SimTime::earliest(self.transport.next_event_time(), held)
     }
 
     /// Processes the model's internal events at `now`, appending messages delivered at `now`.

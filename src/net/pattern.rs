@@ -260,11 +260,7 @@ pub fn drive(net: &mut Network, messages: &[ParsedMessage]) -> Vec<SimTime> {
     let mut next = 0;
     loop {
         let next_start = order.get(next).map(|&i| messages[i].start);
-        let Some(now) = [next_start, net.next_event_time()]
-            .into_iter()
-            .flatten()
-            .min()
-        else {
+        let Some(now) = SimTime::earliest(next_start, net.next_event_time()) else {
             break;
         };
         while let Some(&i) = order.get(next).filter(|&&i| messages[i].start == now) {

@@ -353,10 +353,8 @@ impl Transport for Flow {
 
     fn next_event_time(&self) -> Option<SimTime> {
         let completion = self.completions.first().map(|e| e.0);
-        [self.dirty_since, completion, self.deliveries.next()]
-            .into_iter()
-            .flatten()
-            .min()
+        let solve_or_completion = SimTime::earliest(self.dirty_since, completion);
+        SimTime::earliest(solve_or_completion, self.deliveries.next())
     }
 
     fn advance(&mut self, now: SimTime, delivered: &mut Vec<Delivered>) {
@@ -497,10 +495,8 @@ mod tests {
 
         fn next_event_time(&self) -> Option<SimTime> {
             let completion = self.completions.first().map(|e| e.0);
-            [self.dirty, completion, self.deliveries.next()]
-                .into_iter()
-                .flatten()
-                .min()
+            let solve_or_completion = SimTime::earliest(self.dirty, completion);
+            SimTime::earliest(solve_or_completion, self.deliveries.next())
         }
 
         fn advance(&mut self, now: SimTime, delivered: &mut Vec<Delivered>) {
@@ -550,11 +546,7 @@ mod tests {
         let mut next = 0;
         loop {
             let start = starts.get(next).map(|s| s.0);
-            let Some(now) = [start, transport.next_event_time()]
-                .into_iter()
-                .flatten()
-                .min()
-            else {
+            let Some(now) = SimTime::earliest(start, transport.next_event_time()) else {
                 break;
             };
             while next < starts.len() && starts[next].0 == now {
