@@ -963,6 +963,18 @@ mod tests {
         assert!(h.take(&mut a, 3).is_none() && h.take(&mut a, 7).is_none());
         assert_eq!(h.take(&mut b, 9).map(|(e, _)| e.payload), Some(5));
         assert!(h.take(&mut b, 9).is_none() && h.more.is_empty());
+        // A message given back to the program paying for it comes out marked paid, beside
+        // one handed over that is not, wherever each waits.
+        h.put(&mut b, 1, envelope(8));
+        h.put_paid(&mut b, 2, envelope(9));
+        let taken = |h: &mut Handoffs<u32>, b: &mut Handoff<u32>, p| {
+            h.take(b, p).map(|(e, paid)| (e.payload, paid))
+        };
+        assert_eq!(taken(&mut h, &mut b, 2), Some((9, true)));
+        h.put_paid(&mut b, 3, envelope(10));
+        assert_eq!(taken(&mut h, &mut b, 1), Some((8, false)));
+        assert_eq!(taken(&mut h, &mut b, 3), Some((10, true)));
+        assert!(b.is_none() && h.more.is_empty());
     }
 
     /// A delivery and the next `recv` of a node touch its first two cache lines only, for a
