@@ -249,8 +249,8 @@ pub fn scale(cfg: &ScaleConfig, progress: &mut dyn FnMut(&str)) -> Result<ScaleR
     }
 
     let mut messages_curve = Vec::new();
-    // Each pattern's wall times, run by run, for the figures' details.
-    let mut torus_runs: Vec<(usize, Fidelity, Vec<f64>)> = Vec::new();
+    // The runs of the longest pattern at `flow`, for its figure's detail.
+    let mut longest_runs = String::new();
     for &count in &cfg.messages {
         for fidelity in CURVE_FIDELITIES {
             progress(&format!(
@@ -259,16 +259,17 @@ pub fn scale(cfg: &ScaleConfig, progress: &mut dyn FnMut(&str)) -> Result<ScaleR
             ));
             // Even the longest pattern, about 4 s at `flow` in a quiet hour, is short enough to
             // repeat, and its figure is the one nearest its target.
-            let runs = repeats;
             let mut walls = Vec::new();
             let mut counters = SolveCounters::default();
-            for _ in 0..runs {
+            for _ in 0..repeats {
                 let (wall, counted) = torus_wall(&machine, count, fidelity)?;
                 walls.push(wall);
                 counters = counted;
             }
-            let wall = median(walls.clone());
-            torus_runs.push((count, fidelity, walls));
+            if count == 65536 && fidelity == Fidelity::Flow {
+                longest_runs = runs_note(&walls).trim_start_matches("; ").to_string();
+            }
+            let wall = median(walls);
             if counters.solves > 0 {
                 flow_solves.push((format!("torus, {count} msgs"), counters));
             }
@@ -300,16 +301,12 @@ pub fn scale(cfg: &ScaleConfig, progress: &mut dyn FnMut(&str)) -> Result<ScaleR
         ));
     }
     if let Some(flow) = wall_at(65536, Fidelity::Flow) {
-        let runs = torus_runs
-            .iter()
-            .find(|(count, f, _)| *count == 65536 && *f == Fidelity::Flow)
-            .map_or(String::new(), |(_, _, walls)| runs_note(walls));
         figures.push(figure(
             "65,536 staggered messages, 16x32 torus, flow: wall",
             flow,
             "s",
             Target::AtMost(5.0),
-            runs.trim_start_matches("; ").to_string(),
+            longest_runs,
         ));
     }
 
