@@ -846,7 +846,7 @@ impl<M: Payload> State<M> {
     /// is taken from a small table rather than from the node's waiters, so the two misses
     /// overlap instead of one waiting for the other. Changes nothing.
     fn warm_for_next(&self) -> Option<Warm> {
-        let dst = match self.queue.peek_cheaply()? {
+        let dst = match self.queue.peek()? {
             &Event::Post { dst, .. } => dst,
             &Event::Arrive(id) => self.in_flight[id as usize].as_ref()?.env.dst,
             Event::Wake(_) => return None,

@@ -9,7 +9,8 @@
 //!   so the keys taken out only rise, a push is an append to a bucket and a key moves a few
 //!   times at most instead of sifting through a heap of a million.
 //!
-//! Both give the same order (the keys'), so the switch is invisible to the simulation.
+//! Both give the same order (the keys'), so the switch is invisible to the simulation, and
+//! both have the next key at hand, so the next event can be looked at before it is taken.
 //! A [`Place`] in that order can also be reserved without queueing anything, for events kept
 //! elsewhere that must still run exactly where a queued one would (the network's wake-ups).
 //! Event bodies stay put in a side slab, whose freed slots are reused first (warm in cache).
@@ -145,14 +146,10 @@ impl<E> EventQueue<E> {
         self.pop_before(horizon, None)
     }
 
-    /// The earliest event, when finding it costs nothing (the keys are in the heap, not the
-    /// radix heap): a look ahead, so that the state it will touch can be fetched while it is
-    /// being taken out.
-    pub fn peek_cheaply(&self) -> Option<&E> {
-        let Store::Heap(h) = &self.keys.store else {
-            return None;
-        };
-        let &Reverse(key) = h.peek()?;
+    /// The earliest event, found at no cost in either structure: a look ahead, so that the
+    /// state it will touch can be fetched while it is being taken out.
+    pub fn peek(&self) -> Option<&E> {
+        let key = self.keys.peek()?;
         self.slots[slot_of(key)].as_ref()
     }
 
@@ -257,7 +254,7 @@ impl Keys {
         }
     }
 
-    #[cfg(test)]
+    #[inline]
     fn peek(&self) -> Option<u128> {
         match &self.store {
             Store::Heap(h) => h.peek().map(|Reverse(k)| *k),
@@ -306,6 +303,10 @@ struct RadixHeap {
     levels: u32,
     /// The key equal to `last`: only ever the first key pushed, when it is 0.
     at_last: Option<u128>,
+    /// The smallest key, kept as keys come and go (a compare per push, and a pop's scan of
+    /// the next first bucket done as it ends rather than as the next pop begins), so that the
+    /// look ahead can read the next event's state with a million pending too.
+    front: Option<u128>,
     len: usize,
 }
 
@@ -320,6 +321,7 @@ impl RadixHeap {
             digits: [0; LEVELS],
             levels: 0,
             at_last: None,
+            front: None,
             len: 0,
         }
     }
@@ -327,6 +329,7 @@ impl RadixHeap {
     /// Empties the heap, in no particular order.
     fn drain(&mut self) -> impl Iterator<Item = u128> + '_ {
         self.len = 0;
+        self.front = None;
         self.digits = [0; LEVELS];
         self.levels = 0;
         self.at_last
@@ -345,6 +348,9 @@ impl RadixHeap {
             self.at_last = Some(key);
         } else {
             self.file(key);
+        }
+        if self.front.is_none_or(|front| key < front) {
+            self.front = Some(key);
         }
     }
 
@@ -366,8 +372,14 @@ impl RadixHeap {
         Some(level * 16 + self.digits[level].trailing_zeros() as usize)
     }
 
-    #[cfg(test)]
+    /// The smallest key, the one the next pop takes.
     fn peek(&self) -> Option<u128> {
+        self.front
+    }
+
+    /// The smallest key once `front` has been taken: `at_last`, or the least of the first
+    /// bucket, every key of which is below every key of later buckets.
+    fn find_front(&self) -> Option<u128> {
         if self.at_last.is_some() {
             return self.at_last;
         }
@@ -377,22 +389,24 @@ impl RadixHeap {
 
     /// Takes the smallest key if `take` accepts it.
     fn pop_if(&mut self, take: impl FnOnce(u128) -> bool) -> Option<u128> {
-        if let Some(key) = self.at_last {
-            if !take(key) {
-                return None;
-            }
-            self.len -= 1;
-            return self.at_last.take();
-        }
-        let b = self.first_bucket()?;
-        let min = *self.buckets[b]
-            .iter()
-            .min()
-            .expect("first bucket is occupied");
+        let min = self.front?;
         if !take(min) {
             return None;
         }
         self.len -= 1;
+        if self.at_last.take().is_none() {
+            self.take_from_first_bucket(min);
+        }
+        self.front = self.find_front();
+        Some(min)
+    }
+
+    /// Takes `min`, the smallest key, out of the first bucket, and files the bucket's other
+    /// keys again below `min`, the new `last`.
+    fn take_from_first_bucket(&mut self, min: u128) {
+        let b = self
+            .first_bucket()
+            .expect("the smallest key is in a bucket");
         let mut keys = std::mem::take(&mut self.buckets[b]);
         let (level, digit) = (b / 16, b % 16);
         self.digits[level] &= !(1 << digit);
@@ -409,7 +423,6 @@ impl RadixHeap {
         }
         keys.clear();
         self.buckets[b] = keys;
-        Some(min)
     }
 }
 
@@ -444,23 +457,33 @@ mod tests {
         assert_eq!(times.len(), 100 - 34);
     }
 
-    /// The look ahead shows the event the next pop takes while the keys are in the heap, and
-    /// nothing once they are in the radix heap (where finding it is work).
+    /// The look ahead shows the event the next pop takes, in the heap and in the radix heap,
+    /// across pushes that come before the one shown and pops that move keys between buckets.
     #[test]
-    fn a_cheap_peek_shows_the_event_taken_next() {
+    fn a_peek_shows_the_event_taken_next() {
         let mut q = EventQueue::with_thresholds(8, 4);
         for (i, t) in [5u64, 3, 9, 3, 7].into_iter().enumerate() {
             q.push(SimTime::from_ps(t), i);
         }
-        while let Some(&next) = q.peek_cheaply() {
+        while let Some(&next) = q.peek() {
             assert_eq!(q.pop().map(|(_, e)| e), Some(next));
         }
         assert!(q.is_empty());
-        for i in 0..9 {
-            q.push(SimTime::from_ps(10 + i), i as usize);
+        for (i, t) in [40u64, 17, 300, 17, 4096, 18, 65, 20, 19]
+            .into_iter()
+            .enumerate()
+        {
+            q.push(SimTime::from_ps(t), i);
         }
-        assert_eq!(q.peek_cheaply(), None);
-        assert_eq!(q.pop().map(|(_, e)| e), Some(0));
+        assert!(matches!(q.keys.store, Store::Radix(_)));
+        assert_eq!(q.peek(), Some(&1));
+        q.push(SimTime::from_ps(16), 9);
+        let mut order = Vec::new();
+        while let Some(&next) = q.peek() {
+            assert_eq!(q.pop().map(|(_, e)| e), Some(next));
+            order.push(next);
+        }
+        assert_eq!(order, [9, 1, 3, 5, 8, 7, 0, 6, 2, 4]);
     }
 
     #[test]
@@ -525,6 +548,10 @@ mod tests {
                 proptest::prop_assert_eq!(
                     q.peek_time(),
                     reference.peek().map(|Reverse((t, _, _))| SimTime::from_ps(*t))
+                );
+                proptest::prop_assert_eq!(
+                    q.peek(),
+                    reference.peek().map(|Reverse((_, _, e))| e)
                 );
             }
             while let Some(Reverse((t, _, e))) = reference.pop() {
