@@ -805,6 +805,9 @@ impl<M: Payload> State<M> {
                 return Some(p);
             }
             if self.look_ahead {
+                if let Some(slot) = self.queue.peek_second_slot() {
+                    prefetch(slot);
+                }
                 if let Some(warm) = self.warm_for_next() {
                     warm.prefetch();
                 }
@@ -839,19 +842,23 @@ impl<M: Payload> State<M> {
         }
     }
 
-    /// Reads the node record the next event's delivery will read first, before the queue
-    /// takes the event out: in a run of many nodes that record is a cache miss, and the
-    /// queue's work hides it. Returns where the node's first program keeps its state (`Warm`):
-    /// that program is the one a delivery wakes as a rule, and its state is the next miss; it
-    /// is taken from a small table rather than from the node's waiters, so the two misses
-    /// overlap instead of one waiting for the other. Changes nothing.
+    /// Asks the cpu for the two lines of the node record the next event's delivery reads
+    /// first, before the queue takes the event out: in a run of many nodes that record is a
+    /// cache miss, and the queue's work hides it. The event's own slot was asked for one
+    /// event earlier (`EventQueue::peek_second_slot`), so finding the node waits for nothing,
+    /// and nothing here waits for the node. Returns where the node's first program keeps its
+    /// state (`Warm`): that program is the one a delivery wakes as a rule, and its state is
+    /// the next miss; it is taken from a small table rather than from the node's waiters, so
+    /// the misses overlap instead of one waiting for another. Changes nothing.
     fn warm_for_next(&self) -> Option<Warm> {
         let dst = match self.queue.peek()? {
             &Event::Post { dst, .. } => dst,
             &Event::Arrive(id) => self.in_flight[id as usize].as_ref()?.env.dst,
             Event::Wake(_) => return None,
         } as usize;
-        std::hint::black_box(self.nodes[dst].waiters.first().map(|w| w.0));
+        let node = std::ptr::from_ref(&self.nodes[dst]).cast::<u8>();
+        prefetch(node);
+        prefetch(node.wrapping_add(64));
         self.first_program[dst]
     }
 
