@@ -4,7 +4,9 @@
 //! Figures: a whole viewing sequence of the polio stand-in on 512 Delta nodes at `flow`, and
 //! at `hops` as its floor (the same engine and rendering work without a contention model);
 //! one polio frame simulated against drawing it sequentially; staggered traffic on a 16x32
-//! torus at `hops` and `flow`; PHOLD against its bare-heap loop; and three growth curves (wall
+//! torus at `hops` and `flow`; PHOLD against its bare-heap loop (populations of 16 events a
+//! process, and one of a single event a process, where every event's process is a cache
+//! miss); and three growth curves (wall
 //! time against messages, processors and triangles).
 //!
 //! Owns the workload definitions and the wall-clock measurements of this benchmark. Must
@@ -38,8 +40,8 @@ pub struct ScaleConfig {
     pub messages: Vec<usize>,
     /// Processor counts of the processors curve.
     pub procs: Vec<u32>,
-    /// PHOLD events in flight (LPs x 16).
-    pub phold: Vec<u64>,
+    /// PHOLD populations.
+    pub phold: Vec<Population>,
     /// Runs of each short figure (the one-frame ratios, the torus patterns up to 16,384
     /// messages, PHOLD), reported as their median: the host's noise moves a single run by
     /// 15 to 40%.
@@ -49,6 +51,45 @@ pub struct ScaleConfig {
     pub instructions: bool,
 }
 
+/// A PHOLD population: how many logical processes, each starting with how many events.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Population {
+    pub lps: u32,
+    pub events_per_lp: u32,
+}
+
+impl Population {
+    /// `in_flight` events, 16 a process.
+    const fn in_flight(in_flight: u32) -> Population {
+        Population {
+            lps: in_flight / 16,
+            events_per_lp: 16,
+        }
+    }
+
+    /// One event a process: each event reaches a process of its own as a rule, so every
+    /// event's process state is a cache miss.
+    const fn lone(lps: u32) -> Population {
+        Population {
+            lps,
+            events_per_lp: 1,
+        }
+    }
+
+    fn events(self) -> u64 {
+        u64::from(self.lps) * u64::from(self.events_per_lp)
+    }
+
+    /// How its figures name it.
+    fn label(self) -> String {
+        match self.events_per_lp {
+            16 => format!("{} in flight", self.events()),
+            1 => format!("{} processes of one event", self.lps),
+            e => format!("{} processes of {e} events", self.lps),
+        }
+    }
+}
+
 impl ScaleConfig {
     pub fn full(root: &Path) -> ScaleConfig {
         ScaleConfig {
@@ -56,7 +97,12 @@ impl ScaleConfig {
             frames: 110,
             messages: vec![1024, 4096, 16384, 65536],
             procs: vec![16, 32, 64, 128, 256, 512],
-            phold: vec![1024, 16384, 1 << 20],
+            phold: vec![
+                Population::in_flight(1024),
+                Population::in_flight(16384),
+                Population::in_flight(1 << 20),
+                Population::lone(16384),
+            ],
             repeats: 3,
             instructions: false,
         }
@@ -67,7 +113,11 @@ impl ScaleConfig {
         ScaleConfig {
             frames: 3,
             messages: vec![1024, 4096, 16384],
-            phold: vec![1024, 16384],
+            phold: vec![
+                Population::in_flight(1024),
+                Population::in_flight(16384),
+                Population::lone(16384),
+            ],
             ..ScaleConfig::full(root)
         }
     }
@@ -310,11 +360,12 @@ pub fn scale(cfg: &ScaleConfig, progress: &mut dyn FnMut(&str)) -> Result<ScaleR
         ));
     }
 
-    for &in_flight in &cfg.phold {
-        progress(&format!("PHOLD, {in_flight} events in flight"));
+    for &population in &cfg.phold {
+        let (in_flight, label) = (population.events(), population.label());
+        progress(&format!("PHOLD, {label}"));
         let phold = PholdConfig {
-            lps: (in_flight / 16).max(1) as u32,
-            events_per_lp: in_flight.min(16) as u32,
+            lps: population.lps,
+            events_per_lp: population.events_per_lp,
             remote: 0.9,
             mean: SimTime::from_us(1),
             lookahead: SimTime::from_ns(100),
@@ -337,7 +388,7 @@ pub fn scale(cfg: &ScaleConfig, progress: &mut dyn FnMut(&str)) -> Result<ScaleR
             events = summary.events;
         }
         figures.push(figure(
-            &format!("PHOLD, {in_flight} in flight: engine / bare heap event rate"),
+            &format!("PHOLD, {label}: engine / bare heap event rate"),
             median(ratios.clone()),
             "x",
             Target::AtLeast(if in_flight >= 1 << 20 { 1.0 } else { 0.8 }),
@@ -349,7 +400,7 @@ pub fn scale(cfg: &ScaleConfig, progress: &mut dyn FnMut(&str)) -> Result<ScaleR
         ));
         // A million in flight is about cache misses, which instructions leave out.
         if cfg.instructions && in_flight <= 16384 {
-            progress(&format!("PHOLD, {in_flight} in flight, under callgrind"));
+            progress(&format!("PHOLD, {label}, under callgrind"));
             // About a million events, whatever the population: a count does not need the
             // long run that evens out the noise, and a run under callgrind is slow.
             let counted = PholdConfig {
@@ -359,9 +410,7 @@ pub fn scale(cfg: &ScaleConfig, progress: &mut dyn FnMut(&str)) -> Result<ScaleR
             let counts = Counts::phold(&counted)?;
             let floor = instructions::count(&counted.command_line(), Stretch::PholdFloor)?;
             figures.push(figure(
-                &format!(
-                    "PHOLD, {in_flight} in flight, by instructions (callgrind): bare heap / engine"
-                ),
+                &format!("PHOLD, {label}, by instructions (callgrind): bare heap / engine"),
                 counts.baseline_over_measured(),
                 "x",
                 Target::AtLeast(0.8),
@@ -658,6 +707,26 @@ fn floor_leaves(floor_wall: f64, target: f64) -> String {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    /// The populations of 16 events a process keep the names their figures have always had
+    /// (readers of scale.json find them by name); the others say how many processes.
+    #[test]
+    fn phold_figures_name_their_population() {
+        assert_eq!(Population::in_flight(1 << 20).label(), "1048576 in flight");
+        assert_eq!(Population::in_flight(1024).events(), 1024);
+        assert_eq!(
+            Population::lone(16384).label(),
+            "16384 processes of one event"
+        );
+        let four = Population {
+            lps: 8,
+            events_per_lp: 4,
+        };
+        assert_eq!(
+            (four.label().as_str(), four.events()),
+            ("8 processes of 4 events", 32)
+        );
+    }
 
     #[test]
     fn the_floor_says_what_it_leaves_flow_only_below_the_target() {
