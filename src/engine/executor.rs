@@ -449,13 +449,17 @@ impl<M: Payload> State<M> {
     #[inline]
     pub fn deliver(&mut self, env: Envelope<M>) {
         let (src, dst, tag, bytes) = (env.src, env.dst, env.tag, env.bytes);
-        self.deliver_made(src, dst, tag, bytes, move || env);
+        if let Some(p) = self.deliver_made(src, dst, tag, bytes, move || env) {
+            self.ready.push_back(p);
+        }
     }
 
     /// [`State::deliver`] of the envelope `make` builds, from `src` to `dst` with `tag` and
     /// `bytes`: built where it goes (a program's hand-off or the mailbox), as built first and
     /// moved there, the move's wide loads would wait for the narrow stores that built it.
+    /// Returns the program the message was handed to, which the caller makes ready.
     #[inline(always)]
+    #[must_use]
     fn deliver_made(
         &mut self,
         src: NodeId,
@@ -463,7 +467,7 @@ impl<M: Payload> State<M> {
         tag: u32,
         bytes: Bytes,
         make: impl FnOnce() -> Envelope<M>,
-    ) {
+    ) -> Option<ProgramId> {
         let node = &mut self.nodes[dst as usize];
         node.received.bytes += bytes;
         node.received.messages += 1;
@@ -471,9 +475,12 @@ impl<M: Payload> State<M> {
             Some(i) => {
                 let (p, _) = node.waiters.swap_remove(i);
                 self.handoffs.put(&mut node.handoff, p, make());
-                self.ready.push_back(p);
+                Some(p)
             }
-            None => node.mailbox.push_back(make()),
+            None => {
+                node.mailbox.push_back(make());
+                None
+            }
         }
     }
 }
@@ -824,9 +831,14 @@ impl<M: Payload> State<M> {
             };
             self.now = at;
             self.events += 1;
-            match event {
-                Event::Wake(p) => self.ready.push_back(p),
-                Event::Arrive(id) => self.arrive(id),
+            // The program an event wakes alone runs next: the ready queue was empty (the loop
+            // takes an event only then), so queueing it would only take it straight back out.
+            let woken = match event {
+                Event::Wake(p) => Some(p),
+                Event::Arrive(id) => {
+                    self.arrive(id);
+                    None
+                }
                 Event::Post { src, dst, payload } => {
                     let tag = payload.tag();
                     self.deliver_made(src, dst, tag, Bytes::ZERO, || Envelope {
@@ -838,6 +850,11 @@ impl<M: Payload> State<M> {
                         arrived: at,
                     })
                 }
+            };
+            if let Some(p) = woken {
+                debug_assert!(self.ready.is_empty(), "an event taken with programs ready");
+                self.current = p;
+                return Some(p);
             }
         }
     }
