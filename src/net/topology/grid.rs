@@ -70,37 +70,130 @@ impl Grid {
     }
 
     /// Appends the links of `steps` hops from `node` along dimension `d` in direction `plus`
-    /// (wrapping at the ends, which only a torus's routes reach) and returns where they end.
-    /// One division per call, not per hop: routes are computed for every pair that talks.
+    /// (wrapping at the ends, which only a torus's routes reach) and returns where they end;
+    /// `steps` is at most the dimension's extent. The ports of the nodes along a dimension
+    /// lie a fixed distance apart in the table, so a hop is one load: a walk is two runs of
+    /// them, up to the edge and on from the other end. `c` is `node`'s coordinate in `d`,
+    /// which the caller has at hand (finding it takes a division).
+    #[inline]
     pub fn walk(
         &self,
         node: NodeId,
-        d: usize,
+        (d, c): (usize, u32),
         steps: u32,
         plus: bool,
         out: &mut Vec<LinkId>,
     ) -> NodeId {
         let (k, stride) = (self.dims[d], self.strides[d]);
-        let mut c = self.coord(node, d);
+        debug_assert!(steps <= k, "a walk round a dimension more than once");
+        debug_assert_eq!(
+            c,
+            self.coord(node, d),
+            "a walk from a coordinate not its node's"
+        );
         let row = node - c * stride;
-        // A range's map has a known length: one reservation, no capacity check per hop.
-        out.extend((0..steps).map(|_| {
-            let link = self.link(row + c * stride, d, plus);
-            c = match (plus, c) {
-                (true, c) if c + 1 == k => 0,
-                (true, c) => c + 1,
-                (false, 0) => k - 1,
-                (false, c) => c - 1,
-            };
-            link
-        }));
-        row + c * stride
+        let dir = usize::from(!plus);
+        let (first_run, wrapped_from, end) = match plus {
+            true => (steps.min(k - c), 0, (c + steps) % k),
+            false => (steps.min(c + 1), k - 1, (c + k - steps) % k),
+        };
+        let apart = stride as usize * self.dims.len() * 2;
+        let port_at = |x: u32| self.port(row + x * stride, d, dir);
+        for (from, hops) in [(c, first_run), (wrapped_from, steps - first_run)] {
+            let first = port_at(from);
+            // A range's map has a known length: one reservation, no capacity check per hop.
+            out.extend((0..hops as usize).map(|i| {
+                let port = if plus {
+                    first + i * apart
+                } else {
+                    first - i * apart
+                };
+                let id = self.ports[port];
+                debug_assert_ne!(id, NO_LINK, "routing used a missing link");
+                id
+            }));
+        }
+        row + end * stride
     }
 
     /// The link leaving `node` along dimension `d` in direction `plus`.
-    pub fn link(&self, node: NodeId, d: usize, plus: bool) -> LinkId {
+    #[cfg(test)]
+    fn link(&self, node: NodeId, d: usize, plus: bool) -> LinkId {
         let id = self.ports[self.port(node, d, usize::from(!plus))];
         debug_assert_ne!(id, NO_LINK, "routing used a missing link");
         id
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// The walk hop by hop: each link looked up from the node it leaves, which is then
+    /// stepped one coordinate on (the plain definition `walk` must agree with).
+    fn walk_hop_by_hop(
+        g: &Grid,
+        node: NodeId,
+        d: usize,
+        steps: u32,
+        plus: bool,
+    ) -> (Vec<LinkId>, NodeId) {
+        let (k, mut at, mut links) = (g.dims[d], node, Vec::new());
+        for _ in 0..steps {
+            links.push(g.link(at, d, plus));
+            let c = g.coord(at, d);
+            at = g.with_coord(at, d, if plus { (c + 1) % k } else { (c + k - 1) % k });
+        }
+        (links, at)
+    }
+
+    #[test]
+    fn a_walk_takes_the_links_it_would_hop_by_hop() {
+        let wrapping = |g: &Grid, node, d: usize, plus: bool| {
+            let (k, c) = (g.dims[d], g.coord(node, d));
+            (k > 1).then(|| g.with_coord(node, d, if plus { (c + 1) % k } else { (c + k - 1) % k }))
+        };
+        let edged = |g: &Grid, node, d: usize, plus: bool| {
+            let (k, c) = (g.dims[d], g.coord(node, d));
+            match plus {
+                true => (c + 1 < k).then(|| g.with_coord(node, d, c + 1)),
+                false => (c > 0).then(|| g.with_coord(node, d, c - 1)),
+            }
+        };
+        for dims in [vec![5], vec![4, 4], vec![3, 5], vec![16, 32], vec![2, 3, 4]] {
+            for (wraps, g) in [
+                (true, Grid::new(&dims, wrapping)),
+                (false, Grid::new(&dims, edged)),
+            ] {
+                for node in 0..g.nodes() {
+                    for d in 0..dims.len() {
+                        let (k, c) = (dims[d], g.coord(node, d));
+                        for plus in [true, false] {
+                            // Off a mesh's edge there is no link to walk.
+                            let most = match (wraps, plus) {
+                                (true, _) => k,
+                                (false, true) => k - 1 - c,
+                                (false, false) => c,
+                            };
+                            for steps in 0..=most {
+                                let mut links = vec![7];
+                                let end = g.walk(node, (d, c), steps, plus, &mut links);
+                                let (expected, expected_end) =
+                                    walk_hop_by_hop(&g, node, d, steps, plus);
+                                assert_eq!(
+                                    links[1..],
+                                    expected[..],
+                                    "{dims:?} node {node} d {d} {plus} {steps}"
+                                );
+                                assert_eq!(
+                                    end, expected_end,
+                                    "{dims:?} node {node} d {d} {plus} {steps}"
+                                );
+                            }
+                        }
+                    }
+                }
+            }
+        }
     }
 }

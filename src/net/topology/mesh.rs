@@ -40,8 +40,11 @@ impl Topology for Mesh {
         let mut at = src;
         for d in 0..g.dims.len() {
             let (c, target) = (g.coord(at, d), g.coord(dst, d));
-            at = g.walk(at, d, c.abs_diff(target), c < target, out);
+            at = g.walk(at, (d, c), c.abs_diff(target), c < target, out);
         }
+        true
+    }
+    fn routes_in_place(&self) -> bool {
         true
     }
     /// The smallest cross-section: cutting the longest dimension k crosses N/k links one way.

@@ -88,6 +88,13 @@ pub trait Topology: Send + Sync {
     /// Appends the links from `src` to `dst` (both `< nodes`) to `out`; false when the pair
     /// has no route. A message to itself has an empty route.
     fn route_into(&self, src: NodeId, dst: NodeId, out: &mut Vec<LinkId>) -> bool;
+    /// Whether `route_into` costs about a load a hop (no search, no allocation), so that a
+    /// message's route is computed as it starts rather than read from a store of every pair
+    /// that talked: on 512 nodes talking all to all that store is megabytes, and reading a
+    /// route from it misses in cache where computing it does not.
+    fn routes_in_place(&self) -> bool {
+        false
+    }
     /// Links that one hop acquires together (2 on a crossbar: the source's output port and
     /// the destination's input port are one switch traversal).
     fn links_per_hop(&self) -> u32 {

@@ -43,10 +43,13 @@ impl Topology for Torus {
         let g = &self.grid;
         let mut at = src;
         for d in 0..g.dims.len() {
-            let k = g.dims[d];
-            let (steps, plus) = ring_steps(g.coord(at, d), g.coord(dst, d), k);
-            at = g.walk(at, d, steps, plus, out);
+            let (k, c) = (g.dims[d], g.coord(at, d));
+            let (steps, plus) = ring_steps(c, g.coord(dst, d), k);
+            at = g.walk(at, (d, c), steps, plus, out);
         }
+        true
+    }
+    fn routes_in_place(&self) -> bool {
         true
     }
     /// The cut across the longest dimension k: each of the N/k rings along it is crossed
