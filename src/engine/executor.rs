@@ -405,6 +405,21 @@ impl<M: Payload> State<M> {
         }
         self.delivered = delivered;
         self.arm_net_wake();
+        self.warm_next_delivered();
+    }
+
+    /// Asks the cpu for the record of the message the network delivers next, when it knows
+    /// which: written when the message was sent and read only on its arrival, that record is
+    /// otherwise a cache miss per message, and the events until the wake-up hide it. Changes
+    /// nothing.
+    fn warm_next_delivered(&self) {
+        let next = self.net.as_ref().and_then(Network::next_delivered);
+        // Its address only: reading the slot here would wait for the very miss.
+        if let Some(slot) = next.and_then(|m| self.in_flight.get(m as usize)) {
+            let start = std::ptr::from_ref(slot).cast::<u8>();
+            prefetch(start);
+            prefetch(start.wrapping_add(size_of_val(slot) - 1));
+        }
     }
 
     fn arrive(&mut self, id: MsgId) {

@@ -622,6 +622,11 @@ impl Network {
         arrival
     }
 
+    /// The message the network will deliver next, when its model knows it ahead: a hint.
+    pub fn next_delivered(&self) -> Option<MsgId> {
+        self.transport.next_delivered()
+    }
+
     /// The earliest instant at which `advance` has something to do.
     pub fn next_event_time(&self) -> Option<SimTime> {
         let held = self.interfaces.as_ref().and_then(|i| i.next_time());

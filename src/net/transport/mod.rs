@@ -77,6 +77,11 @@ pub trait Transport: Send {
     ) -> Option<SimTime>;
     fn next_event_time(&self) -> Option<SimTime>;
     fn advance(&mut self, now: SimTime, delivered: &mut Vec<Delivered>);
+    /// The message `advance` will deliver first, when the level knows it ahead (a hint for
+    /// the executor, which asks the cpu for that message's record; no answer depends on it).
+    fn next_delivered(&self) -> Option<MsgId> {
+        None
+    }
     fn usage(&self, link: LinkId) -> Usage;
     /// The flow model's work counters; zero for the other levels.
     fn counters(&self) -> SolveCounters {
