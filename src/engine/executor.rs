@@ -166,6 +166,29 @@ pub(super) struct Received {
 }
 
 impl<M> NodeState<M> {
+    /// The first program waiting for a message with `tag` from `src`, no longer waiting. The
+    /// one waiter a node has as a rule leaves by a pop, which moves nothing.
+    #[inline]
+    fn take_waiter(&mut self, tag: u32, src: NodeId) -> Option<ProgramId> {
+        let i = self.waiters.iter().position(|(_, f)| f.accepts(tag, src))?;
+        let (p, _) = if i + 1 == self.waiters.len() {
+            self.waiters.pop()?
+        } else {
+            self.waiters.swap_remove(i)
+        };
+        Some(p)
+    }
+
+    /// Where the first message in the mailbox that `filter` accepts is. An empty mailbox,
+    /// the rule when a program waits, is answered without walking it.
+    #[inline]
+    pub fn mailbox_position(&self, filter: Filter) -> Option<usize> {
+        if self.mailbox.is_empty() {
+            return None;
+        }
+        self.mailbox.iter().position(|e| filter.matches(e))
+    }
+
     /// The node's statistics with the received counters in them.
     fn stats(&self) -> NodeStats {
         NodeStats {
@@ -486,9 +509,8 @@ impl<M: Payload> State<M> {
         let node = &mut self.nodes[dst as usize];
         node.received.bytes += bytes;
         node.received.messages += 1;
-        match node.waiters.iter().position(|(_, f)| f.accepts(tag, src)) {
-            Some(i) => {
-                let (p, _) = node.waiters.swap_remove(i);
+        match node.take_waiter(tag, src) {
+            Some(p) => {
                 self.handoffs.put(&mut node.handoff, p, make());
                 Some(p)
             }
@@ -1014,6 +1036,41 @@ mod tests {
         assert_eq!(taken(&mut h, &mut b, 1), Some((8, false)));
         assert_eq!(taken(&mut h, &mut b, 3), Some((10, true)));
         assert!(b.is_none() && h.more.is_empty());
+    }
+
+    /// A node's waiters leave in the order a swap-remove gives, whether the one that leaves
+    /// is the last (a pop) or not; the mailbox is searched only when it holds messages.
+    #[test]
+    fn waiters_leave_as_a_swap_remove_would_take_them() {
+        let mut node: NodeState<u32> = NodeState {
+            waiters: SmallVec::new(),
+            mailbox: VecDeque::new(),
+            received: Received::default(),
+            handoff: None,
+            cpu_free_at: SimTime::ZERO,
+            stats: NodeStats::default(),
+            pool: MemoryPool::new(0, Bytes::new(0)),
+        };
+        let ids = |n: &NodeState<u32>| n.waiters.iter().map(|&(p, _)| p).collect::<Vec<_>>();
+        node.waiters.extend([
+            (1, Filter::tag(1)),
+            (2, Filter::tag(2)),
+            (3, Filter::tag(1)),
+            (4, Filter::ANY),
+        ]);
+        assert_eq!(node.take_waiter(2, 0), Some(2));
+        assert_eq!(ids(&node), [1, 4, 3]);
+        assert_eq!(node.take_waiter(1, 0), Some(1));
+        assert_eq!(ids(&node), [3, 4]);
+        assert_eq!(node.take_waiter(5, 0), Some(4));
+        assert_eq!(ids(&node), [3]);
+        assert_eq!(node.take_waiter(2, 0), None);
+        assert_eq!(node.take_waiter(1, 0), Some(3));
+        assert!(node.waiters.is_empty() && node.take_waiter(1, 0).is_none());
+        assert_eq!(node.mailbox_position(Filter::ANY), None);
+        node.mailbox.extend([envelope(3), envelope(5)]);
+        assert_eq!(node.mailbox_position(Filter::source(5)), Some(1));
+        assert_eq!(node.mailbox_position(Filter::source(4)), None);
     }
 
     /// A delivery and the next `recv` of a node touch its first two cache lines only, for a

@@ -390,7 +390,7 @@ impl<M: Payload> Future for Receive<'_, M> {
         let env = match st.handoffs.take(&mut node.handoff, p) {
             Some((env, false)) => env,
             Some((env, true)) => return st.paid(id, p, env),
-            None => match node.mailbox.iter().position(|e| filter.matches(e)) {
+            None => match node.mailbox_position(filter) {
                 Some(i) => node.mailbox.remove(i).expect("position is in range"),
                 None => {
                     // Registered once: a program waits in one `recv` at a time, and it leaves
