@@ -10,6 +10,7 @@ use std::collections::VecDeque;
 use std::fmt;
 use std::future::Future;
 use std::pin::Pin;
+use std::ptr::NonNull;
 use std::rc::Rc;
 use std::task::{Context, Poll, Waker};
 
@@ -129,6 +130,9 @@ pub(super) struct ProgramMeta {
     pub wait: Wait,
     /// Set when a blocking send this program waits on has been delivered.
     pub delivered: bool,
+    /// Whether the look ahead warms this program's state: it is its node's first
+    /// (`State::first_program`).
+    pub warmed: bool,
 }
 
 struct InFlight<M> {
@@ -262,7 +266,8 @@ pub(super) struct State<M> {
     pub nodes: Vec<NodeState<M>>,
     pub handoffs: Handoffs<M>,
     /// Where each node's first program keeps its state, while it runs, for the look ahead
-    /// (`warm_for_next`).
+    /// (`warm_for_next`): a word a node, so that with many nodes the table itself stays in
+    /// cache (at 32 bytes a node, PHOLD's 16,384 processes missed on it).
     first_program: Vec<Option<Warm>>,
     /// Whether the look ahead runs: only with enough nodes that their records and programs
     /// miss in cache ([`LOOK_AHEAD_NODES`]); with fewer it is work that saves nothing.
@@ -357,8 +362,11 @@ impl<M: Payload> State<M> {
     }
 
     pub fn register_program(&mut self, node: NodeId, name: String, daemon: bool, program: Program) {
-        let id = self.programs.len() as ProgramId;
-        self.first_program[node as usize].get_or_insert_with(|| Warm::of(id, &program));
+        let first = &mut self.first_program[node as usize];
+        let warmed = first.is_none();
+        if warmed {
+            *first = Some(Warm::of(&program));
+        }
         self.programs.push(ProgramMeta {
             name,
             node,
@@ -367,6 +375,7 @@ impl<M: Payload> State<M> {
             phase: "run",
             wait: Wait::Nothing,
             delivered: false,
+            warmed,
         });
         self.spawned.push(program);
     }
@@ -711,10 +720,9 @@ impl<M: Payload> Sim<M> {
         let now = st.now;
         let meta = &mut st.programs[p as usize];
         meta.done = true;
-        let (node, daemon) = (meta.node, meta.daemon);
-        let first = &mut st.first_program[node as usize];
-        if first.is_some_and(|w| w.program == p) {
-            *first = None;
+        let (node, daemon, warmed) = (meta.node, meta.daemon, meta.warmed);
+        if warmed {
+            st.first_program[node as usize] = None;
         }
         if !daemon {
             let stats = &mut st.nodes[node as usize].stats;
@@ -782,31 +790,41 @@ const WARM_BYTES: usize = 8 * 64;
 /// the event that will wake the program. With many programs that state is a cache miss per
 /// event, which the program's poll would otherwise wait for. A hint only: it changes no
 /// memory and no answer, and the future is pinned, so the lines stay its own while it runs.
+///
+/// One word: the address of the first line, whose low six bits are free, plus how many lines.
 #[derive(Clone, Copy)]
-struct Warm {
-    program: ProgramId,
-    first_line: *const u8,
-    lines: usize,
-}
+struct Warm(NonNull<u8>);
 
 impl Warm {
-    fn of(program: ProgramId, future: &Program) -> Warm {
+    fn of(future: &Program) -> Warm {
         let future = &**future;
         let start = std::ptr::from_ref(future).cast::<u8>();
         // A poll reads the future's state word, its locals and the receive it waits in,
         // spread over its lines; only a long future's tail is left cold.
         let len = std::mem::size_of_val(future).min(WARM_BYTES);
-        Warm {
-            program,
-            first_line: start.wrapping_sub(start as usize % 64),
-            lines: (start as usize % 64 + len).div_ceil(64),
-        }
+        let offset = start.addr() % 64;
+        let lines = (offset + len).div_ceil(64).max(1);
+        const _: () = assert!(
+            WARM_BYTES / 64 + 1 < 64,
+            "the lines fit below a line's address"
+        );
+        let word = start.wrapping_sub(offset).wrapping_add(lines);
+        Warm(NonNull::new(word.cast_mut()).expect("a future's line is not at address zero"))
+    }
+
+    fn first_line(self) -> *const u8 {
+        self.0.as_ptr().wrapping_sub(self.lines())
+    }
+
+    fn lines(self) -> usize {
+        self.0.as_ptr().addr() % 64
     }
 
     #[inline]
     fn prefetch(self) {
-        for line in 0..self.lines {
-            prefetch(self.first_line.wrapping_add(line * 64));
+        let first = self.first_line();
+        for line in 0..self.lines() {
+            prefetch(first.wrapping_add(line * 64));
         }
     }
 }
@@ -959,7 +977,8 @@ mod tests {
     }
 
     /// The look ahead asks for every line of a short program's future and the first 512
-    /// bytes of a long one, and for no line before the future starts.
+    /// bytes of a long one, and for no line before the future starts; what it keeps of a
+    /// program is one word.
     #[test]
     fn the_look_ahead_covers_a_programs_future() {
         fn lines_of(program: &Program) -> (usize, usize, Warm) {
@@ -968,7 +987,7 @@ mod tests {
             (
                 start as usize,
                 std::mem::size_of_val(future),
-                Warm::of(7, program),
+                Warm::of(program),
             )
         }
         let short = [1u8; 300];
@@ -985,22 +1004,23 @@ mod tests {
         ];
         for program in &programs {
             let (start, len, warm) = lines_of(program);
-            let first = warm.first_line as usize;
-            assert_eq!(warm.program, 7);
+            let first = warm.first_line() as usize;
+            assert_eq!(first % 64, 0, "a line's start");
             assert!(
                 first <= start && start - first < 64,
                 "starts on the future's first line"
             );
             assert!(
-                first + 64 * warm.lines >= start + len.min(WARM_BYTES),
+                first + 64 * warm.lines() >= start + len.min(WARM_BYTES),
                 "covers it"
             );
             assert!(
-                64 * (warm.lines - 1) < start - first + len.min(WARM_BYTES),
+                64 * (warm.lines() - 1) < start - first + len.min(WARM_BYTES),
                 "no more"
             );
         }
         assert!(lines_of(&programs[0]).1 >= 300 && lines_of(&programs[1]).1 >= 3000);
+        assert_eq!(std::mem::size_of::<Option<Warm>>(), 8, "a word a node");
     }
 
     /// Each program takes the message handed to it and no other, whichever of a node's
