@@ -17,7 +17,7 @@ use std::task::{Context, Poll, Waker};
 use smallvec::SmallVec;
 
 use super::node::{Envelope, Filter, Node, Payload};
-use super::queue::EventQueue;
+use super::queue::{EventQueue, LookAhead};
 use super::stats::{CpuSpan, NodeStats, RunStats};
 use super::wakes::NetWakes;
 use crate::machine::{CpuConfig, MachineConfig, MemError, MemoryPool};
@@ -172,7 +172,7 @@ pub(super) struct Received {
 impl<M> NodeState<M> {
     /// The first program waiting for a message with `tag` from `src`, no longer waiting. The
     /// one waiter a node has as a rule leaves by a pop, which moves nothing.
-    #[inline]
+    #[inline(always)]
     fn take_waiter(&mut self, tag: u32, src: NodeId) -> Option<ProgramId> {
         let i = self.waiters.iter().position(|(_, f)| f.accepts(tag, src))?;
         let (p, _) = if i + 1 == self.waiters.len() {
@@ -295,9 +295,28 @@ pub(super) struct State<M> {
 }
 
 impl<M: Payload> State<M> {
+    #[inline]
     pub fn schedule(&mut self, at: SimTime, event: Event<M>) {
         debug_assert!(at >= self.now, "an event was scheduled in the past");
-        self.queue.push(at, event);
+        let node = if self.look_ahead {
+            self.delivered_to(&event)
+        } else {
+            None
+        };
+        self.queue.push_hinted(at, event, node);
+    }
+
+    /// The node whose record the event's delivery reads first, for the look ahead.
+    #[inline]
+    fn delivered_to(&self, event: &Event<M>) -> Option<NodeId> {
+        match *event {
+            Event::Post { dst, .. } => Some(dst),
+            Event::Arrive(id) => self.in_flight[id as usize]
+                .as_ref()
+                .filter(|f| !f.broadcast)
+                .map(|f| f.env.dst),
+            Event::Wake(_) => None,
+        }
     }
 
     /// Pauses or resumes a recorded timeline: its cpu spans and its links' occupancy.
@@ -867,9 +886,6 @@ impl<M: Payload> State<M> {
                 return Some(p);
             }
             if self.look_ahead {
-                if let Some(slot) = self.queue.peek_second_slot() {
-                    prefetch(slot);
-                }
                 if let Some(warm) = self.warm_for_next() {
                     warm.prefetch();
                 }
@@ -914,24 +930,37 @@ impl<M: Payload> State<M> {
         }
     }
 
-    /// Asks the cpu for the two lines of the node record the next event's delivery reads
-    /// first, before the queue takes the event out: in a run of many nodes that record is a
-    /// cache miss, and the queue's work hides it. The event's own slot was asked for one
-    /// event earlier (`EventQueue::peek_second_slot`), so finding the node waits for nothing,
-    /// and nothing here waits for the node. Returns where the node's first program keeps its
-    /// state (`Warm`): that program is the one a delivery wakes as a rule, and its state is
-    /// the next miss; it is taken from a small table rather than from the node's waiters, so
-    /// the misses overlap instead of one waiting for another. Changes nothing.
+    /// Asks the cpu for the two lines of the node record a delivery reads first, for the
+    /// event after the next and again for the next, before the queue takes them out: in a run
+    /// of many nodes that record is a cache miss, and one event's work did not hide it all.
+    /// The nodes come from the queue's hints (`State::schedule`), which stay in cache, so
+    /// finding them waits for no event's body, and nothing here waits for a node; the body
+    /// of the event after the next is asked for too, which its pop reads. Returns
+    /// where the next event's node's first program keeps its state (`Warm`): that program is
+    /// the one a delivery wakes as a rule, and its state is the next miss; it is taken from a
+    /// small table rather than from the node's waiters, so the misses overlap instead of one
+    /// waiting for another. Changes nothing.
     fn warm_for_next(&self) -> Option<Warm> {
-        let dst = match self.queue.peek()? {
-            &Event::Post { dst, .. } => dst,
-            &Event::Arrive(id) => self.in_flight[id as usize].as_ref()?.env.dst,
-            Event::Wake(_) => return None,
-        } as usize;
-        let node = std::ptr::from_ref(&self.nodes[dst]).cast::<u8>();
-        prefetch(node);
-        prefetch(node.wrapping_add(64));
-        self.first_program[dst]
+        let LookAhead {
+            next,
+            after,
+            after_body,
+        } = self.queue.look_ahead();
+        if let Some(body) = after_body {
+            prefetch(body);
+        }
+        let warm_node = |dst: u32| {
+            let node = std::ptr::from_ref(&self.nodes[dst as usize]).cast::<u8>();
+            prefetch(node);
+            prefetch(node.wrapping_add(64));
+        };
+        if let Some(after) = after {
+            warm_node(after);
+            prefetch(std::ptr::from_ref(&self.first_program[after as usize]).cast());
+        }
+        let next = next?;
+        warm_node(next);
+        self.first_program[next as usize]
     }
 
     pub fn net(&self) -> Option<&Network> {

@@ -52,8 +52,25 @@ fn slot_of(key: u128) -> usize {
 pub struct EventQueue<E> {
     keys: Keys,
     slots: Vec<Option<E>>,
+    /// A word the caller attached to each slot's event, for its look ahead
+    /// ([`EventQueue::push_hinted`]); kept apart from the bodies, so that it stays in cache.
+    hints: Vec<u32>,
     free: Vec<u32>,
     next_seq: u64,
+}
+
+/// The hint of an event pushed without one.
+const NO_HINT: u32 = u32::MAX;
+
+/// The next two events as a look ahead sees them ([`EventQueue::look_ahead`]).
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub struct LookAhead {
+    /// The hint of the earliest event.
+    pub next: Option<u32>,
+    /// The hint of the event after it, when it was cheap to find.
+    pub after: Option<u32>,
+    /// Where that event's body is kept.
+    pub after_body: Option<*const u8>,
 }
 
 impl<E> Default for EventQueue<E> {
@@ -61,6 +78,7 @@ impl<E> Default for EventQueue<E> {
         EventQueue {
             keys: Keys::default(),
             slots: Vec::new(),
+            hints: Vec::new(),
             free: Vec::new(),
             next_seq: 0,
         }
@@ -82,6 +100,7 @@ impl<E> EventQueue<E> {
         EventQueue {
             keys: Keys::default(),
             slots: Vec::with_capacity(n),
+            hints: Vec::with_capacity(n),
             free: Vec::new(),
             next_seq: 0,
         }
@@ -95,11 +114,20 @@ impl<E> EventQueue<E> {
     /// the narrow stores that built it.
     #[inline]
     pub fn push(&mut self, at: SimTime, event: E) {
+        self.push_hinted(at, event, None);
+    }
+
+    /// [`EventQueue::push`], with a word the queue keeps beside the event and hands back to a
+    /// look ahead ([`EventQueue::look_ahead`]) without reading the event's body; the queue
+    /// never reads it itself.
+    #[inline]
+    pub fn push_hinted(&mut self, at: SimTime, event: E, hint: Option<u32>) {
         if self.free.is_empty() {
             self.add_slot();
         }
         let slot = self.free.pop().expect("a free slot was just made");
         self.slots[slot as usize] = Some(event);
+        self.hints[slot as usize] = hint.unwrap_or(NO_HINT);
         self.file(at, slot);
     }
 
@@ -110,6 +138,7 @@ impl<E> EventQueue<E> {
         let s = self.slots.len() as u32;
         assert!(s < 1 << SLOT_BITS, "more than 2^24 events pending at once");
         self.slots.push(None);
+        self.hints.push(NO_HINT);
         self.free.push(s);
     }
 
@@ -153,16 +182,31 @@ impl<E> EventQueue<E> {
         self.slots[slot_of(key)].as_ref()
     }
 
-    /// Where the event after the earliest is kept, when finding it is cheap (the keys in the
-    /// heap: the least of the root's children), for a look ahead one event deeper: its slot
-    /// fetched while the earliest is taken, so that the next look ahead reads it from cache.
-    /// Pushes before the next pop may come earlier; it is a guess, never an order.
-    pub fn peek_second_slot(&self) -> Option<*const u8> {
+    /// What a look ahead needs of the next two events, found with no event's body read:
+    /// the hint of the earliest, and, when finding it is cheap (the keys in the heap: the
+    /// least of the root's children), the hint of the event after it and where its body is
+    /// kept, so that it can be fetched while the earliest is taken. Pushes before the next pop
+    /// may come earlier than that second event; it is a guess, never an order.
+    #[inline]
+    pub fn look_ahead(&self) -> LookAhead {
+        let hint = |key: u128| Some(self.hints[slot_of(key)]).filter(|&h| h != NO_HINT);
         let Store::Heap(h) = &self.keys.store else {
-            return None;
+            return LookAhead {
+                next: self.keys.peek().and_then(hint),
+                ..LookAhead::default()
+            };
         };
-        let &Reverse(key) = h.as_slice().get(1..5.min(h.len()))?.iter().max()?;
-        Some(std::ptr::from_ref(&self.slots[slot_of(key)]).cast())
+        let heap = h.as_slice();
+        let Some(&Reverse(first)) = heap.first() else {
+            return LookAhead::default();
+        };
+        let second = heap.get(1..5.min(heap.len())).and_then(|c| c.iter().max());
+        LookAhead {
+            next: hint(first),
+            after: second.and_then(|&Reverse(key)| hint(key)),
+            after_body: second
+                .map(|&Reverse(key)| std::ptr::from_ref(&self.slots[slot_of(key)]).cast()),
+        }
     }
 
     /// Takes the earliest event if it is due at or before `horizon` and comes before `place`
@@ -498,26 +542,39 @@ mod tests {
         assert_eq!(order, [9, 1, 3, 5, 8, 7, 0, 6, 2, 4]);
     }
 
-    /// The look ahead one event deeper names the slot of the event taken after the next,
-    /// while the keys are in the heap and nothing is pushed in between, and nothing once they
-    /// are in the radix heap.
+    /// The look ahead hands back the hints pushed with the earliest event and the one taken
+    /// after it, and where that second one's body is, while the keys are in the heap and
+    /// nothing is pushed in between; `None` for events pushed without a hint; and only the
+    /// first once the keys are in the radix heap.
     #[test]
-    fn the_second_peek_names_the_slot_taken_after_the_next() {
+    fn the_look_ahead_names_the_next_two_events() {
         let mut q = EventQueue::with_thresholds(8, 4);
         for (i, t) in [5u64, 3, 9, 3, 7, 12, 4].into_iter().enumerate() {
-            q.push(SimTime::from_ps(t), i);
+            q.push_hinted(SimTime::from_ps(t), i, Some(100 + i as u32));
         }
-        while let Some(second) = q.peek_second_slot() {
-            q.pop();
-            let next = q.keys.peek().expect("a second event is queued");
-            assert_eq!(second, std::ptr::from_ref(&q.slots[slot_of(next)]).cast());
+        q.push(SimTime::from_ps(8), 7);
+        let hint = |e: usize| (e < 7).then_some(100 + e as u32);
+        while q.len() > 1 {
+            let ahead = q.look_ahead();
+            let (_, e) = q.pop().expect("queued");
+            assert_eq!(ahead.next, hint(e));
+            let second = q.keys.peek().expect("a second event is queued");
+            assert_eq!(ahead.after, hint(q.slots[slot_of(second)].expect("queued")));
+            let body = std::ptr::from_ref(&q.slots[slot_of(second)]).cast();
+            assert_eq!(ahead.after_body, Some(body));
         }
-        assert_eq!(q.len(), 1);
+        let last = LookAhead {
+            next: Some(105),
+            ..LookAhead::default()
+        };
+        assert_eq!(q.look_ahead(), last);
         for i in 0..9 {
-            q.push(SimTime::from_ps(20 + i), i as usize);
+            q.push_hinted(SimTime::from_ps(20 + i), i as usize, Some(7));
         }
         assert!(matches!(q.keys.store, Store::Radix(_)));
-        assert_eq!(q.peek_second_slot(), None);
+        assert_eq!(q.look_ahead(), last);
+        while q.pop().is_some() {}
+        assert_eq!(q.look_ahead(), LookAhead::default());
     }
 
     #[test]
