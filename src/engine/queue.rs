@@ -13,7 +13,9 @@
 //! both have the next key at hand, so the next event can be looked at before it is taken.
 //! A [`Place`] in that order can also be reserved without queueing anything, for events kept
 //! elsewhere that must still run exactly where a queued one would (the network's wake-ups).
-//! Event bodies stay put in a side slab, whose freed slots are reused first (warm in cache).
+//! Event bodies stay put in a side slab, whose freed slots are reused first (warm in cache);
+//! beside each slot the queue keeps a word its pusher may attach (a hint), handed back for a
+//! look ahead at the next two events without their bodies read.
 //! Owns ordering only; must never look at what an event means, and never accepts a key below
 //! the last one taken (that would break the radix heap's order; it panics instead).
 
