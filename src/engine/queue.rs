@@ -177,8 +177,8 @@ impl<E> EventQueue<E> {
         self.pop_before(horizon, None)
     }
 
-    /// The earliest event, found at no cost in either structure: a look ahead, so that the
-    /// state it will touch can be fetched while it is being taken out.
+    /// The earliest event (the look ahead reads hints instead: [`EventQueue::look_ahead`]).
+    #[cfg(test)]
     pub fn peek(&self) -> Option<&E> {
         let key = self.keys.peek()?;
         self.slots[slot_of(key)].as_ref()

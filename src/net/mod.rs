@@ -569,13 +569,14 @@ impl Network {
     ///
     /// Panics if [`Network::check_message`] would fail: that is the caller's bug.
     fn first_link_rate(&mut self, msg: MsgId, src: NodeId, dst: Dest) -> Bandwidth {
-        let n = self.nodes();
-        let has_route =
-            matches!(dst, Dest::Node(d) if src < n && d < n && self.topology.routes_every_pair());
         // With one rate for every link the route is not needed until the message starts,
         // only that it has one.
-        if self.timing.node_links.is_none() && has_route {
-            return self.timing.bandwidth;
+        if self.timing.node_links.is_none() {
+            let n = self.nodes();
+            if matches!(dst, Dest::Node(d) if src < n && d < n && self.topology.routes_every_pair())
+            {
+                return self.timing.bandwidth;
+            }
         }
         let Some(route) = route_of(self.topology.as_ref(), &mut self.routes, src, dst) else {
             self.unroutable(msg, src, dst)

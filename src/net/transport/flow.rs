@@ -657,11 +657,6 @@ mod tests {
             })
     }
 
-    /// Two equal flows on link 0, then a third on links 0 and 1 while they run, counted by
-    /// hand: the first solve rates two new flows in one group (link 0's); the third joins
-    /// that group and the rate falls from a half to a third (three flows, one group); the
-    /// first two finish together (one solve: the third's rate rises, its group stays); the
-    /// third finishes alone (a solve with nothing left).
     /// The executor asks the cpu for the record of the message the hint names; a hint that
     /// named another would only waste that, but it should name the right one: with a fixed
     /// latency after each transfer, whatever an advance delivers first was waiting before it.
@@ -700,6 +695,11 @@ mod tests {
         }
     }
 
+    /// Two equal flows on link 0, then a third on links 0 and 1 while they run, counted by
+    /// hand: the first solve rates two new flows in one group (link 0's); the third joins
+    /// that group and the rate falls from a half to a third (three flows, one group); the
+    /// first two finish together (one solve: the third's rate rises, its group stays); the
+    /// third finishes alone (a solve with nothing left).
     #[test]
     fn counters_count_flows_groups_and_solves() {
         let ms = |n: u64| SimTime::from_ms(n);
