@@ -539,3 +539,70 @@ fn packet_shares_the_network_links_between_nodes_packet_by_packet() {
     }
     assert!(at_network_rate >= 2, "{at_network_rate}");
 }
+
+/// Where `ideal` and `hops` tally routes by lines (the mesh and the torus, links of one rate),
+/// every arrival and every link's bytes, messages and busy time equal those of the same
+/// messages walked link by link, the path a recorded timeline takes; also when recording
+/// starts part way, so that both tallies are summed. Staggered random traffic with interface
+/// gaps, on meshes and tori with ends, wrap-arounds and extents of two.
+#[test]
+fn a_tally_by_lines_gives_what_walking_each_route_gives() {
+    use sortsim::net::pattern::{parse_pattern, random_staggered};
+    let shapes: [(TopologyKind, &[u32]); 5] = [
+        (TopologyKind::Mesh, &[16, 32]),
+        (TopologyKind::Mesh, &[3, 2, 4]),
+        (TopologyKind::Torus, &[16, 32]),
+        (TopologyKind::Torus, &[2, 5, 3]),
+        (TopologyKind::Torus, &[7]),
+    ];
+    for (topology, dims) in shapes {
+        for fidelity in [Fidelity::Ideal, Fidelity::Hops] {
+            for switching in [Switching::Wormhole, Switching::StoreAndForward] {
+                let cfg = NetworkConfig {
+                    message_gap: SimTime::from_ns(700),
+                    ..cfg(topology, dims, fidelity, switching)
+                };
+                let nodes = dims.iter().product();
+                let sizes = [Bytes::new(1), Bytes::new(3000), Bytes::new(65_536)];
+                let pattern = random_staggered(nodes, 2_000, &sizes, SimTime::from_us(500), 7);
+                let messages = parse_pattern(&Network::new(&cfg).unwrap(), &pattern).unwrap();
+                let case = format!("{topology:?} {dims:?} {fidelity:?} {switching:?}");
+
+                let mut walked = Network::new(&cfg).unwrap();
+                walked.record_occupancy();
+                let walked_at = drive(&mut walked, &messages);
+                let mut by_lines = Network::new(&cfg).unwrap();
+                let by_lines_at = drive(&mut by_lines, &messages);
+                assert_eq!(by_lines_at, walked_at, "{case}");
+                assert_eq!(by_lines.link_stats(), walked.link_stats(), "{case}");
+                assert!(walked.link_stats().iter().any(|l| l.messages > 1), "{case}");
+
+                // The second batch starts once the first is delivered (injections never go
+                // back in time).
+                let (first, rest) = messages.split_at(messages.len() / 2);
+                let rest: Vec<ParsedMessage> = rest
+                    .iter()
+                    .map(|m| ParsedMessage {
+                        start: m.start + SimTime::from_ms(1_000),
+                        ..*m
+                    })
+                    .collect();
+                let rest = &rest[..];
+                let mut both = Network::new(&cfg).unwrap();
+                let mut at = drive(&mut both, first);
+                both.record_occupancy();
+                at.extend(drive(&mut both, rest));
+                let mut walked = Network::new(&cfg).unwrap();
+                walked.record_occupancy();
+                let mut walked_at = drive(&mut walked, first);
+                walked_at.extend(drive(&mut walked, rest));
+                assert_eq!(at, walked_at, "{case}, recording from half way");
+                assert_eq!(
+                    both.link_stats(),
+                    walked.link_stats(),
+                    "{case}, recording from half way"
+                );
+            }
+        }
+    }
+}

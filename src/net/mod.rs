@@ -38,7 +38,7 @@ pub mod transport;
 use crate::units::{Bandwidth, Bytes, SimTime};
 pub use timing::NodeLinks;
 use timing::{Hops, Timing};
-use topology::{Link, Topology};
+use topology::{LineTally, Link, Topology};
 use transport::Transport;
 
 /// A simulated node (processor) index, `0..nodes`.
@@ -327,6 +327,12 @@ pub struct Network {
     /// Per link: (bytes, messages) that crossed it, side by side (an injection updates both
     /// for every link of its route).
     carried: Vec<(Bytes, u64)>,
+    /// Where a level times messages without their routes (`ideal` and `hops` on links of one
+    /// rate) on a topology whose routes run along lines (the mesh and the torus): the bytes,
+    /// messages and busy time routes carried, tallied by lines, and the level. A message
+    /// then costs a few additions a dimension instead of a walk of its route and three
+    /// passes over it; [`Network::link_stats`] sums the lines per link.
+    lines: Option<(LineTally, transport::RouteFree)>,
     routes: routes::Routes,
     /// Per-message link occupancy, when a timeline is recorded.
     occupancy: Option<occupancy::Occupancy>,
@@ -412,12 +418,15 @@ impl Network {
             &node_link,
         )
         .map_err(NetError::Config)?;
+        let lines = transport::route_free(cfg.fidelity, timing)
+            .and_then(|level| Some((topology.line_tally()?, level)));
         Ok(Network {
             topology,
             transport,
             fidelity: cfg.fidelity,
             timing,
             carried: vec![(Bytes::ZERO, 0); links],
+            lines,
             routes: routes::Routes::new(nodes),
             occupancy: None,
             interfaces: interface::Interfaces::new(cfg.message_gap, nodes),
@@ -606,6 +615,20 @@ impl Network {
         dst: Dest,
         bytes: Bytes,
     ) -> Option<SimTime> {
+        if let (Some((lines, level)), Dest::Node(d), None) = (&mut self.lines, dst, &self.occupancy)
+        {
+            let n = self.topology.nodes();
+            if src < n && d < n {
+                let busy = level.busy_per_link(bytes);
+                let amount = [bytes.get(), 1, busy.ps()];
+                let links = self.topology.tally_route(src, d, lines, amount);
+                let hops = Hops {
+                    network: links / self.topology.links_per_hop(),
+                    node: 0,
+                };
+                return Some(level.arrival(now, hops, bytes));
+            }
+        }
         let Some(route) = route_of(self.topology.as_ref(), &mut self.routes, src, dst) else {
             self.unroutable(msg, src, dst)
         };
@@ -695,19 +718,24 @@ impl Network {
 
     /// Traffic per link, in link index order.
     pub fn link_stats(&self) -> Vec<LinkStats> {
+        let by_lines = match &self.lines {
+            Some((lines, _)) => self.topology.tallied(lines),
+            None => Vec::new(),
+        };
         self.topology
             .links()
             .iter()
             .enumerate()
             .map(|(i, link)| {
                 let usage = self.transport.usage(i as LinkId);
+                let [bytes, messages, busy] = by_lines.get(i).copied().unwrap_or_default();
                 LinkStats {
                     from: link.from,
                     to: link.to,
                     name: link.name(self.topology.nodes()),
-                    bytes: self.carried[i].0,
-                    messages: self.carried[i].1,
-                    busy: usage.busy,
+                    bytes: self.carried[i].0 + Bytes::new(bytes),
+                    messages: self.carried[i].1 + messages,
+                    busy: usage.busy + SimTime::from_ps(busy),
                     peak_queue: usage.peak_queue,
                 }
             })

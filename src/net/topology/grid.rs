@@ -2,10 +2,12 @@
 //! from (node, dimension, direction) to link index.
 //!
 //! Node id = x + dims[0] * (y + dims[1] * z). Links are numbered by node, then dimension,
-//! then `+` before `-`, skipping links that do not exist. Must never decide a route: the
-//! torus and the mesh each own their routing rule.
+//! then `+` before `-`, skipping links that do not exist. A route is a leg along each
+//! dimension, and a leg one or two runs of links along a line of nodes; so what routes carry
+//! can be tallied by lines ([`LineTally`]) and summed per link only when asked. Must never
+//! decide a route: the torus and the mesh each own their routing rule.
 
-use super::Link;
+use super::{Amount, Link};
 use crate::net::{LinkId, NodeId};
 
 const NO_LINK: LinkId = LinkId::MAX;
@@ -93,13 +95,10 @@ impl Grid {
         );
         let row = node - c * stride;
         let dir = usize::from(!plus);
-        let (first_run, wrapped_from, end) = match plus {
-            true => (steps.min(k - c), 0, (c + steps) % k),
-            false => (steps.min(c + 1), k - 1, (c + k - steps) % k),
-        };
+        let (runs, end) = leg_runs(k, c, steps, plus);
         let apart = stride as usize * self.dims.len() * 2;
         let port_at = |x: u32| self.port(row + x * stride, d, dir);
-        for (from, hops) in [(c, first_run), (wrapped_from, steps - first_run)] {
+        for (from, hops) in runs {
             let first = port_at(from);
             // A range's map has a known length: one reservation, no capacity check per hop.
             out.extend((0..hops as usize).map(|i| {
@@ -116,6 +115,66 @@ impl Grid {
         row + end * stride
     }
 
+    /// What [`Grid::walk`] would append, added to `tally` instead: `amount` on each link of
+    /// the leg, by a difference at each end of its runs. Returns where the leg ends.
+    #[inline]
+    pub fn tally(
+        &self,
+        node: NodeId,
+        (d, c): (usize, u32),
+        steps: u32,
+        plus: bool,
+        tally: &mut LineTally,
+        amount: Amount,
+    ) -> NodeId {
+        let (k, stride) = (self.dims[d], self.strides[d]);
+        debug_assert!(steps <= k, "a walk round a dimension more than once");
+        let row = node - c * stride;
+        let dir = usize::from(!plus);
+        let (runs, end) = leg_runs(k, c, steps, plus);
+        for (from, hops) in runs.into_iter().filter(|&(_, hops)| hops > 0) {
+            // The run's links lie at coordinates [lo, hi) of the line, in either direction.
+            let (lo, hi) = match plus {
+                true => (from, from + hops),
+                false => (from + 1 - hops, from + 1),
+            };
+            tally.add(self.port(row + lo * stride, d, dir), amount);
+            if hi < k {
+                tally.take(self.port(row + hi * stride, d, dir), amount);
+            }
+        }
+        row + end * stride
+    }
+
+    /// An empty tally of this grid's lines.
+    pub fn line_tally(&self) -> LineTally {
+        LineTally {
+            differences: vec![[0; 3]; self.ports.len()],
+        }
+    }
+
+    /// Every link's total in `tally`, in link index order: the prefix sums of the differences
+    /// along each line, in each direction.
+    pub fn tallied(&self, tally: &LineTally) -> Vec<Amount> {
+        let mut totals = vec![[0; 3]; self.links.len()];
+        for (d, (&k, &stride)) in self.dims.iter().zip(&self.strides).enumerate() {
+            let line_starts = (0..self.nodes()).filter(|&node| self.coord(node, d) == 0);
+            for start in line_starts {
+                for dir in 0..2 {
+                    let mut sum: Amount = [0; 3];
+                    for x in 0..k {
+                        let port = self.port(start + x * stride, d, dir);
+                        sum = plus(sum, tally.differences[port]);
+                        if self.ports[port] != NO_LINK {
+                            totals[self.ports[port] as usize] = sum;
+                        }
+                    }
+                }
+            }
+        }
+        totals
+    }
+
     /// The link leaving `node` along dimension `d` in direction `plus`.
     #[cfg(test)]
     fn link(&self, node: NodeId, d: usize, plus: bool) -> LinkId {
@@ -123,6 +182,46 @@ impl Grid {
         debug_assert_ne!(id, NO_LINK, "routing used a missing link");
         id
     }
+}
+
+/// A leg of `steps` hops from coordinate `c` of a line of `k` nodes, as two runs `(from,
+/// hops)` (the second from the far end of the line, after wrapping round it; empty unless the
+/// leg wraps), and the coordinate where it ends.
+fn leg_runs(k: u32, c: u32, steps: u32, plus: bool) -> ([(u32, u32); 2], u32) {
+    let (first_run, wrapped_from, end) = match plus {
+        true => (steps.min(k - c), 0, (c + steps) % k),
+        false => (steps.min(c + 1), k - 1, (c + k - steps) % k),
+    };
+    ([(c, first_run), (wrapped_from, steps - first_run)], end)
+}
+
+/// Amounts that routes carried, kept per port as differences along the port's line: a run of
+/// links adds at its first port and takes off past its last, so a route costs a few additions
+/// a leg whatever its length, and [`Grid::tallied`] sums them per link. The arithmetic wraps:
+/// each link's total is exact whenever it fits in 64 bits, as a tally by links would need.
+pub struct LineTally {
+    differences: Vec<Amount>,
+}
+
+impl LineTally {
+    fn add(&mut self, port: usize, amount: Amount) {
+        self.differences[port] = plus(self.differences[port], amount);
+    }
+
+    fn take(&mut self, port: usize, amount: Amount) {
+        let d = &mut self.differences[port];
+        for (d, a) in d.iter_mut().zip(amount) {
+            *d = d.wrapping_sub(a);
+        }
+    }
+}
+
+fn plus(a: Amount, b: Amount) -> Amount {
+    [
+        a[0].wrapping_add(b[0]),
+        a[1].wrapping_add(b[1]),
+        a[2].wrapping_add(b[2]),
+    ]
 }
 
 #[cfg(test)]

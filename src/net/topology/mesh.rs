@@ -3,8 +3,8 @@
 //!
 //! Must never route a higher dimension before a lower one, nor use a link off the edge.
 
-use super::grid::Grid;
-use super::{Link, Topology};
+use super::grid::{Grid, LineTally};
+use super::{Amount, Link, Topology};
 use crate::net::{LinkId, NodeId, TopologyKind};
 
 pub struct Mesh {
@@ -23,6 +23,23 @@ impl Mesh {
         });
         Mesh { grid }
     }
+
+    /// The route's legs, lowest dimension first: `leg(node, (d, coordinate), steps, plus)`
+    /// takes each from where the last ended and returns where it ends.
+    #[inline]
+    fn legs(
+        &self,
+        src: NodeId,
+        dst: NodeId,
+        mut leg: impl FnMut(NodeId, (usize, u32), u32, bool) -> NodeId,
+    ) {
+        let g = &self.grid;
+        let mut at = src;
+        for d in 0..g.dims.len() {
+            let (c, target) = (g.coord(at, d), g.coord(dst, d));
+            at = leg(at, (d, c), c.abs_diff(target), c < target);
+        }
+    }
 }
 
 impl Topology for Mesh {
@@ -36,16 +53,27 @@ impl Topology for Mesh {
         &self.grid.links
     }
     fn route_into(&self, src: NodeId, dst: NodeId, out: &mut Vec<LinkId>) -> bool {
-        let g = &self.grid;
-        let mut at = src;
-        for d in 0..g.dims.len() {
-            let (c, target) = (g.coord(at, d), g.coord(dst, d));
-            at = g.walk(at, (d, c), c.abs_diff(target), c < target, out);
-        }
+        self.legs(src, dst, |at, dc, steps, plus| {
+            self.grid.walk(at, dc, steps, plus, out)
+        });
         true
     }
     fn routes_in_place(&self) -> bool {
         true
+    }
+    fn line_tally(&self) -> Option<LineTally> {
+        Some(self.grid.line_tally())
+    }
+    fn tally_route(&self, src: NodeId, dst: NodeId, tally: &mut LineTally, amount: Amount) -> u32 {
+        let mut links = 0;
+        self.legs(src, dst, |at, dc, steps, plus| {
+            links += steps;
+            self.grid.tally(at, dc, steps, plus, tally, amount)
+        });
+        links
+    }
+    fn tallied(&self, tally: &LineTally) -> Vec<Amount> {
+        self.grid.tallied(tally)
     }
     /// The smallest cross-section: cutting the longest dimension k crosses N/k links one way.
     fn bisection_width(&self) -> u32 {

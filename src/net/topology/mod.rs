@@ -26,9 +26,14 @@ mod pipeline;
 mod ring;
 mod torus;
 
+pub use grid::LineTally;
 pub use nodes::Placement;
 
 use super::{LinkId, NetError, NodeId, TopologyKind};
+
+/// What a route adds to each link it crosses, as counts the caller names (the network's:
+/// bytes, messages, busy picoseconds).
+pub type Amount = [u64; 3];
 
 /// One directed link (or the shared medium of a bus, or a crossbar port).
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -113,6 +118,21 @@ pub trait Topology: Send + Sync {
     /// Whether `link` lies inside a node of several processors (and runs at the node's rate).
     fn is_node_link(&self, _link: LinkId) -> bool {
         false
+    }
+    /// An empty [`LineTally`] when routes run along lines of nodes (the mesh and the torus),
+    /// so that [`Topology::tally_route`] can stand for `route_into` where only what routes
+    /// carry per link is kept, not the routes.
+    fn line_tally(&self) -> Option<LineTally> {
+        None
+    }
+    /// Adds `amount` to every link of the route from `src` to `dst` (both `< nodes`) in
+    /// `tally` (made by [`Topology::line_tally`]) and returns how many links the route has.
+    fn tally_route(&self, _src: NodeId, _dst: NodeId, _tally: &mut LineTally, _: Amount) -> u32 {
+        unreachable!("only a topology with a line tally tallies routes by lines")
+    }
+    /// Every link's total in `tally`, in link index order.
+    fn tallied(&self, _tally: &LineTally) -> Vec<Amount> {
+        unreachable!("only a topology with a line tally tallies routes by lines")
     }
 }
 
@@ -310,5 +330,52 @@ mod tests {
         assert!(build(TopologyKind::Dragonfly, &[4, 2, 4, 2]).is_ok());
         assert!(build(TopologyKind::Torus, &[3, 3, 3, 3]).is_ok());
         assert!(build(TopologyKind::Hypercube, &[1]).is_ok());
+    }
+
+    /// A tally by lines gives every link the sum a walk of each route adds link by link, for
+    /// every pair of meshes and tori with ends, wrap-arounds, extents of one and two, and
+    /// amounts whose differences wrap round 64 bits; and it counts each route's links.
+    #[test]
+    fn a_tally_by_lines_equals_one_by_links_for_every_pair() {
+        let shapes: [&[u32]; 8] = [
+            &[5],
+            &[2, 2],
+            &[1, 4],
+            &[4, 4],
+            &[3, 5],
+            &[6, 1, 3],
+            &[2, 3, 4],
+            &[16, 32],
+        ];
+        for kind in [TopologyKind::Mesh, TopologyKind::Torus] {
+            for dims in shapes {
+                let Ok(t) = build(kind, dims) else {
+                    assert!(kind == TopologyKind::Mesh && dims.len() == 1, "{dims:?}");
+                    continue;
+                };
+                let mut lines = t.line_tally().expect("a grid tallies by lines");
+                let mut by_links = vec![[0u64; 3]; t.links().len()];
+                let mut route = Vec::new();
+                for s in 0..t.nodes() {
+                    for d in 0..t.nodes() {
+                        let amount = [
+                            (1 << 40) + u64::from(s * 7 + d),
+                            1,
+                            u64::from(s + 1) * u64::from(d + 3),
+                        ];
+                        route.clear();
+                        assert!(t.route_into(s, d, &mut route));
+                        for &l in &route {
+                            for (total, a) in by_links[l as usize].iter_mut().zip(amount) {
+                                *total += a;
+                            }
+                        }
+                        let links = t.tally_route(s, d, &mut lines, amount);
+                        assert_eq!(links as usize, route.len(), "{kind:?} {dims:?} {s}->{d}");
+                    }
+                }
+                assert_eq!(t.tallied(&lines), by_links, "{kind:?} {dims:?}");
+            }
+        }
     }
 }

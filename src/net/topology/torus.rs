@@ -5,9 +5,9 @@
 //! (its `+` and `-` neighbours coincide, and a tie never takes `-`). Must never route a
 //! higher dimension before a lower one.
 
-use super::grid::Grid;
+use super::grid::{Grid, LineTally};
 use super::ring::ring_steps;
-use super::{Link, Topology};
+use super::{Amount, Link, Topology};
 use crate::net::{LinkId, NodeId, TopologyKind};
 
 pub struct Torus {
@@ -27,6 +27,25 @@ impl Torus {
         });
         Torus { grid }
     }
+
+    /// The route's legs, lowest dimension first, each the shortest way round its ring:
+    /// `leg(node, (d, coordinate), steps, plus)` takes each from where the last ended and
+    /// returns where it ends.
+    #[inline]
+    fn legs(
+        &self,
+        src: NodeId,
+        dst: NodeId,
+        mut leg: impl FnMut(NodeId, (usize, u32), u32, bool) -> NodeId,
+    ) {
+        let g = &self.grid;
+        let mut at = src;
+        for d in 0..g.dims.len() {
+            let (k, c) = (g.dims[d], g.coord(at, d));
+            let (steps, plus) = ring_steps(c, g.coord(dst, d), k);
+            at = leg(at, (d, c), steps, plus);
+        }
+    }
 }
 
 impl Topology for Torus {
@@ -40,17 +59,27 @@ impl Topology for Torus {
         &self.grid.links
     }
     fn route_into(&self, src: NodeId, dst: NodeId, out: &mut Vec<LinkId>) -> bool {
-        let g = &self.grid;
-        let mut at = src;
-        for d in 0..g.dims.len() {
-            let (k, c) = (g.dims[d], g.coord(at, d));
-            let (steps, plus) = ring_steps(c, g.coord(dst, d), k);
-            at = g.walk(at, (d, c), steps, plus, out);
-        }
+        self.legs(src, dst, |at, dc, steps, plus| {
+            self.grid.walk(at, dc, steps, plus, out)
+        });
         true
     }
     fn routes_in_place(&self) -> bool {
         true
+    }
+    fn line_tally(&self) -> Option<LineTally> {
+        Some(self.grid.line_tally())
+    }
+    fn tally_route(&self, src: NodeId, dst: NodeId, tally: &mut LineTally, amount: Amount) -> u32 {
+        let mut links = 0;
+        self.legs(src, dst, |at, dc, steps, plus| {
+            links += steps;
+            self.grid.tally(at, dc, steps, plus, tally, amount)
+        });
+        links
+    }
+    fn tallied(&self, tally: &LineTally) -> Vec<Amount> {
+        self.grid.tallied(tally)
     }
     /// The cut across the longest dimension k: each of the N/k rings along it is crossed
     /// twice (2N/k links one way); for k = 2 each ring has one link each way (N/2).

@@ -12,6 +12,8 @@ mod flow;
 mod maxmin;
 mod packet;
 
+pub use contention_free::RouteFree;
+
 use super::timing::{Hops, Timing};
 use super::{Delivered, Fidelity, LinkId, MsgId};
 use crate::units::{Bytes, SimTime};
@@ -104,8 +106,16 @@ pub fn build(
         _ => timing.bandwidth,
     };
     Ok(match fidelity {
-        Fidelity::Ideal => Box::new(contention_free::ContentionFree::ideal(timing, links, rate)),
-        Fidelity::Hops => Box::new(contention_free::ContentionFree::hops(timing, links, rate)),
+        Fidelity::Ideal => Box::new(contention_free::ContentionFree::new(
+            RouteFree::ideal(timing),
+            links,
+            rate,
+        )),
+        Fidelity::Hops => Box::new(contention_free::ContentionFree::new(
+            RouteFree::hops(timing),
+            links,
+            rate,
+        )),
         Fidelity::Flow => {
             let capacities = if node_link.is_empty() {
                 maxmin::Capacities::Uniform(timing.bandwidth.bits_per_s())
@@ -118,6 +128,16 @@ pub fn build(
         }
         Fidelity::Packet => Box::new(packet::Packet::new(timing, links, links_per_hop, node_link)),
     })
+}
+
+/// The level `fidelity` as a [`RouteFree`] when it needs no route to time a message and
+/// charges every link the same (a contention-free level on links of one rate).
+pub fn route_free(fidelity: Fidelity, timing: Timing) -> Option<RouteFree> {
+    match (fidelity, timing.node_links) {
+        (Fidelity::Ideal, None) => Some(RouteFree::ideal(timing)),
+        (Fidelity::Hops, None) => Some(RouteFree::hops(timing)),
+        _ => None,
+    }
 }
 
 /// Why `flow` cannot rate links of `timing` on `links` links, the fastest it can being `limit`
