@@ -5,12 +5,17 @@
 //! then `+` before `-`, skipping links that do not exist. A route is a leg along each
 //! dimension, and a leg one or two runs of links along a line of nodes; so what routes carry
 //! can be tallied by lines ([`LineTally`]) and summed per link only when asked. Must never
-//! decide a route: the torus and the mesh each own their routing rule.
+//! decide a route: the torus and the mesh each own their routing rule (a [`Leg`]).
 
 use super::{Amount, Link};
 use crate::net::{LinkId, NodeId};
 
 const NO_LINK: LinkId = LinkId::MAX;
+
+/// A routing rule along one dimension: from coordinate `c` to `target` on a line of `k` nodes,
+/// how many steps and whether in the `+` direction.
+pub trait Leg: Fn(u32, u32, u32) -> (u32, bool) {}
+impl<F: Fn(u32, u32, u32) -> (u32, bool)> Leg for F {}
 
 pub struct Grid {
     pub dims: Vec<u32>,
@@ -71,6 +76,52 @@ impl Grid {
         (node as usize * self.dims.len() + d) * 2 + dir
     }
 
+    /// Appends the links from `src` to `dst` (a route leg by leg, lowest dimension first,
+    /// each leg as the routing rule `leg` gives it: see [`Grid::legs`]).
+    #[inline]
+    pub fn route_into(&self, src: NodeId, dst: NodeId, leg: impl Leg, out: &mut Vec<LinkId>) {
+        self.legs(src, dst, leg, |at, dc, steps, plus| {
+            self.walk(at, dc, steps, plus, out)
+        });
+    }
+
+    /// Adds `amount` to every link from `src` to `dst` under the routing rule `leg` in
+    /// `tally`, and returns how many links the route has.
+    #[inline]
+    pub fn tally_route(
+        &self,
+        src: NodeId,
+        dst: NodeId,
+        leg: impl Leg,
+        tally: &mut LineTally,
+        amount: Amount,
+    ) -> u32 {
+        let mut links = 0;
+        self.legs(src, dst, leg, |at, dc, steps, plus| {
+            links += steps;
+            self.tally(at, dc, steps, plus, tally, amount)
+        });
+        links
+    }
+
+    /// The legs of a route, lowest dimension first: `each(node, (d, coordinate), steps,
+    /// plus)` takes each from where the last ended and returns where it ends.
+    #[inline]
+    fn legs(
+        &self,
+        src: NodeId,
+        dst: NodeId,
+        leg: impl Leg,
+        mut each: impl FnMut(NodeId, (usize, u32), u32, bool) -> NodeId,
+    ) {
+        let mut at = src;
+        for d in 0..self.dims.len() {
+            let (c, target) = (self.coord(at, d), self.coord(dst, d));
+            let (steps, plus) = leg(c, target, self.dims[d]);
+            at = each(at, (d, c), steps, plus);
+        }
+    }
+
     /// Appends the links of `steps` hops from `node` along dimension `d` in direction `plus`
     /// (wrapping at the ends, which only a torus's routes reach) and returns where they end;
     /// `steps` is at most the dimension's extent. The ports of the nodes along a dimension
@@ -78,7 +129,7 @@ impl Grid {
     /// them, up to the edge and on from the other end. `c` is `node`'s coordinate in `d`,
     /// which the caller has at hand (finding it takes a division).
     #[inline]
-    pub fn walk(
+    fn walk(
         &self,
         node: NodeId,
         (d, c): (usize, u32),
@@ -118,7 +169,7 @@ impl Grid {
     /// What [`Grid::walk`] would append, added to `tally` instead: `amount` on each link of
     /// the leg, by a difference at each end of its runs. Returns where the leg ends.
     #[inline]
-    pub fn tally(
+    fn tally(
         &self,
         node: NodeId,
         (d, c): (usize, u32),

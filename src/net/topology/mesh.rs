@@ -23,23 +23,11 @@ impl Mesh {
         });
         Mesh { grid }
     }
+}
 
-    /// The route's legs, lowest dimension first: `leg(node, (d, coordinate), steps, plus)`
-    /// takes each from where the last ended and returns where it ends.
-    #[inline]
-    fn legs(
-        &self,
-        src: NodeId,
-        dst: NodeId,
-        mut leg: impl FnMut(NodeId, (usize, u32), u32, bool) -> NodeId,
-    ) {
-        let g = &self.grid;
-        let mut at = src;
-        for d in 0..g.dims.len() {
-            let (c, target) = (g.coord(at, d), g.coord(dst, d));
-            at = leg(at, (d, c), c.abs_diff(target), c < target);
-        }
-    }
+/// The mesh's leg along one dimension: straight to the target's coordinate.
+fn mesh_leg(c: u32, target: u32, _k: u32) -> (u32, bool) {
+    (c.abs_diff(target), c < target)
 }
 
 impl Topology for Mesh {
@@ -53,9 +41,7 @@ impl Topology for Mesh {
         &self.grid.links
     }
     fn route_into(&self, src: NodeId, dst: NodeId, out: &mut Vec<LinkId>) -> bool {
-        self.legs(src, dst, |at, dc, steps, plus| {
-            self.grid.walk(at, dc, steps, plus, out)
-        });
+        self.grid.route_into(src, dst, mesh_leg, out);
         true
     }
     fn routes_in_place(&self) -> bool {
@@ -65,12 +51,7 @@ impl Topology for Mesh {
         Some(self.grid.line_tally())
     }
     fn tally_route(&self, src: NodeId, dst: NodeId, tally: &mut LineTally, amount: Amount) -> u32 {
-        let mut links = 0;
-        self.legs(src, dst, |at, dc, steps, plus| {
-            links += steps;
-            self.grid.tally(at, dc, steps, plus, tally, amount)
-        });
-        links
+        self.grid.tally_route(src, dst, mesh_leg, tally, amount)
     }
     fn tallied(&self, tally: &LineTally) -> Vec<Amount> {
         self.grid.tallied(tally)

@@ -27,25 +27,6 @@ impl Torus {
         });
         Torus { grid }
     }
-
-    /// The route's legs, lowest dimension first, each the shortest way round its ring:
-    /// `leg(node, (d, coordinate), steps, plus)` takes each from where the last ended and
-    /// returns where it ends.
-    #[inline]
-    fn legs(
-        &self,
-        src: NodeId,
-        dst: NodeId,
-        mut leg: impl FnMut(NodeId, (usize, u32), u32, bool) -> NodeId,
-    ) {
-        let g = &self.grid;
-        let mut at = src;
-        for d in 0..g.dims.len() {
-            let (k, c) = (g.dims[d], g.coord(at, d));
-            let (steps, plus) = ring_steps(c, g.coord(dst, d), k);
-            at = leg(at, (d, c), steps, plus);
-        }
-    }
 }
 
 impl Topology for Torus {
@@ -59,9 +40,7 @@ impl Topology for Torus {
         &self.grid.links
     }
     fn route_into(&self, src: NodeId, dst: NodeId, out: &mut Vec<LinkId>) -> bool {
-        self.legs(src, dst, |at, dc, steps, plus| {
-            self.grid.walk(at, dc, steps, plus, out)
-        });
+        self.grid.route_into(src, dst, ring_steps, out);
         true
     }
     fn routes_in_place(&self) -> bool {
@@ -71,12 +50,7 @@ impl Topology for Torus {
         Some(self.grid.line_tally())
     }
     fn tally_route(&self, src: NodeId, dst: NodeId, tally: &mut LineTally, amount: Amount) -> u32 {
-        let mut links = 0;
-        self.legs(src, dst, |at, dc, steps, plus| {
-            links += steps;
-            self.grid.tally(at, dc, steps, plus, tally, amount)
-        });
-        links
+        self.grid.tally_route(src, dst, ring_steps, tally, amount)
     }
     fn tallied(&self, tally: &LineTally) -> Vec<Amount> {
         self.grid.tallied(tally)
