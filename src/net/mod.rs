@@ -626,7 +626,7 @@ impl Network {
                     network: links / self.topology.links_per_hop(),
                     node: 0,
                 };
-                return Some(level.arrival(now, hops, bytes));
+                return Some(level.arrival_after_busy(now, busy, hops, bytes));
             }
         }
         let Some(route) = route_of(self.topology.as_ref(), &mut self.routes, src, dst) else {

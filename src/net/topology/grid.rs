@@ -260,19 +260,12 @@ impl LineTally {
     }
 
     fn take(&mut self, port: usize, amount: Amount) {
-        let d = &mut self.differences[port];
-        for (d, a) in d.iter_mut().zip(amount) {
-            *d = d.wrapping_sub(a);
-        }
+        self.add(port, amount.map(u64::wrapping_neg));
     }
 }
 
 fn plus(a: Amount, b: Amount) -> Amount {
-    [
-        a[0].wrapping_add(b[0]),
-        a[1].wrapping_add(b[1]),
-        a[2].wrapping_add(b[2]),
-    ]
+    std::array::from_fn(|i| a[i].wrapping_add(b[i]))
 }
 
 #[cfg(test)]

@@ -16,38 +16,67 @@ use crate::net::{Delivered, LinkId, MsgId};
 use crate::units::Bandwidth;
 use crate::units::{Bytes, SimTime};
 
-/// A contention-free level on links of one rate: a message's arrival and what it charges
-/// each link of its route, known without the route.
+/// A contention-free level: a message's arrival from its hops and size alone, and, on links
+/// of one rate, what it charges each link of its route (its serialization, which its arrival
+/// includes), so that a caller may tally its routes itself.
 #[derive(Clone, Copy)]
 pub struct RouteFree {
     timing: Timing,
-    /// The level's formula: time from injection to delivery for `hops` hops and `bytes`.
-    delay: fn(&Timing, Hops, Bytes) -> SimTime,
+    /// What the level adds to a message's serialization on its slowest link: the route's
+    /// latency (`ideal`) or [`Timing::fixed_part`] (`hops`), the sums of [`Timing::ideal`]
+    /// and [`Timing::contention_free`].
+    beyond_serialization: fn(&Timing, Hops, Bytes) -> SimTime,
 }
 
 impl RouteFree {
     pub fn ideal(timing: Timing) -> RouteFree {
         RouteFree {
             timing,
-            delay: |t, h, b| t.ideal(h, b),
+            beyond_serialization: |t, h, _| t.latency(h),
         }
     }
 
     pub fn hops(timing: Timing) -> RouteFree {
         RouteFree {
             timing,
-            delay: |t, h, b| t.contention_free(h, b),
+            beyond_serialization: |t, h, b| t.fixed_part(h, b),
         }
     }
 
     /// When a message of `bytes` injected at `now` over `hops` hops arrives.
     pub fn arrival(&self, now: SimTime, hops: Hops, bytes: Bytes) -> SimTime {
-        now + (self.delay)(&self.timing, hops, bytes)
+        let serialization = self.timing.serialization_on(hops, bytes);
+        self.arrival_after(now, serialization, hops, bytes)
     }
 
-    /// The busy time a message of `bytes` charges each link of its route.
+    /// On links of one rate: the busy time a message of `bytes` charges each link of its
+    /// route, which is its serialization.
     pub fn busy_per_link(&self, bytes: Bytes) -> SimTime {
+        debug_assert!(self.timing.node_links.is_none(), "links of several rates");
         self.timing.serialization(bytes)
+    }
+
+    /// [`RouteFree::arrival`] on links of one rate, of a message whose
+    /// [`RouteFree::busy_per_link`] is `busy` (its serialization, not worked out again).
+    pub fn arrival_after_busy(
+        &self,
+        now: SimTime,
+        busy: SimTime,
+        hops: Hops,
+        bytes: Bytes,
+    ) -> SimTime {
+        debug_assert!(self.timing.node_links.is_none(), "links of several rates");
+        self.arrival_after(now, busy, hops, bytes)
+    }
+
+    fn arrival_after(
+        &self,
+        now: SimTime,
+        serialization: SimTime,
+        hops: Hops,
+        bytes: Bytes,
+    ) -> SimTime {
+        now + serialization + (self.beyond_serialization)(&self.timing, hops, bytes)
     }
 }
 
@@ -90,10 +119,10 @@ impl Transport for ContentionFree {
             for &l in route {
                 self.busy[l as usize] += t;
             }
-        } else {
-            for &l in route {
-                self.busy[l as usize] += self.rates[l as usize].transfer_time(bytes);
-            }
+            return Some(self.level.arrival_after_busy(now, t, hops, bytes));
+        }
+        for &l in route {
+            self.busy[l as usize] += self.rates[l as usize].transfer_time(bytes);
         }
         Some(self.level.arrival(now, hops, bytes))
     }
