@@ -32,7 +32,9 @@
 //! its first member changes.
 
 use std::cmp::Reverse;
-use std::collections::{BTreeSet, BinaryHeap};
+use std::collections::BTreeSet;
+
+use dary_heap::QuaternaryHeap;
 
 use super::completions::Completions;
 use super::maxmin::{Capacities, Changes, MaxMin};
@@ -116,7 +118,7 @@ impl Group {
 /// of instant, then of scheduling.
 #[derive(Default)]
 struct Deliveries {
-    heap: BinaryHeap<Reverse<(SimTime, u64, MsgId)>>,
+    heap: QuaternaryHeap<Reverse<(SimTime, u64, MsgId)>>,
     seq: u64,
 }
 
