@@ -519,6 +519,24 @@ pub(crate) enum Incoming {
     Records(u32),
 }
 
+/// Rasterizes a sort-middle frame's polygons: those this processor kept for its own regions,
+/// then every stream the redistribution `polygons` is sending it, as they arrive.
+pub(crate) async fn rasterize_redistributed(
+    node: &Node<Msg>,
+    ctx: &Ctx,
+    frame: u32,
+    assignment: &Assignment,
+    polygons: &RefCell<redistribute::Redistributor>,
+) -> Result<RegionSet, SimError> {
+    let (local, streams) = {
+        let mut p = polygons.borrow_mut();
+        (std::mem::take(&mut p.local), p.expected_streams())
+    };
+    let incoming = Incoming::Streams(streams);
+    let (regions, _) = rasterize(node, ctx, frame, assignment, local, incoming).await?;
+    Ok(regions)
+}
+
 /// Rasterizes this processor's regions: its own triangles, then what `incoming` says to wait
 /// for. Returns the regional image (resolved from the samples when anti-aliasing) and the
 /// primitives whose records arrived.

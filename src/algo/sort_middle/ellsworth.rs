@@ -24,8 +24,8 @@ use std::rc::Rc;
 use crate::algo::image_space::assign::Assignment;
 use crate::algo::image_space::redistribute::{self, Redistributor};
 use crate::algo::image_space::{
-    compute_assignment, finish_frame, rasterize, region_counts, start_frame, sum_counts, transform,
-    CountsFrom, Ctx, Incoming, Msg,
+    compute_assignment, finish_frame, rasterize_redistributed, region_counts, start_frame,
+    sum_counts, transform, CountsFrom, Ctx, Msg,
 };
 use crate::engine::{Filter, Node, SimError};
 use crate::machine::Counts;
@@ -95,19 +95,7 @@ pub(super) async fn processor(node: Node<Msg>, ctx: Rc<Ctx>) -> Result<(), SimEr
             }
         };
 
-        let (local, streams) = {
-            let mut p = polygons.borrow_mut();
-            (std::mem::take(&mut p.local), p.expected_streams())
-        };
-        let (regions, _) = rasterize(
-            &node,
-            &ctx,
-            frame,
-            &assignment,
-            local,
-            Incoming::Streams(streams),
-        )
-        .await?;
+        let regions = rasterize_redistributed(&node, &ctx, frame, &assignment, &polygons).await?;
         if ctx.is_last(frame) {
             ctx.images.borrow_mut()[me as usize] = Some(regions);
         }

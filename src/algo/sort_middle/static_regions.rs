@@ -19,7 +19,7 @@ use std::rc::Rc;
 use crate::algo::image_space::assign::Assignment;
 use crate::algo::image_space::redistribute::{self, Redistributor};
 use crate::algo::image_space::{
-    collect_image, finish_frame, rasterize, start_frame, transform, Ctx, Incoming, Msg,
+    collect_image, finish_frame, rasterize_redistributed, start_frame, transform, Ctx, Msg,
 };
 use crate::engine::{Node, SimError};
 use crate::units::Bytes;
@@ -54,19 +54,7 @@ pub(super) async fn processor(node: Node<Msg>, ctx: Rc<Ctx>) -> Result<(), SimEr
         let out = polygons.borrow_mut().own_transform_done();
         redistribute::send_all(&node, &ctx, out).await;
 
-        let (local, streams) = {
-            let mut p = polygons.borrow_mut();
-            (std::mem::take(&mut p.local), p.expected_streams())
-        };
-        let (regions, _) = rasterize(
-            &node,
-            &ctx,
-            frame,
-            &assignment,
-            local,
-            Incoming::Streams(streams),
-        )
-        .await?;
+        let regions = rasterize_redistributed(&node, &ctx, frame, &assignment, &polygons).await?;
         collect_image(&node, &ctx, frame, &regions).await;
         if ctx.is_last(frame) {
             ctx.images.borrow_mut()[me as usize] = Some(regions);
