@@ -8,6 +8,12 @@
 //! Owns when each message leaves its sender and the messages held until then (and, for the
 //! levels that know an arrival at injection, until they arrive). Must never decide when a
 //! message arrives (the transport does) nor look at any link but the sender's first.
+//!
+//! A level that knows a message's arrival from the instant it leaves alone (no contention)
+//! needs no stop at that instant: the leaving is known at the send too, so such a message
+//! is held from its send straight to its arrival ([`Interfaces::depart`] and
+//! [`Interfaces::arrive_known`]), in the same order among arrivals as when held at its
+//! leaving (`held_from_the_send_arrive_as_held_from_the_leaving`, below).
 
 use std::cmp::Reverse;
 use std::collections::VecDeque;
@@ -35,6 +41,12 @@ pub(super) enum Due {
 /// it was held in, so that same-instant events keep the order they were made in.
 type Key = (SimTime, u64);
 
+/// Where an arrival sits among the held events: its instant, then the instant its message
+/// left and the order it was sent in ([`Interfaces::arrive_known`]); an arrival held at its
+/// leaving ([`Interfaces::arrive_at`]) has no leaving instant of its own (zero) and the
+/// order of its leaving in the last place.
+type ArrivalKey = (SimTime, SimTime, u64);
+
 /// A message waiting for its sender's interface.
 #[derive(Clone, Copy, Debug)]
 struct Waiting {
@@ -56,8 +68,8 @@ pub(super) struct Interfaces {
     /// as the engine's event queue is: half a binary heap's depth, so a node's next message
     /// put on top after its last one leaves sinks in fewer steps.
     heads: QuaternaryHeap<Reverse<(Key, NodeId)>>,
-    /// Messages whose transport told their arrival when they left, until then.
-    arriving: QuaternaryHeap<Reverse<(Key, MsgId)>>,
+    /// Messages whose transport told their arrival, until then.
+    arriving: QuaternaryHeap<Reverse<(ArrivalKey, MsgId)>>,
     seq: u64,
 }
 
@@ -91,10 +103,7 @@ impl Interfaces {
         bytes: Bytes,
         rate: Bandwidth,
     ) {
-        let free_at = &mut self.free_at[src as usize];
-        let leaves = now.max(*free_at) + self.gap;
-        *free_at = leaves + rate.transfer_time(bytes);
-        let key = self.next_key(leaves);
+        let key = self.depart(now, src, bytes, rate);
         let queue = &mut self.waiting[src as usize];
         if queue.is_empty() {
             self.heads.push(Reverse((key, src)));
@@ -107,10 +116,41 @@ impl Interfaces {
         });
     }
 
-    /// Holds a message whose transport told its arrival at `at` until then.
+    /// Holds a message whose transport told its arrival at `at`, as it left, until then.
     pub(super) fn arrive_at(&mut self, at: SimTime, msg: MsgId) {
-        let key = self.next_key(at);
-        self.arriving.push(Reverse((key, msg)));
+        let (at, seq) = self.next_key(at);
+        self.arriving.push(Reverse(((at, SimTime::ZERO, seq), msg)));
+    }
+
+    /// When a message of `bytes` sent at `now` by `src` leaves its interface, whose first
+    /// link runs at `rate` (a gap after the interface is free, which it is again once the
+    /// bytes have left), with its place among the messages sent: the key it waits by
+    /// ([`Interfaces::send`]) or is held by to its arrival ([`Interfaces::arrive_known`]).
+    pub(super) fn depart(
+        &mut self,
+        now: SimTime,
+        src: NodeId,
+        bytes: Bytes,
+        rate: Bandwidth,
+    ) -> (SimTime, u64) {
+        let free_at = &mut self.free_at[src as usize];
+        let leaves = now.max(*free_at) + self.gap;
+        *free_at = leaves + rate.transfer_time(bytes);
+        self.next_key(leaves)
+    }
+
+    /// Holds until `at` a message whose arrival its level knew as it was sent; it leaves at
+    /// `leaves`, `seq` its place among the messages sent ([`Interfaces::depart`]).
+    /// Held at its leaving instead, it would have come out among the arrivals at `at` in the
+    /// order the messages left, which is the order of (leaving instant, place sent): so it
+    /// does here. It must arrive after it leaves: one arriving as it left would have been
+    /// delivered at its leaving, among the other events of that instant.
+    pub(super) fn arrive_known(&mut self, at: SimTime, leaves: SimTime, seq: u64, msg: MsgId) {
+        assert!(
+            at > leaves,
+            "a message held from its send arrived as it left"
+        );
+        self.arriving.push(Reverse(((at, leaves, seq), msg)));
     }
 
     fn next_key(&mut self, at: SimTime) -> Key {
@@ -122,14 +162,14 @@ impl Interfaces {
         self.heads.peek().map(|&Reverse(head)| head)
     }
 
-    fn next_arrival(&self) -> Option<(Key, MsgId)> {
-        self.arriving.peek().map(|&Reverse(a)| a)
+    fn next_arrival(&self) -> Option<ArrivalKey> {
+        self.arriving.peek().map(|&Reverse((key, _))| key)
     }
 
     /// The earliest instant something held is due.
     pub(super) fn next_time(&self) -> Option<SimTime> {
         let start = self.next_start().map(|((at, _), _)| at);
-        let arrival = self.next_arrival().map(|((at, _), _)| at);
+        let arrival = self.next_arrival().map(|(at, _, _)| at);
         SimTime::earliest(start, arrival)
     }
 
@@ -137,9 +177,9 @@ impl Interfaces {
     /// arrival at the same instant, the one held first.
     pub(super) fn pop_due(&mut self, now: SimTime) -> Option<(SimTime, Due)> {
         let start = self.next_start().filter(|&((at, _), _)| at <= now);
-        let arrival = self.next_arrival().filter(|&((at, _), _)| at <= now);
+        let arrival = self.next_arrival().filter(|&(at, _, _)| at <= now);
         let leaves_first = match (start, arrival) {
-            (Some((key, _)), Some((other, _))) => key < other,
+            (Some(((at, seq), _)), Some(other)) => (at, SimTime::ZERO, seq) < other,
             (Some(_), None) => true,
             (None, Some(_)) => false,
             (None, None) => return None,
@@ -147,7 +187,7 @@ impl Interfaces {
         if let (true, Some(((at, _), src))) = (leaves_first, start) {
             return Some((at, self.leave(src)));
         }
-        let ((at, _), msg) = self.arriving.pop()?.0;
+        let ((at, _, _), msg) = self.arriving.pop()?.0;
         Some((at, Due::Arrive { msg }))
     }
 
@@ -277,6 +317,60 @@ mod tests {
                 );
             }
             drain(&mut fast, &mut oracle, SimTime::MAX)?;
+        }
+
+        /// Messages held from their send straight to their arrival (`depart`, `arrive_known`)
+        /// arrive at the same instants and in the same order as the same messages held until
+        /// they leave and then, their arrival told, until they arrive (`send`, `arrive_at`):
+        /// sends at a few instants from four nodes so that leavings and arrivals tie often,
+        /// and delays beyond the gap, so that a node's later message can arrive first.
+        #[test]
+        fn held_from_the_send_arrive_as_held_from_the_leaving(
+            sends in proptest::collection::vec((0..3u64, 0..4u32, 0..3u64, 1..2500u64), 1..120)
+        ) {
+            let gap = SimTime::from_us(1);
+            let rate = Bandwidth::from_bytes_per_s(1_000_000_000).unwrap();
+            // (instant sent, sender, bytes, the delay after its bytes leave) per message.
+            let mut at = SimTime::ZERO;
+            let sends: Vec<(SimTime, NodeId, Bytes, SimTime)> = sends
+                .into_iter()
+                .map(|(after, src, kb, delay)| {
+                    at += SimTime::from_us(after);
+                    (at, src, Bytes::new(kb * 1000), SimTime::from_ns(delay))
+                })
+                .collect();
+            let arrival = |leaves: SimTime, m: usize| {
+                leaves + rate.transfer_time(sends[m].2) + sends[m].3
+            };
+            let run = |from_the_send: bool| {
+                let mut ifs = Interfaces::new(gap, 4).unwrap();
+                let (mut next, mut arrived) = (0, Vec::new());
+                while let Some(now) =
+                    SimTime::earliest(sends.get(next).map(|s| s.0), ifs.next_time())
+                {
+                    while next < sends.len() && sends[next].0 == now {
+                        let (_, src, bytes, _) = sends[next];
+                        let msg = next as MsgId;
+                        if from_the_send {
+                            let (leaves, seq) = ifs.depart(now, src, bytes, rate);
+                            ifs.arrive_known(arrival(leaves, next), leaves, seq, msg);
+                        } else {
+                            ifs.send(now, msg, src, Dest::Node(9), bytes, rate);
+                        }
+                        next += 1;
+                    }
+                    while let Some((t, due)) = ifs.pop_due(now) {
+                        match due {
+                            Due::Start { msg, .. } => ifs.arrive_at(arrival(t, msg as usize), msg),
+                            Due::Arrive { msg } => arrived.push((t, msg)),
+                        }
+                    }
+                }
+                arrived
+            };
+            let held_from_the_send = run(true);
+            prop_assert_eq!(held_from_the_send.len(), sends.len());
+            prop_assert_eq!(held_from_the_send, run(false));
         }
     }
 }

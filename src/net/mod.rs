@@ -565,12 +565,32 @@ impl Network {
         }
         if self.interfaces.is_some() {
             let rate = self.first_link_rate(msg, src, dst);
+            if self.arrival_known_at_send() {
+                let interfaces = self.interfaces.as_mut().expect("checked above");
+                let (leaves, seq) = interfaces.depart(now, src, bytes, rate);
+                let arrival = self
+                    .start(leaves, msg, src, dst, bytes)
+                    .expect("a level without contention knows an arrival at the start");
+                let interfaces = self.interfaces.as_mut().expect("checked above");
+                interfaces.arrive_known(arrival, leaves, seq, msg);
+                return None;
+            }
             if let Some(interfaces) = &mut self.interfaces {
                 interfaces.send(now, msg, src, dst, bytes, rate);
             }
             return None;
         }
         self.start(now, msg, src, dst, bytes)
+    }
+
+    /// Whether a message's arrival is told as it is sent rather than as it leaves its
+    /// interface: at a level that knows an arrival from the instant a message leaves alone
+    /// (no contention), when every message takes time to arrive (so no arrival falls at its
+    /// own leaving), and no timeline records the links' occupancy from each message's start.
+    fn arrival_known_at_send(&self) -> bool {
+        transport::route_free(self.fidelity, self.timing).is_some()
+            && self.timing.hop_latency > SimTime::ZERO
+            && self.occupancy.is_none()
     }
 
     /// The rate of the first link `msg` crosses from `src` to `dst` (not to itself): the pace
