@@ -338,6 +338,12 @@ pub struct Network {
     occupancy: Option<occupancy::Occupancy>,
     /// The nodes' interfaces, when they cost a gap per message.
     interfaces: Option<interface::Interfaces>,
+    /// Whether the level knows a message's arrival from the instant it leaves alone (no
+    /// contention) and every message takes time to arrive (so no arrival falls at its own
+    /// leaving): then, unless a timeline records the links' occupancy from each message's
+    /// start, a message held by its interface is started as it is sent
+    /// ([`Network::arrival_known_at_send`]).
+    arrival_follows_leaving: bool,
 }
 
 pub use occupancy::LinkSpan;
@@ -418,8 +424,8 @@ impl Network {
             &node_link,
         )
         .map_err(NetError::Config)?;
-        let lines = transport::route_free(cfg.fidelity, timing)
-            .and_then(|level| Some((topology.line_tally()?, level)));
+        let route_free = transport::route_free(cfg.fidelity, timing);
+        let lines = route_free.and_then(|level| Some((topology.line_tally()?, level)));
         Ok(Network {
             topology,
             transport,
@@ -430,6 +436,7 @@ impl Network {
             routes: routes::Routes::new(nodes),
             occupancy: None,
             interfaces: interface::Interfaces::new(cfg.message_gap, nodes),
+            arrival_follows_leaving: route_free.is_some() && timing.hop_latency > SimTime::ZERO,
         })
     }
 
@@ -584,13 +591,10 @@ impl Network {
     }
 
     /// Whether a message's arrival is told as it is sent rather than as it leaves its
-    /// interface: at a level that knows an arrival from the instant a message leaves alone
-    /// (no contention), when every message takes time to arrive (so no arrival falls at its
-    /// own leaving), and no timeline records the links' occupancy from each message's start.
+    /// interface: when its leaving alone gives its arrival (`arrival_follows_leaving`), and no
+    /// timeline records the links' occupancy from each message's start.
     fn arrival_known_at_send(&self) -> bool {
-        transport::route_free(self.fidelity, self.timing).is_some()
-            && self.timing.hop_latency > SimTime::ZERO
-            && self.occupancy.is_none()
+        self.arrival_follows_leaving && self.occupancy.is_none()
     }
 
     /// The rate of the first link `msg` crosses from `src` to `dst` (not to itself): the pace
