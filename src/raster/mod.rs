@@ -128,8 +128,7 @@ pub fn draw_subset<T: Target + ?Sized>(
 
 /// Front end only: clips, projects, snaps and culls the listed triangles and appends the
 /// resulting screen triangles to `out` (the sort-middle geometry stage), preparing vertices
-/// in `cache` as [`draw_subset`] does. Inlined: dealing calls it for one triangle at a time.
-#[inline]
+/// in `cache` as [`draw_subset`] does.
 pub fn setup_subset(
     vertices: &[Vertex],
     triangles: &[[u32; 3]],
@@ -138,8 +137,25 @@ pub fn setup_subset(
     options: &RasterOptions,
     out: &mut Vec<ScreenTriangle>,
 ) -> Counters {
-    let viewport = cache.viewport();
     let mut c = Counters::default();
+    setup_subset_into(vertices, triangles, subset, cache, options, out, &mut c);
+    c
+}
+
+/// [`setup_subset`], its counts added to `c`. Inlined: dealing calls it for one triangle at
+/// a time, into its batch's counts (a fresh set of counts per triangle, zeroed and added,
+/// cost as much as the triangle's own setup).
+#[inline]
+pub fn setup_subset_into(
+    vertices: &[Vertex],
+    triangles: &[[u32; 3]],
+    subset: &[u32],
+    cache: &mut VertexCache,
+    options: &RasterOptions,
+    out: &mut Vec<ScreenTriangle>,
+    c: &mut Counters,
+) {
+    let viewport = cache.viewport();
     front_end(
         vertices,
         triangles,
@@ -147,10 +163,9 @@ pub fn setup_subset(
         viewport,
         options,
         Some(cache),
-        &mut c,
+        c,
         |t| out.push(t),
     );
-    c
 }
 
 /// [`setup_subset`] over the whole mesh, with a cache of its own when it pays.

@@ -13,7 +13,7 @@ use std::cell::RefCell;
 use std::collections::BTreeMap;
 use std::ops::Range;
 
-use crate::raster::{setup_subset, Counters, RasterOptions, ScreenTriangle, VertexCache};
+use crate::raster::{setup_subset_into, Counters, RasterOptions, ScreenTriangle, VertexCache};
 use crate::scene::FrameGeometry;
 
 /// One processor's share of a frame's front end.
@@ -69,24 +69,34 @@ pub(crate) fn deal(
     batch: usize,
 ) -> Vec<Dealt> {
     let mut shares: Vec<Dealt> = (0..n).map(|_| Dealt::default()).collect();
+    // Triangle `t` goes to processor `t % n` as the `t / n`-th of its stride, and that place
+    // opens a batch when it is a multiple of `batch`: counted here rather than divided out for
+    // each triangle.
+    let (mut share_at, mut stride_at) = (0usize, 0usize);
+    let mut opens_batch = true;
     for t in 0..geometry.triangles.len() as u32 {
-        let share = &mut shares[(t % n) as usize];
-        // The triangle's place in its processor's stride, and so its batch.
-        if (t / n) as usize % batch == 0 {
+        let share = &mut shares[share_at];
+        if opens_batch {
             let at = share.tris.len();
             share.batches.push((at..at, Counters::default()));
         }
-        let c = setup_subset(
+        let (range, counts) = share.batches.last_mut().expect("pushed above");
+        setup_subset_into(
             &geometry.vertices,
             &geometry.triangles,
             &[t],
             cache,
             options,
             &mut share.tris,
+            counts,
         );
-        let (range, counts) = share.batches.last_mut().expect("pushed above");
         range.end = share.tris.len();
-        *counts += c;
+        share_at += 1;
+        if share_at == shares.len() {
+            share_at = 0;
+            stride_at += 1;
+            opens_batch = stride_at % batch == 0;
+        }
     }
     shares
 }
@@ -98,7 +108,7 @@ mod tests {
     use rand_chacha::ChaCha8Rng;
 
     use super::*;
-    use crate::raster::{CullMode, Vertex, Viewport};
+    use crate::raster::{setup_subset, CullMode, Vertex, Viewport};
 
     /// Random triangles over a small viewport: some crossing the near plane or the guard band
     /// (clipped, several screen triangles each), some back-facing, some off screen, some with

@@ -176,7 +176,13 @@ impl Redistributor {
                 ));
             }
         }
-        out.extend(self.condition_met());
+        let direct = self.condition_met();
+        if out.is_empty() {
+            // One-step: the direct streams' ends are all there is (a copy of a message to
+            // every processor saved).
+            return direct;
+        }
+        out.extend(direct);
         out
     }
 
