@@ -127,6 +127,9 @@ pub(super) struct ProgramMeta {
     pub daemon: bool,
     pub done: bool,
     pub phase: &'static str,
+    /// Where `phase` sits among its node's busy times, once a charge has found it: a program
+    /// charges one phase many times over, and finding it is a search of its node's phases.
+    pub phase_slot: Option<u32>,
     pub wait: Wait,
     /// Set when a blocking send this program waits on has been delivered.
     pub delivered: bool,
@@ -333,7 +336,8 @@ impl<M: Payload> State<M> {
 
     /// Queues `t` of work on `node`'s cpu, first come first served; returns when it ends.
     pub fn reserve_cpu(&mut self, node: NodeId, t: SimTime, comm: bool) -> SimTime {
-        let phase = self.programs[self.current as usize].phase;
+        let meta = &self.programs[self.current as usize];
+        let (phase, slot) = (meta.phase, meta.phase_slot.filter(|_| meta.node == node));
         let now = self.now;
         let start = self.nodes[node as usize].cpu_free_at.max(now);
         // SimTime::MAX is also what an overflowing cost-table charge saturates to.
@@ -363,7 +367,16 @@ impl<M: Payload> State<M> {
         };
         let n = &mut self.nodes[node as usize];
         n.cpu_free_at = end;
-        n.stats.charge(phase, t);
+        match slot {
+            Some(slot) => n.stats.charge_at(slot as usize, t),
+            None => {
+                let slot = n.stats.charge(phase, t) as u32;
+                let meta = &mut self.programs[self.current as usize];
+                if meta.node == node {
+                    meta.phase_slot = Some(slot);
+                }
+            }
+        }
         if comm {
             n.stats.comm += t;
         }
@@ -392,6 +405,7 @@ impl<M: Payload> State<M> {
             daemon,
             done: false,
             phase: "run",
+            phase_slot: None,
             wait: Wait::Nothing,
             delivered: false,
             warmed,

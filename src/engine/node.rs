@@ -155,7 +155,12 @@ impl<M: Payload> Node<M> {
 
     /// Labels this program's following work for the per-phase busy-time report.
     pub fn phase(&self, label: &'static str) {
-        self.st.borrow_mut().meta().phase = label;
+        let mut st = self.st.borrow_mut();
+        let meta = st.meta();
+        if !std::ptr::eq(meta.phase, label) {
+            meta.phase = label;
+            meta.phase_slot = None;
+        }
     }
 
     /// Occupies this node's cpu for the cost of `counts` under the machine's cost table.

@@ -30,7 +30,7 @@ impl NodeStats {
         self.busy_by_phase.iter().map(|&(_, t)| t).sum()
     }
 
-    pub(crate) fn charge(&mut self, phase: &'static str, t: SimTime) {
+    pub(crate) fn charge(&mut self, phase: &'static str, t: SimTime) -> usize {
         // A label is almost always the very literal it was first charged under, so its address
         // finds it without reading the text; the text decides only when no address matches
         // (the same words may sit at two addresses).
@@ -40,9 +40,20 @@ impl NodeStats {
             .position(|&(p, _)| std::ptr::eq(p, phase))
             .or_else(|| phases.iter().position(|&(p, _)| p == phase));
         match at {
-            Some(i) => self.busy_by_phase[i].1 += t,
-            None => self.busy_by_phase.push((phase, t)),
+            Some(i) => {
+                self.busy_by_phase[i].1 += t;
+                i
+            }
+            None => {
+                self.busy_by_phase.push((phase, t));
+                self.busy_by_phase.len() - 1
+            }
         }
+    }
+
+    /// [`NodeStats::charge`] to the phase at `slot`, where an earlier charge found it.
+    pub(crate) fn charge_at(&mut self, slot: usize, t: SimTime) {
+        self.busy_by_phase[slot].1 += t;
     }
 }
 

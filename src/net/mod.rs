@@ -344,6 +344,9 @@ pub struct Network {
     /// start, a message held by its interface is started as it is sent
     /// ([`Network::arrival_known_at_send`]).
     arrival_follows_leaving: bool,
+    /// The topology's node count, read at every message (asked of the topology, a product
+    /// over its dimensions behind a virtual call).
+    nodes: u32,
 }
 
 pub use occupancy::LinkSpan;
@@ -437,11 +440,12 @@ impl Network {
             occupancy: None,
             interfaces: interface::Interfaces::new(cfg.message_gap, nodes),
             arrival_follows_leaving: route_free.is_some() && timing.hop_latency > SimTime::ZERO,
+            nodes,
         })
     }
 
     pub fn nodes(&self) -> u32 {
-        self.topology.nodes()
+        self.nodes
     }
 
     /// The transport model this network runs.
@@ -641,7 +645,7 @@ impl Network {
     ) -> Option<SimTime> {
         if let (Some((lines, level)), Dest::Node(d), None) = (&mut self.lines, dst, &self.occupancy)
         {
-            let n = self.topology.nodes();
+            let n = self.nodes;
             if src < n && d < n {
                 let busy = level.busy_per_link(bytes);
                 let amount = [bytes.get(), 1, busy.ps()];
@@ -756,7 +760,7 @@ impl Network {
                 LinkStats {
                     from: link.from,
                     to: link.to,
-                    name: link.name(self.topology.nodes()),
+                    name: link.name(self.nodes),
                     bytes: self.carried[i].0 + Bytes::new(bytes),
                     messages: self.carried[i].1 + messages,
                     busy: usage.busy + SimTime::from_ps(busy),
