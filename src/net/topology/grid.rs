@@ -167,8 +167,10 @@ impl Grid {
     }
 
     /// What [`Grid::walk`] would append, added to `tally` instead: `amount` on each link of
-    /// the leg, by a difference at each end of its runs. Returns where the leg ends.
-    #[inline]
+    /// the leg, by a difference at each end of its runs. Returns where the leg ends. Always
+    /// inlined into the route's tally: called apart, each leg's call cost as much as its
+    /// additions.
+    #[inline(always)]
     fn tally(
         &self,
         node: NodeId,
