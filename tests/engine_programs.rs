@@ -64,6 +64,48 @@ fn one_cpu_serves_compute_requests_first_come_first_served() {
     assert_eq!(stats.end, SimTime::from_us(24));
 }
 
+proptest::proptest! {
+    /// A program's charges land on the phase it named last, however it switches between
+    /// labels (the same words at another address are the same phase), summed per node in the
+    /// order the phases were first charged: the plain sum over every charge. (The engine keeps
+    /// where a program's phase sits among its node's phases between charges.)
+    #[test]
+    fn charges_are_summed_by_the_phase_named_last(
+        scripts in proptest::collection::vec(
+            proptest::collection::vec((0usize..4, 0u64..4), 0..30),
+            2..=2,
+        )
+    ) {
+        // "a" a second time at an address of its own.
+        let labels: [&'static str; 4] = ["a", "b", Box::leak(String::from("a").into_boxed_str()), "c"];
+        let m = common::ring(2, "0us", "0us", true);
+        let mut sim: Sim<Msg> = Sim::new(&m, 1).unwrap();
+        for (id, script) in scripts.iter().enumerate() {
+            let (node, script) = (sim.node(id as u32), script.clone());
+            sim.spawn(id as u32, "charges", async move {
+                for (label, ns) in script {
+                    node.phase(labels[label]);
+                    node.compute_for(SimTime::from_ns(ns)).await;
+                }
+                Ok(())
+            });
+        }
+        let stats = sim.run().unwrap();
+        for (id, script) in scripts.iter().enumerate() {
+            let mut expected: Vec<(&str, SimTime)> = Vec::new();
+            for &(label, ns) in script {
+                let t = SimTime::from_ns(ns);
+                match expected.iter_mut().find(|(p, _)| *p == labels[label]) {
+                    Some((_, sum)) => *sum += t,
+                    None => expected.push((labels[label], t)),
+                }
+            }
+            let got: Vec<(&str, SimTime)> = stats.nodes[id].busy_by_phase.clone();
+            proptest::prop_assert_eq!(got, expected, "node {}", id);
+        }
+    }
+}
+
 /// A ring node whose cpu slices work into `timeslice` pieces.
 fn sliced_ring(timeslice: &str) -> sortsim::machine::MachineConfig {
     let mut m = common::ring(2, "0us", "0us", true);
