@@ -337,7 +337,9 @@ impl<M: Payload> State<M> {
     /// Queues `t` of work on `node`'s cpu, first come first served; returns when it ends.
     pub fn reserve_cpu(&mut self, node: NodeId, t: SimTime, comm: bool) -> SimTime {
         let meta = &self.programs[self.current as usize];
-        let (phase, slot) = (meta.phase, meta.phase_slot.filter(|_| meta.node == node));
+        // The program's own node keeps its phase's place (a charge to another node finds it).
+        let own_node = meta.node == node;
+        let (phase, slot) = (meta.phase, meta.phase_slot.filter(|_| own_node));
         let now = self.now;
         let start = self.nodes[node as usize].cpu_free_at.max(now);
         // SimTime::MAX is also what an overflowing cost-table charge saturates to.
@@ -371,9 +373,8 @@ impl<M: Payload> State<M> {
             Some(slot) => n.stats.charge_at(slot as usize, t),
             None => {
                 let slot = n.stats.charge(phase, t) as u32;
-                let meta = &mut self.programs[self.current as usize];
-                if meta.node == node {
-                    meta.phase_slot = Some(slot);
+                if own_node {
+                    self.programs[self.current as usize].phase_slot = Some(slot);
                 }
             }
         }

@@ -30,25 +30,23 @@ impl NodeStats {
         self.busy_by_phase.iter().map(|&(_, t)| t).sum()
     }
 
+    /// Adds `t` to `phase`'s busy time and returns where that phase sits among the node's
+    /// (for [`NodeStats::charge_at`]).
     pub(crate) fn charge(&mut self, phase: &'static str, t: SimTime) -> usize {
         // A label is almost always the very literal it was first charged under, so its address
         // finds it without reading the text; the text decides only when no address matches
         // (the same words may sit at two addresses).
         let phases = &self.busy_by_phase;
-        let at = phases
+        let slot = phases
             .iter()
             .position(|&(p, _)| std::ptr::eq(p, phase))
-            .or_else(|| phases.iter().position(|&(p, _)| p == phase));
-        match at {
-            Some(i) => {
-                self.busy_by_phase[i].1 += t;
-                i
-            }
-            None => {
-                self.busy_by_phase.push((phase, t));
+            .or_else(|| phases.iter().position(|&(p, _)| p == phase))
+            .unwrap_or_else(|| {
+                self.busy_by_phase.push((phase, SimTime::ZERO));
                 self.busy_by_phase.len() - 1
-            }
-        }
+            });
+        self.charge_at(slot, t);
+        slot
     }
 
     /// [`NodeStats::charge`] to the phase at `slot`, where an earlier charge found it.
