@@ -55,6 +55,10 @@
 //! shares of the links it crosses, so none of them pops earlier, and its bottleneck simply
 //! fixes nothing any more.
 //!
+//! A flow that removals leave alone on every link it crosses will run at the capacity, fixed
+//! by its link of the lowest index; when that link fixed nothing last time it is made dirty as
+//! the sweep begins, rather than left out and found by a failed check and a second sweep.
+//!
 //! Likewise a flow added when nothing else is pending, none of whose links fixed anything,
 //! needs no sweep when the link leaving it the least room would fix it alone there and no
 //! other link it crosses would come to fix anything (each checked by walking that link's
@@ -208,6 +212,10 @@ pub struct MaxMin {
     /// Evaluations put off until the link's entry came up (`SweepLink::stale`).
     #[cfg(test)]
     evaluated_late: u64,
+    /// Whether a flow left alone on its links has its fixer made dirty as a sweep begins
+    /// (`mark_fixer_of_freed`); off, the check after the sweep must find that link instead.
+    #[cfg(test)]
+    marks_freed_fixers: bool,
     /// Dirty-link evaluations, the flows and the groups crossing those links; flows drawn into
     /// a sweep and the links of their routes; solves that swept and sweeps run again because
     /// a suspect failed its check; flows added without a sweep (`fixer_if_added_alone`) and
@@ -521,6 +529,8 @@ impl MaxMin {
             walked_by_groups: 0,
             #[cfg(test)]
             evaluated_late: 0,
+            #[cfg(test)]
+            marks_freed_fixers: true,
             evaluations: (0, 0, 0),
             swept: (0, 0),
             sweeps: (0, 0),
@@ -973,6 +983,9 @@ impl MaxMin {
         for i in 0..self.added.len() {
             self.mark_fixer_of_added(self.added[i]);
         }
+        for i in 0..self.shrunk.len() {
+            self.mark_fixer_of_freed(self.shrunk[i]);
+        }
         // No link that fixed nothing turns dirty from here on.
         self.sweep.skip_lone = matches!(self.capacity, Capacities::Uniform(_));
         for i in 0..self.added.len() {
@@ -1070,6 +1083,41 @@ impl MaxMin {
         }
         if let Some(l) = fixer {
             self.mark_dirty(l);
+        }
+    }
+
+    /// `link` lost a flow. If it kept one, and that flow now crosses no link another crosses,
+    /// it will run at the links' one capacity, fixed by its link of the lowest index (every
+    /// share is the capacity, and ties go to the lowest link). When that link fixed nothing
+    /// last time, the sweep would leave it out as lone, and its check after the sweep would
+    /// fail and run the sweep again (most second sweeps of a 512-node Delta frame, where a
+    /// message that shared a link with another is left alone when that one ends); it is made
+    /// dirty now instead. Which links are dirty only changes the cost.
+    fn mark_fixer_of_freed(&mut self, link: LinkId) {
+        #[cfg(test)]
+        if !self.marks_freed_fixers {
+            return;
+        }
+        if !matches!(self.capacity, Capacities::Uniform(_)) {
+            return;
+        }
+        let &[slot] = &self.links[link as usize].flows[..] else {
+            return;
+        };
+        // The link that fixed the flow had another flow on it, so it lost one: the flow's
+        // route is walked once, for that link, however many it shared with the flows gone.
+        if self.flows[slot as usize].group != link {
+            return;
+        }
+        let mut lowest = link;
+        for &l in &self.flows[slot as usize].route {
+            if self.links[l as usize].flows.len() != 1 {
+                return;
+            }
+            lowest = lowest.min(l);
+        }
+        if self.last_key(lowest) == NONE {
+            self.mark_dirty(lowest);
         }
     }
 
@@ -2222,28 +2270,36 @@ mod tests {
     /// runs again with link 0 in.
     #[test]
     fn a_lone_link_that_must_fix_its_flow_is_put_back() {
-        let mut mm = MaxMin::new(Capacities::Uniform(10), 2);
-        mm.add(0, &[0, 1]); // a
-        mm.add(1, &[1]); // b
-        let mut changed = Changes::default();
-        mm.solve(&mut changed);
-        assert_eq!((mm.rate(0), mm.bottleneck(0)), (5, 1));
-        assert_eq!(mm.sweep.links[0].key, NONE, "link 0 fixes nothing at first");
-        mm.remove(1);
-        let (sweeps, reruns) = mm.sweeps;
-        mm.solve(&mut changed);
-        assert_eq!(
-            mm.sweeps,
-            (sweeps + 1, reruns + 1),
-            "link 0's check failed once"
-        );
-        assert_eq!(
-            (mm.rate(0), mm.bottleneck(0)),
-            (10, 0),
-            "a is fixed by link 0"
-        );
-        assert!(mm.loads_add_up());
-        assert!(mm.groups_add_up());
+        // Flow a shares link 1 with b, which fixes it; when b ends, a runs alone at the
+        // capacity and link 0, the lower of its two, must fix it. Found as the sweep begins,
+        // one sweep does; left to the check after the sweep, it fails once and a second
+        // sweep does. Both end with the same rates and groups.
+        for marks_freed_fixers in [true, false] {
+            let mut mm = MaxMin::new(Capacities::Uniform(10), 2);
+            mm.marks_freed_fixers = marks_freed_fixers;
+            mm.add(0, &[0, 1]); // a
+            mm.add(1, &[1]); // b
+            let mut changed = Changes::default();
+            mm.solve(&mut changed);
+            assert_eq!((mm.rate(0), mm.bottleneck(0)), (5, 1));
+            assert_eq!(mm.sweep.links[0].key, NONE, "link 0 fixes nothing at first");
+            mm.remove(1);
+            let (sweeps, reruns) = mm.sweeps;
+            mm.solve(&mut changed);
+            let reruns_now = u64::from(!marks_freed_fixers);
+            assert_eq!(
+                mm.sweeps,
+                (sweeps + 1, reruns + reruns_now),
+                "link 0 found as the sweep begins: {marks_freed_fixers}"
+            );
+            assert_eq!(
+                (mm.rate(0), mm.bottleneck(0)),
+                (10, 0),
+                "a is fixed by link 0"
+            );
+            assert!(mm.loads_add_up());
+            assert!(mm.groups_add_up());
+        }
     }
 
     #[test]
