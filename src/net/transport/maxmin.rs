@@ -983,11 +983,15 @@ impl MaxMin {
         for i in 0..self.added.len() {
             self.mark_fixer_of_added(self.added[i]);
         }
-        for i in 0..self.shrunk.len() {
-            self.mark_fixer_of_freed(self.shrunk[i]);
+        // Lone links, and the freed flows' fixers among them, exist on one link capacity only.
+        let uniform = matches!(self.capacity, Capacities::Uniform(_));
+        if uniform {
+            for i in 0..self.shrunk.len() {
+                self.mark_fixer_of_freed(self.shrunk[i]);
+            }
         }
         // No link that fixed nothing turns dirty from here on.
-        self.sweep.skip_lone = matches!(self.capacity, Capacities::Uniform(_));
+        self.sweep.skip_lone = uniform;
         for i in 0..self.added.len() {
             self.note_route(self.added[i]);
         }
@@ -1092,13 +1096,11 @@ impl MaxMin {
     /// last time, the sweep would leave it out as lone, and its check after the sweep would
     /// fail and run the sweep again (most second sweeps of a 512-node Delta frame, where a
     /// message that shared a link with another is left alone when that one ends); it is made
-    /// dirty now instead. Which links are dirty only changes the cost.
+    /// dirty now instead. Which links are dirty only changes the cost. On a network of one
+    /// link capacity only (the caller's test).
     fn mark_fixer_of_freed(&mut self, link: LinkId) {
         #[cfg(test)]
         if !self.marks_freed_fixers {
-            return;
-        }
-        if !matches!(self.capacity, Capacities::Uniform(_)) {
             return;
         }
         let &[slot] = &self.links[link as usize].flows[..] else {
