@@ -13,6 +13,9 @@ use sortsim::spec::parse_json;
 use sortsim::spec::run::RunSpec;
 use sortsim::spec::scene::SceneSpec;
 
+/// A check of one target: bytes in, a panic only for a bug.
+type Check = fn(&[u8]);
+
 /// Spec and OBJ readers take text: other bytes are not a case for them.
 fn utf8(data: &[u8]) -> Option<&str> {
     std::str::from_utf8(data).ok()
@@ -38,6 +41,8 @@ fn file(name: &str) -> &'static Path {
         "run" => Path::new("fuzz-input/run.json"),
         "sweep" => Path::new("fuzz-input/sweep.json"),
         "obj" => Path::new("fuzz-input/mesh.obj"),
+        "calibration" => Path::new("fuzz-input/calibration.json"),
+        "paper" => Path::new("fuzz-input/paper.json"),
         _ => Path::new("fuzz-input/pattern.json"),
     }
 }
@@ -142,5 +147,60 @@ pub fn options(data: &[u8]) {
     let options = sortsim::algo::Options::new([(key.to_string(), value.to_string())].into());
     for algo in sortsim::algo::AlgorithmId::ALL {
         let _ = algo.check_option_values(&options);
+    }
+}
+
+/// A calibration spec: when it reads, each parameter's fields are scaled at both ends of its
+/// range in a bundled machine's and a bundled scene's JSON, as a fit's first candidates are. The
+/// field paths are the spec's free text, so walking them must end in an error, never a panic,
+/// and what is scaled must still be a spec the machine or scene reader answers.
+pub fn calibration(data: &[u8]) {
+    let Some(text) = utf8(data) else {
+        return;
+    };
+    let Ok(spec) = sortsim::calibrate::parse_spec(file("calibration"), text) else {
+        return;
+    };
+    // Each bundled file beside the check that reads what is scaled from it.
+    let subjects: [(&str, Check); 2] = [
+        (include_str!("../machines/delta.json"), machine),
+        (include_str!("../scenes/p003-brooks.json"), scene),
+    ];
+    for (subject, read_back) in subjects {
+        let subject: serde_json::Value = serde_json::from_str(subject).expect("a bundled spec");
+        for end in [0, 1] {
+            let factors: Vec<f64> = spec.parameters.iter().map(|p| p.range[end]).collect();
+            let scaled = sortsim::calibrate::scaled_spec(&subject, &spec.parameters, &factors);
+            if let Ok(scaled) = scaled {
+                read_back(scaled.to_string().as_bytes());
+            }
+        }
+    }
+}
+
+/// A paper's data file: when it reads, its roles are checked against a list of fits, and every
+/// row is printed and judged as a paper's report does, against sortsim numbers near and far.
+pub fn paper(data: &[u8]) {
+    let Some(text) = utf8(data) else {
+        return;
+    };
+    let Ok(paper) = sortsim::paper::data::parse(file("paper"), text, None) else {
+        return;
+    };
+    let fits: Vec<(String, String, String)> = [
+        ("delta.json", "002", "peak-polio"),
+        ("scenes/p003-brooks.json", "003", "reduction-brooks"),
+    ]
+    .map(|(file, paper, row)| (file.into(), paper.into(), row.into()))
+    .into();
+    let _ = sortsim::paper::data::check_roles(&paper, &fits);
+    for row in &paper.rows {
+        let _ = (row.claim(), row.tolerance_text());
+        let near = row.value.or(row.range.map(|[lo, _]| lo)).unwrap_or(1.0);
+        for m in [near, near * 1.5, 0.0, -1.0, f64::MAX, f64::NAN] {
+            let _ = row.deviation_pct(m);
+            let measured = sortsim::paper::Measured::value(m, "");
+            let _ = sortsim::paper::verdict::judge(row, &measured);
+        }
     }
 }

@@ -62,3 +62,13 @@ fn patterns() {
 fn option_values() {
     replay("options", checks::options);
 }
+
+#[test]
+fn calibration_specs() {
+    replay("calibration", checks::calibration);
+}
+
+#[test]
+fn paper_files() {
+    replay("paper", checks::paper);
+}

@@ -181,13 +181,23 @@ pub struct Residual {
     pub fitted_verdict: Verdict,
 }
 
+/// Reads and checks the calibration spec at `path`.
 pub fn load_spec(path: &Path) -> Result<CalibrationSpec, CalibrationError> {
+    let text = crate::spec::read_input(path).map_err(|e| CalibrationError::Spec {
+        file: path.to_path_buf(),
+        message: e.to_string(),
+    })?;
+    parse_spec(path, &text)
+}
+
+/// Reads and checks a calibration spec from `text`, the contents of `path` (which errors name,
+/// and beside which its machine or scene file is found).
+pub fn parse_spec(path: &Path, text: &str) -> Result<CalibrationSpec, CalibrationError> {
     let fail = |message: String| CalibrationError::Spec {
         file: path.to_path_buf(),
         message,
     };
-    let text = crate::spec::read_input(path).map_err(|e| fail(e.to_string()))?;
-    let de = &mut serde_json::Deserializer::from_str(&text);
+    let de = &mut serde_json::Deserializer::from_str(text);
     let mut spec: CalibrationSpec = serde_path_to_error::deserialize(de)
         .map_err(|e| fail(format!("at {}: {}", e.path(), e.inner())))?;
     match (&mut spec.machine, &mut spec.scene) {

@@ -177,6 +177,11 @@ impl Reference {
     }
 }
 
+/// The most digits after the point a row may say its paper prints (`decimals`): more than
+/// any paper prints, and more than an f64 value carries, so more is a mistake in the file
+/// (and would be printed digit by digit in every report).
+pub const MAX_DECIMALS: u32 = 20;
+
 /// Reads and checks `papers/NNN.json` under `root`.
 pub fn load(root: &Path, id: PaperId) -> Result<PaperData, PaperError> {
     let path = root.join("papers").join(format!("{}.json", id.id()));
@@ -190,13 +195,28 @@ pub fn load_file(
     path: &Path,
     expected: Option<PaperId>,
 ) -> Result<PaperData, PaperError> {
-    let path = path.to_path_buf();
+    let text = std::fs::read_to_string(path).map_err(|e| PaperError::Data {
+        path: path.to_path_buf(),
+        message: e.to_string(),
+    })?;
+    let data = parse(path, &text, expected)?;
+    let mut fits = bundled_fits(&root.join("machines"), "")?;
+    fits.extend(bundled_fits(&root.join("scenes"), "scenes/")?);
+    check_roles(&data, &fits).map_err(|message| PaperError::Data {
+        path: path.to_path_buf(),
+        message,
+    })?;
+    Ok(data)
+}
+
+/// Reads and checks a paper file from `text`, the contents of `path` (which errors name): all
+/// but its fitted rows against the bundled machines and scenes ([`check_roles`]).
+pub fn parse(path: &Path, text: &str, expected: Option<PaperId>) -> Result<PaperData, PaperError> {
     let fail = |message: String| PaperError::Data {
-        path: path.clone(),
+        path: path.to_path_buf(),
         message,
     };
-    let text = std::fs::read_to_string(&path).map_err(|e| fail(e.to_string()))?;
-    let de = &mut serde_json::Deserializer::from_str(&text);
+    let de = &mut serde_json::Deserializer::from_str(text);
     let data: PaperData = serde_path_to_error::deserialize(de)
         .map_err(|e| fail(format!("at {}: {}", e.path(), e.inner())))?;
     match expected {
@@ -222,6 +242,12 @@ pub fn load_file(
         return Err(fail(format!("row id {:?} appears twice", w[0])));
     }
     for r in &data.rows {
+        if let Some(d) = r.decimals.filter(|&d| d > MAX_DECIMALS) {
+            return Err(fail(format!(
+                "row {}: \"decimals\" is {d}; a paper prints at most {MAX_DECIMALS} digits after the point",
+                r.id
+            )));
+        }
         if r.value.is_some() && r.range.is_some() {
             return Err(fail(format!(
                 "row {}: give a value or a range, not both",
@@ -262,9 +288,6 @@ pub fn load_file(
             _ => {}
         }
     }
-    let mut fits = bundled_fits(&root.join("machines"), "")?;
-    fits.extend(bundled_fits(&root.join("scenes"), "scenes/")?);
-    check_roles(&data, &fits).map_err(fail)?;
     Ok(data)
 }
 
