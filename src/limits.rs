@@ -35,3 +35,10 @@ pub const MAX_PACKET_HOPS: u64 = 100_000_000;
 /// The most events the engine's queue holds pending at once (its slot index has 24 bits):
 /// `bench phold` refuses more logical processes times events per process than this.
 pub const MAX_PENDING_EVENTS: u64 = 1 << 24;
+
+/// The most triangles a scene may generate in all (its objects' generators, and the counts
+/// their `triangles` fields refine them to): about 2 GB of host memory for the mesh and its
+/// per-vertex normals and colours, forty times the largest bundled scene. Checked before any
+/// vertex is made, so that a generator's parameters, each within its own range, cannot
+/// together ask for billions.
+pub const MAX_SCENE_TRIANGLES: u64 = 1 << 25;

@@ -29,6 +29,7 @@ use glam::{Mat4, Quat, Vec3, Vec4};
 use rand::{Rng, SeedableRng};
 use rand_chacha::ChaCha8Rng;
 
+use crate::limits::MAX_SCENE_TRIANGLES;
 use crate::raster::Vertex;
 use crate::spec::scene::{
     AnimationSpec, CameraSpec, MotionSpec, ObjectSpec, SceneSpec, ShadingSpec,
@@ -118,6 +119,7 @@ impl Scene {
     /// errors.
     pub fn from_spec(file: &Path, spec: SceneSpec) -> Result<Scene, SceneError> {
         spec.validate(file)?;
+        check_size(file, &spec)?;
         let ctx = gen::GenContext {
             width: spec.resolution[0],
             height: spec.resolution[1],
@@ -373,6 +375,33 @@ impl Object {
             }
         }
     }
+}
+
+/// Refuses a scene whose objects would hold more than [`MAX_SCENE_TRIANGLES`] triangles in
+/// all, naming the object that crosses it, before any is built. An OBJ file's own triangles
+/// are bounded by its size, so it counts only for what its `triangles` field refines it to.
+fn check_size(file: &Path, spec: &SceneSpec) -> Result<(), SpecError> {
+    let mut total = 0u64;
+    for (i, object) in spec.geometry.iter().enumerate() {
+        let made = object.generator.as_ref().map_or(0, gen::triangles_at_most);
+        let refined = object.triangles.map_or(0, u64::from);
+        total = total.saturating_add(made.max(refined));
+        if total > MAX_SCENE_TRIANGLES {
+            let field = match object.generator {
+                Some(_) if made >= refined => format!("geometry[{i}].generator"),
+                _ => format!("geometry[{i}].triangles"),
+            };
+            return Err(SpecError::invalid(
+                file,
+                field,
+                format!(
+                    "the scene would hold {total} triangles with this object; the limit is \
+                     {MAX_SCENE_TRIANGLES} (sortsim::limits::MAX_SCENE_TRIANGLES)"
+                ),
+            ));
+        }
+    }
+    Ok(())
 }
 
 fn build_object(
