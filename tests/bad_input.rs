@@ -466,6 +466,23 @@ fn bad_flags_are_refused_with_exit_code_2() {
             "--set granularity=lots: expected",
         ),
         (
+            // 268,435,457 x 16 processors is 16 regions in 32-bit arithmetic: was run as such.
+            &[
+                "run",
+                "--machine",
+                "machines/delta.json",
+                "--scene",
+                "scenes/spd-teapot.json",
+                "--algo",
+                "sort-middle/ellsworth",
+                "--procs",
+                "16",
+                "--set",
+                "granularity=268435457",
+            ],
+            "--set granularity=268435457: expected at most 262144 regions fit a 512x512 screen",
+        ),
+        (
             &[
                 "run",
                 "--machine",

@@ -654,18 +654,22 @@ fn settings(cfg: &RunConfig, choice: Choice, viewport: Viewport) -> Result<Setti
     let grid = match choice.regions {
         RegionChoice::Side(side) => RegionGrid::of_size(viewport, side),
         RegionChoice::PerProcessor(granularity) => {
-            RegionGrid::with_count(viewport, granularity * n).ok_or_else(|| {
-                bad(
-                    o,
-                    "granularity",
-                    &format!(
-                        "at most {} regions fit a {}x{} screen",
-                        viewport.pixels(),
-                        viewport.width(),
-                        viewport.height()
-                    ),
-                )
-            })?
+            // A product past u32 is far more regions than pixels, refused as such.
+            let count = granularity.checked_mul(n);
+            count
+                .and_then(|c| RegionGrid::with_count(viewport, c))
+                .ok_or_else(|| {
+                    bad(
+                        o,
+                        "granularity",
+                        &format!(
+                            "at most {} regions fit a {}x{} screen",
+                            viewport.pixels(),
+                            viewport.width(),
+                            viewport.height()
+                        ),
+                    )
+                })?
         }
     };
     let buffer = choice.buffer;

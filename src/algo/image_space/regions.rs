@@ -44,8 +44,9 @@ impl RegionGrid {
     /// closest to square, never more columns than pixels across nor rows than pixels down.
     pub fn with_count(viewport: Viewport, count: u32) -> Option<RegionGrid> {
         let (w, h) = (viewport.width(), viewport.height());
-        (1..=count)
-            .filter(|c| count % c == 0 && *c <= w && count / c <= h)
+        // A grid has at most as many columns as the screen has pixels across.
+        (1..=count.min(w))
+            .filter(|c| count % c == 0 && count / c <= h)
             .map(|cols| (cols, count / cols))
             .min_by(|&(c1, r1), &(c2, r2)| {
                 let skew =
