@@ -161,16 +161,21 @@ pub fn calibration(data: &[u8]) {
     let Ok(spec) = sortsim::calibrate::parse_spec(file("calibration"), text) else {
         return;
     };
-    // Each bundled file beside the check that reads what is scaled from it.
-    let subjects: [(&str, Check); 2] = [
-        (include_str!("../machines/delta.json"), machine),
-        (include_str!("../scenes/p003-brooks.json"), scene),
-    ];
+    // Each bundled file, read once for every input, beside the check that reads what is
+    // scaled from it.
+    static SUBJECTS: std::sync::OnceLock<[(serde_json::Value, Check); 2]> =
+        std::sync::OnceLock::new();
+    let subjects = SUBJECTS.get_or_init(|| {
+        let read = |text: &str| serde_json::from_str(text).expect("a bundled spec");
+        [
+            (read(include_str!("../machines/delta.json")), machine),
+            (read(include_str!("../scenes/p003-brooks.json")), scene),
+        ]
+    });
     for (subject, read_back) in subjects {
-        let subject: serde_json::Value = serde_json::from_str(subject).expect("a bundled spec");
         for end in [0, 1] {
             let factors: Vec<f64> = spec.parameters.iter().map(|p| p.range[end]).collect();
-            let scaled = sortsim::calibrate::scaled_spec(&subject, &spec.parameters, &factors);
+            let scaled = sortsim::calibrate::scaled_spec(subject, &spec.parameters, &factors);
             if let Ok(scaled) = scaled {
                 read_back(scaled.to_string().as_bytes());
             }
