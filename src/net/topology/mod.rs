@@ -223,6 +223,9 @@ fn validate_dims(kind: TopologyKind, dims: &[u32]) -> Result<u32, NetError> {
                     u32::MAX
                 ));
             }
+            if let Err(why) = within_link_limit(fat_tree_links(dims)) {
+                return err(why);
+            }
             Ok(nodes)
         }
         TopologyKind::Dragonfly if !(4..=5).contains(&dims.len()) => err(
@@ -247,22 +250,72 @@ fn validate_dims(kind: TopologyKind, dims: &[u32]) -> Result<u32, NetError> {
                     u32::MAX
                 ));
             }
+            if let Err(why) = within_link_limit(dragonfly_links(dims)) {
+                return err(why);
+            }
             Ok(nodes)
         }
         _ => Ok(nodes),
     }
 }
 
-/// Hosts plus switches of a fat-tree with `dims = down ++ up ++ parallel`.
+/// Hosts plus switches of a fat-tree with `dims = down ++ up ++ parallel` (saturating: a
+/// count past `u64::MAX` is refused all the same).
 fn fat_tree_vertices(dims: &[u32]) -> u64 {
     let h = dims.len() / 3;
     (0..=h)
+        .map(|l| fat_tree_level(dims, l))
+        .fold(0, u64::saturating_add)
+}
+
+/// The vertices of level `l` of a fat-tree (0: the hosts).
+fn fat_tree_level(dims: &[u32], l: usize) -> u64 {
+    let h = dims.len() / 3;
+    (0..h)
+        .map(|i| if i < l { dims[h + i] } else { dims[i] } as u64)
+        .fold(1, u64::saturating_mul)
+}
+
+/// The links `FatTree::new` wires: both directions of `parallel[l]` cables from each vertex of
+/// level `l` to each of its `up[l]` parents.
+fn fat_tree_links(dims: &[u32]) -> u64 {
+    let h = dims.len() / 3;
+    (0..h)
         .map(|l| {
-            (0..h)
-                .map(|i| if i < l { dims[h + i] } else { dims[i] } as u64)
-                .product::<u64>()
+            [dims[h + l] as u64, dims[2 * h + l] as u64, 2]
+                .into_iter()
+                .fold(fat_tree_level(dims, l), u64::saturating_mul)
         })
-        .sum()
+        .fold(0, u64::saturating_add)
+}
+
+/// The links `Dragonfly::new` wires, both directions of each: a host's to its router, every
+/// two routers of a chassis, the routers of one position in every two chassis of a group,
+/// and every two groups.
+fn dragonfly_links(dims: &[u32]) -> u64 {
+    let [groups, chassis, routers, per_router] = [0, 1, 2, 3].map(|i| dims[i] as u64);
+    let pairs = |n: u64| n.saturating_mul(n.saturating_sub(1));
+    let hosts = groups * chassis * routers * per_router;
+    [
+        hosts.saturating_mul(2),
+        (groups * chassis).saturating_mul(pairs(routers)),
+        (groups * routers).saturating_mul(pairs(chassis)),
+        pairs(groups),
+    ]
+    .into_iter()
+    .fold(0, u64::saturating_add)
+}
+
+/// Refuses a shape of more than [`limits::MAX_LINKS`](crate::limits::MAX_LINKS) links.
+fn within_link_limit(links: u64) -> Result<(), String> {
+    let limit = crate::limits::MAX_LINKS;
+    match links <= limit {
+        true => Ok(()),
+        false => Err(format!(
+            "{links} links; the limit is {limit} (sortsim::limits::MAX_LINKS): every link is \
+             host memory, allocated before the first message"
+        )),
+    }
 }
 
 /// What the topology tests share: a route as the vertex pairs it crosses.
@@ -326,10 +379,52 @@ mod tests {
             &[5, 2, 4, 2],
             "at least as many routers",
         );
+        rejects(
+            TopologyKind::FatTree,
+            &[16, 16, 1, 16, 1, 300_000],
+            "the limit is",
+        );
+        rejects(
+            TopologyKind::FatTree,
+            &[16, 16, 65536, 65536, 1, 1],
+            "must fit",
+        );
+        rejects(
+            TopologyKind::FatTree,
+            &[2, 2, 2, u32::MAX, u32::MAX, u32::MAX, 1, 1, 1],
+            "must fit",
+        );
+        rejects(TopologyKind::Dragonfly, &[1, 1, 65536, 1], "the limit is");
         assert!(build(TopologyKind::FatTree, &[4, 4, 1, 2, 1, 1]).is_ok());
         assert!(build(TopologyKind::Dragonfly, &[4, 2, 4, 2]).is_ok());
         assert!(build(TopologyKind::Torus, &[3, 3, 3, 3]).is_ok());
         assert!(build(TopologyKind::Hypercube, &[1]).is_ok());
+    }
+
+    /// The link counts the limit is checked against are the counts the topologies wire.
+    #[test]
+    fn the_links_counted_beforehand_are_the_links_wired() {
+        let trees: [&[u32]; 4] = [
+            &[4, 4, 1, 2, 1, 1],
+            &[2, 3, 4, 3, 2, 1, 1, 2, 3],
+            &[5, 1, 1],
+            &[16, 16, 1, 16, 1, 3],
+        ];
+        for dims in trees {
+            let wired = build(TopologyKind::FatTree, dims).unwrap().links().len();
+            assert_eq!(fat_tree_links(dims), wired as u64, "fat-tree {dims:?}");
+        }
+        let dragonflies: [&[u32]; 5] = [
+            &[4, 2, 4, 2],
+            &[1, 1, 1, 1],
+            &[3, 3, 5, 1],
+            &[2, 4, 3, 2, 1],
+            &[1, 1, 7, 3],
+        ];
+        for dims in dragonflies {
+            let wired = build(TopologyKind::Dragonfly, dims).unwrap().links().len();
+            assert_eq!(dragonfly_links(dims), wired as u64, "dragonfly {dims:?}");
+        }
     }
 
     /// A tally by lines gives every link the sum a walk of each route adds link by link, for
