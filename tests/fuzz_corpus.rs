@@ -72,3 +72,8 @@ fn calibration_specs() {
 fn paper_files() {
     replay("paper", checks::paper);
 }
+
+#[test]
+fn simulated_runs() {
+    replay("simulate", checks::simulate);
+}
