@@ -282,7 +282,7 @@ mod simulated {
 
     const TIMES: [&str; 6] = ["0ps", "1ps", "80ns", "1ms", "1s", "100000s"];
     /// A cpu's costs stay short: on a time-sliced cpu every slice of a charge is an event
-    /// (a second of charges is 500 of them on multicluster-torus's 2,048 us slices), so long
+    /// (a second of charges is 489 of them on multicluster-torus's 2,048 us slices), so long
     /// ones make cases that run for minutes, which libFuzzer reports as hangs.
     const CPU_TIMES: [&str; 5] = ["0ps", "1ps", "80ns", "1us", "1ms"];
     const SIZES: [&str; 6] = ["0B", "1B", "64B", "4KiB", "1MiB", "1GiB"];
