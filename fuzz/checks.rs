@@ -486,7 +486,9 @@ mod simulated {
             };
             let mut object = json!({"generator": generator, "color": [0.8, 0.5, 0.2]});
             if u.ratio(1, 3)? {
-                object["motion"] = json!({"kind": "tumble", "seed": u.int_in_range(0..=9)?, "degrees_per_frame": 40.0});
+                let seed = u.int_in_range(0..=9)?;
+                object["motion"] =
+                    json!({"kind": "tumble", "seed": seed, "degrees_per_frame": 40.0});
             }
             objects.push(object);
         }
