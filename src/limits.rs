@@ -8,7 +8,7 @@
 /// The most links a machine's network may have. A fat-tree's switches and cables, and a
 /// dragonfly's all-to-all chassis, grow faster than its hosts, so a shape within
 /// [`MAX_NODES`] hosts can still ask for billions of links: `parallel: [1, 300000]` on a
-/// 256-host tree built 153 M links (9.2 GB, 19 s) before the machine was read. Each link is host
+/// 256-host tree built 153 M links (9.2 GB, 19 s) before `check` answered. Each link is host
 /// memory: a hypercube of `MAX_NODES` nodes, the most links any other topology reaches
 /// (20.9 M), takes 0.8 GB to check at `hops` and 5.8 GB at `flow`.
 pub const MAX_LINKS: u64 = 1 << 25;
