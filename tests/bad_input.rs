@@ -466,6 +466,26 @@ fn bad_flags_are_refused_with_exit_code_2() {
             "--set granularity=lots: expected",
         ),
         (
+            // 100,000 s a message at each interface: the queue of gaps overflowed the network's
+            // u64 picoseconds, a panic.
+            &[
+                "run",
+                "--machine",
+                "machines/delta.json",
+                "--scene",
+                "scenes/spd-tetra.json",
+                "--algo",
+                "sort-last/scanline-flow",
+                "--procs",
+                "5",
+                "--frames",
+                "0",
+                "--set",
+                "machine.network.message_gap=100000s",
+            ],
+            "could arrive past the largest simulated time, 18446744.07371s (u64 picoseconds)",
+        ),
+        (
             // 268,435,457 x 16 processors is 16 regions in 32-bit arithmetic: was run as such.
             &[
                 "run",

@@ -414,9 +414,19 @@ impl<M: Payload> State<M> {
         self.spawned.push(program);
     }
 
-    /// Hands a message to the network at `now`.
+    /// Hands a message to the network at `now`, unless it could arrive past the largest
+    /// simulated time (then the run stops with that error).
     pub fn inject(&mut self, env: Envelope<M>, broadcast: bool, notify: Option<ProgramId>) {
         let (src, dst, bytes) = (env.src, env.dst, env.bytes);
+        let now = self.now;
+        let net = self
+            .net
+            .as_mut()
+            .expect("this simulation was built without a network; use Node::post");
+        if let Err(bound) = net.admit(now, bytes) {
+            self.refuse_past_the_horizon(bytes, bound);
+            return;
+        }
         let stats = &mut self.nodes[src as usize].stats;
         stats.bytes_sent += bytes;
         stats.messages_sent += 1;
@@ -433,7 +443,6 @@ impl<M: Payload> State<M> {
             notify,
         });
         let id = slot as MsgId;
-        let now = self.now;
         let dest = if broadcast {
             Dest::Broadcast
         } else {
@@ -447,6 +456,30 @@ impl<M: Payload> State<M> {
             Some(at) => self.schedule(at, Event::Arrive(id)),
             None => self.arm_net_wake(),
         }
+    }
+
+    /// Stops the run at a message of `bytes` the network could deliver only past the largest
+    /// simulated time, everything sent so far taking up to `bound` picoseconds.
+    #[cold]
+    fn refuse_past_the_horizon(&mut self, bytes: Bytes, bound: u128) {
+        if self.overflow.is_some() {
+            return;
+        }
+        let meta = &self.programs[self.current as usize];
+        self.overflow = Some(SimError::TimeOverflow {
+            program: meta.name.clone(),
+            node: meta.node,
+            at: self.now,
+            seed: self.seed,
+            message: format!(
+                "a message of {bytes} could arrive past the largest simulated time, {} (u64 \
+                 picoseconds): the messages sent so far, one after another over the slowest \
+                 link, could take until {:.3e} s; the network's message_gap, hop latency or \
+                 link bandwidth is too large for this run",
+                SimTime::MAX,
+                bound as f64 / 1e12
+            ),
+        });
     }
 
     fn arm_net_wake(&mut self) {

@@ -347,6 +347,8 @@ pub struct Network {
     /// The topology's node count, read at every message (asked of the topology, a product
     /// over its dimensions behind a virtual call).
     nodes: u32,
+    /// The latest instant everything sent so far could end ([`Network::admit`]).
+    horizon: u64,
 }
 
 pub use occupancy::LinkSpan;
@@ -441,6 +443,7 @@ impl Network {
             interfaces: interface::Interfaces::new(cfg.message_gap, nodes),
             arrival_follows_leaving: route_free.is_some() && timing.hop_latency > SimTime::ZERO,
             nodes,
+            horizon: 0,
         })
     }
 
@@ -471,6 +474,39 @@ impl Network {
 
     pub fn timing(&self) -> Timing {
         self.timing
+    }
+
+    /// The most picoseconds a message of `bytes` can add to the network's work: its
+    /// interface's gap, a serialization over the slowest link twice, and the longest hop's
+    /// latency times the node count for each of its packets (more than any transport can
+    /// take). Sent one after another, messages end within the sum of theirs.
+    pub fn worst_case_ps(&self, bytes: Bytes) -> u128 {
+        let timing = self.timing;
+        let hop = timing
+            .hop_latency
+            .max(timing.node_links.map_or(SimTime::ZERO, |n| n.hop_latency));
+        let per_hop = u128::from(hop.ps()) * u128::from(self.nodes());
+        let transfer = Bandwidth::work_of(bytes) / u128::from(timing.slowest().bits_per_s());
+        let packets = u128::from(bytes.get().div_ceil(timing.packet_size.get().max(1)).max(1));
+        2 * transfer
+            + per_hop * packets.min(u128::from(u32::MAX))
+            + u128::from(self.message_gap().ps())
+            + 1
+    }
+
+    /// Takes a message of `bytes` sent at `now` into the network's worst case, everything sent
+    /// so far one after another ([`Network::worst_case_ps`]); refused, with that bound in
+    /// picoseconds, when it could end past the largest simulated time. The network's own
+    /// arithmetic then never overflows (an interface's queue of long gaps did).
+    pub fn admit(&mut self, now: SimTime, bytes: Bytes) -> Result<(), u128> {
+        let end = u128::from(self.horizon.max(now.ps())) + self.worst_case_ps(bytes);
+        match u64::try_from(end) {
+            Ok(end) if end <= SimTime::MAX.ps() => {
+                self.horizon = end;
+                Ok(())
+            }
+            _ => Err(end),
+        }
     }
 
     /// The time each node's interface spends on a message before its first byte leaves.

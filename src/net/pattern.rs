@@ -13,7 +13,7 @@ use rand_chacha::ChaCha8Rng;
 use serde::{Deserialize, Serialize};
 
 use super::{Delivered, Dest, Fidelity, MsgId, NetError, Network, NetworkConfig, NodeId};
-use crate::units::{Bandwidth, Bytes, SimTime};
+use crate::units::{Bytes, SimTime};
 
 /// One message of a pattern file.
 #[derive(Clone, Debug, PartialEq, Eq, Deserialize, Serialize, schemars::JsonSchema)]
@@ -175,25 +175,7 @@ fn check_packet_budget(net: &Network, messages: &[ParsedMessage]) -> Result<(), 
 /// hop latency per node and a serialization per packet on the way (more than any transport can take), must fit in
 /// u64 picoseconds. The message that contributes most is named.
 fn check_horizon(net: &Network, messages: &[ParsedMessage]) -> Result<(), NetError> {
-    let timing = net.timing();
-    // The slowest link and the longest hop, whichever kind of link they are.
-    let hop = timing
-        .hop_latency
-        .max(timing.node_links.map_or(SimTime::ZERO, |n| n.hop_latency));
-    let per_hop = u128::from(hop.ps()) * u128::from(net.nodes());
-    let cost = |m: &ParsedMessage| {
-        let transfer = Bandwidth::work_of(m.bytes) / u128::from(timing.slowest().bits_per_s());
-        let packets = u128::from(
-            m.bytes
-                .get()
-                .div_ceil(timing.packet_size.get().max(1))
-                .max(1),
-        );
-        2 * transfer
-            + per_hop * packets.min(u128::from(u32::MAX))
-            + u128::from(net.message_gap().ps())
-            + 1
-    };
+    let cost = |m: &ParsedMessage| net.worst_case_ps(m.bytes);
     let last_start = messages
         .iter()
         .map(|m| m.start)
