@@ -349,6 +349,33 @@ pub struct Network {
     nodes: u32,
     /// The latest instant everything sent so far could end ([`Network::admit`]).
     horizon: u64,
+    /// The terms of [`Network::worst_case_ps`], which every message sent pays.
+    worst: WorstCase,
+}
+
+/// A message's worst case, in picoseconds: `2 * per_byte * bytes + per_packet * packets +
+/// fixed`.
+#[derive(Clone, Copy, Debug)]
+struct WorstCase {
+    per_byte: u128,
+    per_packet: u128,
+    fixed: u128,
+    packet_size: u64,
+}
+
+impl WorstCase {
+    fn of(timing: &Timing, nodes: u32, gap: SimTime) -> WorstCase {
+        let hop = timing
+            .hop_latency
+            .max(timing.node_links.map_or(SimTime::ZERO, |n| n.hop_latency));
+        WorstCase {
+            per_byte: Bandwidth::work_of(Bytes::new(1))
+                .div_ceil(u128::from(timing.slowest().bits_per_s())),
+            per_packet: u128::from(hop.ps()) * u128::from(nodes),
+            fixed: u128::from(gap.ps()) + 1,
+            packet_size: timing.packet_size.get().max(1),
+        }
+    }
 }
 
 pub use occupancy::LinkSpan;
@@ -444,6 +471,7 @@ impl Network {
             arrival_follows_leaving: route_free.is_some() && timing.hop_latency > SimTime::ZERO,
             nodes,
             horizon: 0,
+            worst: WorstCase::of(&timing, nodes, cfg.message_gap),
         })
     }
 
@@ -477,21 +505,16 @@ impl Network {
     }
 
     /// The most picoseconds a message of `bytes` can add to the network's work: its
-    /// interface's gap, a serialization over the slowest link twice, and the longest hop's
-    /// latency times the node count for each of its packets (more than any transport can
-    /// take). Sent one after another, messages end within the sum of theirs.
+    /// interface's gap, a serialization over the slowest link twice (rounded up per byte), and
+    /// the longest hop's latency times the node count for each of its packets (more than any
+    /// transport can take). Sent one after another, messages end within the sum of theirs.
     pub fn worst_case_ps(&self, bytes: Bytes) -> u128 {
-        let timing = self.timing;
-        let hop = timing
-            .hop_latency
-            .max(timing.node_links.map_or(SimTime::ZERO, |n| n.hop_latency));
-        let per_hop = u128::from(hop.ps()) * u128::from(self.nodes());
-        let transfer = Bandwidth::work_of(bytes) / u128::from(timing.slowest().bits_per_s());
-        let packets = u128::from(bytes.get().div_ceil(timing.packet_size.get().max(1)).max(1));
-        2 * transfer
-            + per_hop * packets.min(u128::from(u32::MAX))
-            + u128::from(self.message_gap().ps())
-            + 1
+        let w = self.worst;
+        let packets = bytes
+            .get()
+            .div_ceil(w.packet_size)
+            .clamp(1, u32::MAX as u64);
+        2 * w.per_byte * u128::from(bytes.get()) + w.per_packet * u128::from(packets) + w.fixed
     }
 
     /// Takes a message of `bytes` sent at `now` into the network's worst case, everything sent
