@@ -236,11 +236,17 @@ pub fn simulate(data: &[u8]) {
     };
     let again = sortsim::algo::run(&sortsim::algo::RunConfig {
         front_end_ahead: false,
+        wake_every_slice: true,
         ..cfg.clone()
     })
     .expect("a case that ran once runs again");
     assert_eq!(first.frames, again.frames, "{case:?}: frames of two runs");
     assert!(first.image == again.image, "{case:?}: images of two runs");
+    assert_eq!(
+        format!("{:?}", first.stats),
+        format!("{:?}", again.stats),
+        "{case:?}: statistics of two runs"
+    );
     if !cfg.options.is_given("aa") || cfg.options.value("aa") == Some("none") {
         let last = cfg
             .scene
@@ -379,6 +385,7 @@ mod simulated {
                 timeline: false,
                 timeline_frames: None,
                 front_end_ahead: true,
+                wake_every_slice: false,
             };
             sortsim::algo::check_options(&cfg).ok()?;
             Some(cfg)

@@ -18,6 +18,7 @@ mod cli;
 mod docs;
 mod engine_network;
 mod engine_programs;
+mod engine_slices;
 mod front_end_ahead;
 mod fuzz_corpus;
 mod install;

@@ -266,6 +266,11 @@ pub struct RunConfig {
     /// shares) on a second host thread while the simulation runs (`ahead`). It changes no
     /// answer, only the run's wall time; off, the simulation's thread makes every frame.
     pub front_end_ahead: bool,
+    /// Queue a wake-up for the end of every slice of a time-sliced cpu and poll its program
+    /// there, instead of letting the executor reserve a lone computation's slices
+    /// (`engine::Sim::wake_every_slice`): the plain way, kept as the oracle of the tests. It
+    /// changes no answer, only the run's wall time.
+    pub wake_every_slice: bool,
 }
 
 /// What one frame took.
@@ -369,6 +374,9 @@ where
 {
     let mut sim: crate::engine::Sim<M> = crate::engine::Sim::new(&cfg.machine, cfg.seed)
         .map_err(|e| RunError::Unsupported(e.to_string()))?;
+    if cfg.wake_every_slice {
+        sim.wake_every_slice();
+    }
     if cfg.timeline {
         sim.record_timeline();
         // A timeline of later frames starts paused; the frames' beginnings resume it.

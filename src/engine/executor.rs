@@ -17,7 +17,8 @@ use std::task::{Context, Poll, Waker};
 use smallvec::SmallVec;
 
 use super::node::{Envelope, Filter, Node, Payload};
-use super::queue::{EventQueue, LookAhead};
+use super::queue::{EventQueue, LookAhead, Place};
+use super::slices::Slices;
 use super::stats::{CpuSpan, NodeStats, RunStats};
 use super::wakes::NetWakes;
 use crate::machine::{CpuConfig, MachineConfig, MemError, MemoryPool};
@@ -111,6 +112,8 @@ pub(super) enum Event<M> {
     Wake(ProgramId),
     /// A message whose arrival time the network knew at injection.
     Arrive(MsgId),
+    /// The end of a slice of a chain (`slices.rs`): of its program's computation on a node.
+    Slice(ProgramId, NodeId),
     /// A message posted directly into a mailbox, bypassing network and cpu (timers, PHOLD).
     /// Kept small: heap entries are moved on every push and pop.
     Post {
@@ -278,6 +281,11 @@ pub(super) struct State<M> {
     pub cpu: CpuConfig,
     net: Option<Network>,
     net_wakes: NetWakes,
+    /// Computations whose slices the executor reserves for their programs (`slices.rs`).
+    pub slices: Slices,
+    /// Every slice's end a wake-up and a poll of its program, as before chains: the plain
+    /// way, kept as the oracle the tests compare chains against.
+    every_slice_an_event: bool,
     in_flight: Vec<Option<InFlight<M>>>,
     free_slots: Vec<usize>,
     delivered: Vec<Delivered>,
@@ -318,7 +326,7 @@ impl<M: Payload> State<M> {
                 .as_ref()
                 .filter(|f| !f.broadcast)
                 .map(|f| f.env.dst),
-            Event::Wake(_) => None,
+            Event::Wake(_) | Event::Slice(..) => None,
         }
     }
 
@@ -336,6 +344,7 @@ impl<M: Payload> State<M> {
 
     /// Queues `t` of work on `node`'s cpu, first come first served; returns when it ends.
     pub fn reserve_cpu(&mut self, node: NodeId, t: SimTime, comm: bool) -> SimTime {
+        self.slices.end_on(node);
         let meta = &self.programs[self.current as usize];
         // The program's own node keeps its phase's place (a charge to another node finds it).
         let own_node = meta.node == node;
@@ -392,6 +401,82 @@ impl<M: Payload> State<M> {
             }
         }
         end
+    }
+
+    /// Starts a chain (`slices.rs`) for program `p`, whose slice on `node` ends at `at` with
+    /// `left` work after it; false where its wake-ups stay the program's: on the oracle's
+    /// plain way, or for work that would end past the largest time (the plain way reports
+    /// that when it gets there).
+    pub fn chain_slices(&mut self, node: NodeId, p: ProgramId, at: SimTime, left: SimTime) -> bool {
+        if self.every_slice_an_event || at.checked_add(left).is_none() {
+            return false;
+        }
+        self.slices.start(node, p, left);
+        self.schedule(at, Event::Slice(p, node));
+        true
+    }
+
+    /// A slice of program `p`'s computation on `node` ends at `first`: if its chain still
+    /// runs, the next slice is reserved, as the program would on waking (`Until`), and so
+    /// is every slice after it that ends before anything else is due (a slice reserved now
+    /// ends at a place after every one taken so far at its instant, so it comes before
+    /// anything at a later instant and after everything at its own); then the next slice
+    /// event is queued, or, after the last slice, the program's wake-up. If the chain has
+    /// ended, the program wakes now (returned). Slices are not reserved past `horizon`, as a
+    /// program's wake-ups would not be taken.
+    #[cold]
+    #[inline(never)]
+    fn next_slices(
+        &mut self,
+        p: ProgramId,
+        node: NodeId,
+        first: SimTime,
+        horizon: SimTime,
+    ) -> Option<ProgramId> {
+        let Some(mut chain) = self.slices.take(node, p) else {
+            return Some(p);
+        };
+        let others = [
+            self.queue.peek_time(),
+            self.net_wakes.due(self.queue.last_taken()).map(Place::time),
+        ];
+        let bound = others
+            .into_iter()
+            .flatten()
+            .fold(SimTime::MAX, SimTime::min);
+        let slice = self.cpu.timeslice.expect("chains run on a sliced cpu");
+        // Slice ends at `first`, `first + slice`, ... before `bound` and within `horizon`,
+        // each reserving a slice, until the work is all reserved.
+        let before_bound = bound.ps().saturating_sub(first.ps()).div_ceil(slice.ps());
+        let within_horizon = ((horizon.ps() - first.ps()) / slice.ps()).saturating_add(1);
+        let to_exhaust = chain.left.ps().div_ceil(slice.ps());
+        let ends = before_bound.min(within_horizon).min(to_exhaust).max(1);
+        let work = chain.left.min(slice.times(ends));
+        // The slice event taken counted one of the ends.
+        self.events += ends - 1;
+        self.current = p;
+        let end = if self.timeline.is_some() {
+            // Each slice is a span of its own on a timeline.
+            let mut end = first;
+            for i in 0..ends {
+                self.now = first + slice.times(i);
+                end = self.reserve_cpu(node, (work - slice.times(i)).min(slice), false);
+            }
+            end
+        } else {
+            self.reserve_cpu(node, work, false)
+        };
+        self.now = first + slice.times(ends - 1);
+        chain.left = chain.left - work;
+        if chain.left > SimTime::ZERO {
+            self.slices.start(node, p, chain.left);
+            self.schedule(end, Event::Slice(p, node));
+        } else {
+            self.slices.resume_with(p, SimTime::ZERO);
+            self.schedule(end, Event::Wake(p));
+        }
+        self.programs[p as usize].wait = Wait::Time(end);
+        None
     }
 
     pub fn register_program(&mut self, node: NodeId, name: String, daemon: bool, program: Program) {
@@ -646,6 +731,7 @@ impl<M: Payload> Sim<M> {
             })
             .collect();
         let first_program = vec![None; nodes.len()];
+        let slices = Slices::new(nodes.len());
         let state = State {
             now: SimTime::ZERO,
             seed,
@@ -661,6 +747,8 @@ impl<M: Payload> Sim<M> {
             cpu,
             net,
             net_wakes: NetWakes::default(),
+            slices,
+            every_slice_an_event: false,
             in_flight: Vec::new(),
             free_slots: Vec::new(),
             delivered: Vec::new(),
@@ -688,6 +776,13 @@ impl<M: Payload> Sim<M> {
         if let Some(net) = st.net.as_mut() {
             net.record_occupancy();
         }
+    }
+
+    /// Wakes a program at the end of every slice of a time-sliced cpu instead of running
+    /// chains (`slices.rs`): the plain way, kept as the oracle the tests compare chains
+    /// against. Changes no answer, only the run's wall time.
+    pub fn wake_every_slice(&mut self) {
+        self.state.borrow_mut().every_slice_an_event = true;
     }
 
     /// Pauses (or resumes) the recorded timeline from now on (see `Node::record_timeline`).
@@ -954,6 +1049,7 @@ impl<M: Payload> State<M> {
             // takes an event only then), so queueing it would only take it straight back out.
             let woken = match event {
                 Event::Wake(p) => Some(p),
+                Event::Slice(p, node) => self.next_slices(p, node, at, horizon),
                 Event::Arrive(id) => {
                     self.arrive(id);
                     None

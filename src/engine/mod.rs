@@ -18,6 +18,7 @@ mod executor;
 mod node;
 mod queue;
 mod rng;
+mod slices;
 mod stats;
 mod wakes;
 

@@ -192,6 +192,7 @@ impl<M: Payload> Node<M> {
             at: end,
             armed: false,
             left,
+            chained: false,
         }
     }
 
@@ -203,6 +204,7 @@ impl<M: Payload> Node<M> {
             at,
             armed: false,
             left: SimTime::ZERO,
+            chained: false,
         }
     }
 
@@ -238,6 +240,7 @@ impl<M: Payload> Node<M> {
                 at: end,
                 armed: false,
                 left: SimTime::ZERO,
+                chained: false,
             }
             .await;
         }
@@ -348,6 +351,8 @@ pub struct Until<'a, M: Payload> {
     armed: bool,
     /// Computation still to queue, a slice at a time, once the slice ending at `at` is done.
     left: SimTime,
+    /// The executor reserves the slices (a chain, `slices.rs`) until the program wakes.
+    chained: bool,
 }
 
 impl<M: Payload> Future for Until<'_, M> {
@@ -355,6 +360,14 @@ impl<M: Payload> Future for Until<'_, M> {
     fn poll(mut self: Pin<&mut Self>, _cx: &mut Context<'_>) -> Poll<()> {
         let node = self.node;
         let mut st = node.st.borrow_mut();
+        if self.chained {
+            let p = st.current;
+            let Some(left) = st.slices.resume(p) else {
+                return Poll::Pending;
+            };
+            // Woken at the end of a slice, as the plain way wakes it.
+            (self.at, self.left, self.chained) = (st.now, left, false);
+        }
         if st.now >= self.at && self.left > SimTime::ZERO {
             // Behind whatever other programs queued during the slice just ended.
             let slice = st.cpu.timeslice.expect("work is left only on a sliced cpu");
@@ -368,7 +381,13 @@ impl<M: Payload> Future for Until<'_, M> {
         }
         if !self.armed {
             let p = st.current;
-            st.schedule(self.at, Event::Wake(p));
+            // With work left on a sliced cpu, the executor reserves the slices until the last
+            // one ends or another program reserves this cpu (`slices.rs`).
+            self.chained =
+                self.left > SimTime::ZERO && st.chain_slices(node.id, p, self.at, self.left);
+            if !self.chained {
+                st.schedule(self.at, Event::Wake(p));
+            }
             st.meta().wait = Wait::Time(self.at);
             drop(st);
             self.armed = true;

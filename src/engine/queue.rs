@@ -227,7 +227,7 @@ impl<E> EventQueue<E> {
         Some((SimTime::from_ps((key >> 64) as u64), event))
     }
 
-    #[cfg(test)]
+    /// The time of the earliest event queued.
     pub fn peek_time(&self) -> Option<SimTime> {
         self.keys
             .peek()

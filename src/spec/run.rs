@@ -128,6 +128,7 @@ impl RunSpec {
             timeline: false,
             timeline_frames: None,
             front_end_ahead: true,
+            wake_every_slice: false,
         })
     }
 
