@@ -436,14 +436,8 @@ impl<M: Payload> State<M> {
         let Some(mut chain) = self.slices.take(node, p) else {
             return Some(p);
         };
-        let others = [
-            self.queue.peek_time(),
-            self.net_wakes.due(self.queue.last_taken()).map(Place::time),
-        ];
-        let bound = others
-            .into_iter()
-            .flatten()
-            .fold(SimTime::MAX, SimTime::min);
+        let net = self.net_wakes.due(self.queue.last_taken()).map(Place::time);
+        let bound = SimTime::earliest(self.queue.peek_time(), net).unwrap_or(SimTime::MAX);
         let slice = self.cpu.timeslice.expect("chains run on a sliced cpu");
         // Slice ends at `first`, `first + slice`, ... before `bound` and within `horizon`,
         // each reserving a slice, until the work is all reserved.
