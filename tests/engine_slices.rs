@@ -153,9 +153,17 @@ impl<F: Future + Unpin> Future for Counted<F> {
 /// How often a computation of 100 slices is polled, with another program taking the cpu
 /// once at `cut_at` if given, chained or the plain way.
 fn polls_of_100_slices(cut_at: Option<u64>, plain: bool) -> (u32, u64) {
+    let (polls, stats) = run_100_slices(cut_at, plain);
+    (polls, stats.events)
+}
+
+/// [`polls_of_100_slices`]'s run, with a timeline; the other program works in a phase of its
+/// own.
+fn run_100_slices(cut_at: Option<u64>, plain: bool) -> (u32, sortsim::engine::RunStats) {
     let mut machine = common::ring(1, "0us", "0us", true);
     machine.cpu.timeslice = Some(SimTime::from_us(1));
     let mut sim: Sim<Note> = Sim::new(&machine, 1).unwrap();
+    sim.record_timeline();
     if plain {
         sim.wake_every_slice();
     }
@@ -174,12 +182,13 @@ fn polls_of_100_slices(cut_at: Option<u64>, plain: bool) -> (u32, u64) {
         let node = sim.node(0);
         sim.spawn(0, "short", async move {
             node.sleep(SimTime::from_us(at)).await;
+            node.phase("cut in");
             node.compute_for(SimTime::from_us(1)).await;
             Ok(())
         });
     }
     let stats = sim.run().unwrap();
-    (polls.get(), stats.events)
+    (polls.get(), stats)
 }
 
 /// The chains are taken: a computation alone on its cpu is polled when it starts and when
@@ -196,6 +205,35 @@ fn a_computation_alone_on_its_cpu_is_polled_twice_not_every_slice() {
         "woken where the other program cut in, then chained again"
     );
     assert_eq!(polls_of_100_slices(Some(30), true).1, events_cut);
+}
+
+/// A timeline shows a computation's slices as one span, however many charges made it, and
+/// a program that cuts in as a span between two: the same spans chained or the plain way.
+#[test]
+fn a_computation_cut_into_slices_is_one_span_on_a_timeline() {
+    let spans = |cut_at, plain| {
+        let timeline = run_100_slices(cut_at, plain).1.timeline.unwrap();
+        timeline
+            .iter()
+            .map(|s| (s.phase, s.start.as_us_f64(), s.end.as_us_f64()))
+            .collect::<Vec<_>>()
+    };
+    for plain in [false, true] {
+        assert_eq!(
+            spans(None, plain),
+            vec![("run", 0.0, 100.0)],
+            "plain: {plain}"
+        );
+        assert_eq!(
+            spans(Some(30), plain),
+            vec![
+                ("run", 0.0, 30.0),
+                ("cut in", 30.0, 31.0),
+                ("run", 31.0, 101.0)
+            ],
+            "plain: {plain}"
+        );
+    }
 }
 
 /// Whole frames on the MultiCluster's time-sliced T800s, where paper 001's request balancer

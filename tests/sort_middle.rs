@@ -263,7 +263,7 @@ fn recording_a_timeline_changes_no_result() {
 
 /// `--timeline-frames`: the timeline of some frames is the whole run's timeline cut where the
 /// first of them begins and where the frame after them begins (cpu spans in the order they
-/// were reserved), and the run is the same run.
+/// began; none runs across a frame's beginning), and the run is the same run.
 #[test]
 fn a_timeline_of_some_frames_is_the_whole_timeline_cut_at_their_beginnings() {
     for (machine, algo, procs) in [

@@ -31,7 +31,8 @@ pub(crate) struct FrameBook {
     /// The thread making the later frames' front end, when the run has one.
     ahead: RefCell<Option<Ahead>>,
     records: RefCell<BTreeMap<u32, FrameRecord>>,
-    /// The frames a recorded timeline covers (all when `None`).
+    /// The frames a recorded timeline covers (`None` when the run records none): each frame's
+    /// beginning resumes or pauses it, and no cpu span runs across it.
     timeline_frames: Option<Range<u32>>,
 }
 
@@ -93,7 +94,9 @@ impl FrameBook {
             )])),
             ahead: RefCell::new(ahead),
             records: RefCell::default(),
-            timeline_frames: cfg.timeline.then(|| cfg.timeline_frames.clone()).flatten(),
+            timeline_frames: cfg
+                .timeline
+                .then(|| cfg.timeline_frames.clone().unwrap_or(cfg.frames.clone())),
         }
     }
 

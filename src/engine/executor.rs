@@ -19,7 +19,7 @@ use smallvec::SmallVec;
 use super::node::{Envelope, Filter, Node, Payload};
 use super::queue::{EventQueue, LookAhead, Place};
 use super::slices::Slices;
-use super::stats::{CpuSpan, NodeStats, RunStats};
+use super::stats::{CpuSpan, CpuTimeline, NodeStats, RunStats};
 use super::wakes::NetWakes;
 use crate::machine::{CpuConfig, MachineConfig, MemError, MemoryPool};
 use crate::net::{Delivered, Dest, MsgId, Network, NodeId};
@@ -291,7 +291,7 @@ pub(super) struct State<M> {
     delivered: Vec<Delivered>,
     pub events: u64,
     /// Cpu spans, when the run records a timeline (off by default: it costs memory).
-    timeline: Option<Vec<CpuSpan>>,
+    timeline: Option<CpuTimeline>,
     /// The timeline is recorded but paused (outside the frames it covers).
     timeline_paused: bool,
     /// A charge that would end past the largest simulated time: the run stops with it at the
@@ -330,9 +330,13 @@ impl<M: Payload> State<M> {
         }
     }
 
-    /// Pauses or resumes a recorded timeline: its cpu spans and its links' occupancy.
+    /// Pauses or resumes a recorded timeline: its cpu spans and its links' occupancy. No cpu
+    /// span recorded before it is lengthened after it.
     pub fn pause_timeline(&mut self, paused: bool) {
         self.timeline_paused = paused;
+        if let Some(timeline) = &mut self.timeline {
+            timeline.cut();
+        }
         if let Some(net) = self.net.as_mut() {
             net.pause_occupancy(paused);
         }
@@ -390,9 +394,9 @@ impl<M: Payload> State<M> {
         if comm {
             n.stats.comm += t;
         }
-        if let Some(spans) = &mut self.timeline {
+        if let Some(timeline) = &mut self.timeline {
             if t > SimTime::ZERO && !self.timeline_paused {
-                spans.push(CpuSpan {
+                timeline.record(CpuSpan {
                     node,
                     phase,
                     start,
@@ -449,17 +453,8 @@ impl<M: Payload> State<M> {
         // The slice event taken counted one of the ends.
         self.events += ends - 1;
         self.current = p;
-        let end = if self.timeline.is_some() {
-            // Each slice is a span of its own on a timeline.
-            let mut end = first;
-            for i in 0..ends {
-                self.now = first + slice.times(i);
-                end = self.reserve_cpu(node, (work - slice.times(i)).min(slice), false);
-            }
-            end
-        } else {
-            self.reserve_cpu(node, work, false)
-        };
+        // One charge for every slice: on a timeline they are one span either way.
+        let end = self.reserve_cpu(node, work, false);
         self.now = first + slice.times(ends - 1);
         chain.left = chain.left - work;
         if chain.left > SimTime::ZERO {
@@ -766,7 +761,7 @@ impl<M: Payload> Sim<M> {
     /// Records every stretch of cpu work for a timeline (see `RunStats::timeline`).
     pub fn record_timeline(&mut self) {
         let mut st = self.state.borrow_mut();
-        st.timeline.get_or_insert_with(Vec::new);
+        st.timeline.get_or_insert_with(CpuTimeline::default);
         if let Some(net) = st.net.as_mut() {
             net.record_occupancy();
         }
@@ -829,7 +824,7 @@ impl<M: Payload> Sim<M> {
         let mut stats = self.counters();
         let mut st = self.state.borrow_mut();
         let st = &mut *st;
-        stats.timeline = st.timeline.take();
+        stats.timeline = st.timeline.take().map(CpuTimeline::into_spans);
         stats.link_timeline = stats
             .timeline
             .as_ref()

@@ -55,13 +55,56 @@ impl NodeStats {
     }
 }
 
-/// One stretch of cpu work on a node, for timelines.
+/// One stretch of cpu work of one phase on a node, for timelines.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub struct CpuSpan {
     pub node: NodeId,
     pub phase: &'static str,
     pub start: SimTime,
     pub end: SimTime,
+}
+
+/// The cpu spans of a run being recorded. A charge that starts where its node's last span
+/// ends, in the same phase, lengthens that span instead of adding one: the timeline shows
+/// the same bars, and its size follows the changes of phase, not the charges (a sort-middle
+/// frame charges each message's overheads apart; a time-sliced cpu charges each slice).
+/// No span is lengthened across a [`CpuTimeline::cut`] (a frame's beginning), so that the
+/// timeline of some frames is the whole run's cut there.
+#[derive(Clone, Debug, Default)]
+pub(crate) struct CpuTimeline {
+    spans: Vec<CpuSpan>,
+    /// `last[node]`: the index of the node's last span, `NO_SPAN` before its first.
+    last: Vec<usize>,
+}
+
+const NO_SPAN: usize = usize::MAX;
+
+impl CpuTimeline {
+    pub fn record(&mut self, span: CpuSpan) {
+        let node = span.node as usize;
+        if node >= self.last.len() {
+            self.last.resize(node + 1, NO_SPAN);
+        }
+        if let Some(last) = self.spans.get_mut(self.last[node]) {
+            if last.end == span.start && last.phase == span.phase {
+                last.end = span.end;
+                return;
+            }
+        }
+        self.last[node] = self.spans.len();
+        self.spans.push(span);
+    }
+
+    /// Spans recorded from now on start afresh.
+    pub fn cut(&mut self) {
+        self.last.fill(NO_SPAN);
+    }
+
+    /// The spans, each where its first charge was made (so in the order they began on each
+    /// node).
+    pub fn into_spans(self) -> Vec<CpuSpan> {
+        self.spans
+    }
 }
 
 #[derive(Clone, Debug, Default)]
@@ -73,7 +116,8 @@ pub struct RunStats {
     pub nodes: Vec<NodeStats>,
     pub links: Vec<LinkStats>,
     pub memory: Vec<PoolStats>,
-    /// Cpu spans in the order they were reserved, if the run recorded a timeline.
+    /// Cpu spans in the order they began, if the run recorded a timeline; contiguous work of
+    /// one phase on a node is one span ([`CpuTimeline`]).
     pub timeline: Option<Vec<CpuSpan>>,
     /// Link occupancy (messages in flight per link), if the run recorded a timeline.
     pub link_timeline: Option<Vec<crate::net::LinkSpan>>,
@@ -110,6 +154,38 @@ mod tests {
             vec![
                 ("rasterize", SimTime::from_ns(13)),
                 ("transform", SimTime::from_ns(2))
+            ]
+        );
+    }
+
+    fn span(node: NodeId, phase: &'static str, start_ns: u64, end_ns: u64) -> CpuSpan {
+        CpuSpan {
+            node,
+            phase,
+            start: SimTime::from_ns(start_ns),
+            end: SimTime::from_ns(end_ns),
+        }
+    }
+
+    #[test]
+    fn contiguous_work_of_one_phase_on_a_node_is_one_span() {
+        let mut t = CpuTimeline::default();
+        t.record(span(1, "transform", 0, 10));
+        t.record(span(0, "transform", 10, 20)); // another node: its own span
+        t.record(span(1, "transform", 10, 15)); // joins node 1's
+        t.record(span(1, "rasterize", 15, 30)); // another phase
+        t.record(span(1, "rasterize", 31, 40)); // a gap
+        t.record(span(0, "transform", 20, 25)); // joins node 0's, after node 1's others
+        t.cut();
+        t.record(span(0, "transform", 25, 26)); // a frame began: its own span
+        assert_eq!(
+            t.into_spans(),
+            vec![
+                span(1, "transform", 0, 15),
+                span(0, "transform", 10, 25),
+                span(1, "rasterize", 15, 30),
+                span(1, "rasterize", 31, 40),
+                span(0, "transform", 25, 26),
             ]
         );
     }
