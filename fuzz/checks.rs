@@ -217,7 +217,8 @@ pub fn paper(data: &[u8]) {
 /// options set to a value its schema allows or to an edge of one (0, 2^32). Whatever the checks
 /// refuse is a refusal; what they accept must run to an answer or a `RunError`, never a panic,
 /// and must keep two promises: the same case run again, with the front end made on the
-/// simulation's own thread, gives the same frames and image; and without anti-aliasing the
+/// simulation's own thread and a wake-up at every slice, gives the same frames, image and
+/// statistics (timeline included); and without anti-aliasing the
 /// image's colours are the sequential reference renderer's. With `SORTSIM_FUZZ_SHOW` set, each
 /// case is printed before it runs (a hang reported by libFuzzer says nothing else).
 pub fn simulate(data: &[u8]) {
@@ -382,7 +383,8 @@ mod simulated {
                 frames,
                 options,
                 seed: 1,
-                timeline: false,
+                // Recorded, so that the two runs' statistics compare their timelines too.
+                timeline: true,
                 timeline_frames: None,
                 front_end_ahead: true,
                 wake_every_slice: false,
