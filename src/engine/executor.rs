@@ -18,7 +18,7 @@ use smallvec::SmallVec;
 
 use super::node::{Envelope, Filter, Node, Payload};
 use super::queue::{EventQueue, LookAhead, Place};
-use super::slices::Slices;
+use super::slices::{Chain, Slices};
 use super::stats::{CpuSpan, CpuTimeline, NodeStats, RunStats};
 use super::wakes::NetWakes;
 use crate::machine::{CpuConfig, MachineConfig, MemError, MemoryPool};
@@ -415,7 +415,7 @@ impl<M: Payload> State<M> {
         if self.every_slice_an_event || at.checked_add(left).is_none() {
             return false;
         }
-        self.slices.start(node, p, left);
+        self.slices.start(node, p, left, at);
         self.schedule(at, Event::Slice(p, node));
         true
     }
@@ -441,6 +441,13 @@ impl<M: Payload> State<M> {
             return Some(p);
         };
         let net = self.net_wakes.due(self.queue.last_taken()).map(Place::time);
+        if net.is_none()
+            && self.slices.running() > 0
+            && self.queue.len() == self.slices.running()
+            && self.chains_in_rounds((node, chain), horizon)
+        {
+            return None;
+        }
         let bound = SimTime::earliest(self.queue.peek_time(), net).unwrap_or(SimTime::MAX);
         let slice = self.cpu.timeslice.expect("chains run on a sliced cpu");
         // Slice ends at `first`, `first + slice`, ... before `bound` and within `horizon`,
@@ -458,7 +465,7 @@ impl<M: Payload> State<M> {
         self.now = first + slice.times(ends - 1);
         chain.left = chain.left - work;
         if chain.left > SimTime::ZERO {
-            self.slices.start(node, p, chain.left);
+            self.slices.start(node, p, chain.left, end);
             self.schedule(end, Event::Slice(p, node));
         } else {
             self.slices.resume_with(p, SimTime::ZERO);
@@ -466,6 +473,57 @@ impl<M: Payload> State<M> {
         }
         self.programs[p as usize].wait = Wait::Time(end);
         None
+    }
+
+    /// Whole rounds of every chain at once, when the queue holds nothing but the chains'
+    /// slice events (each running chain has exactly one queued) and no network wake-up is
+    /// due: `first` (the chain whose event was just taken, on its node) and the others, in
+    /// the queue's order. Each round takes every chain's slice end in that same order (a
+    /// chain's next end is queued after the others' ends of the round, at most a slice
+    /// later), and each end reserves the next slice of its chain on its own node, which no
+    /// other end touches; so `R` rounds are `R` slices reserved on each node at once, and
+    /// the chains' events queued again in the order they were taken. Rounds stop before any
+    /// chain's last slice (its program wakes then) and at `horizon`. False, with nothing
+    /// done, when not one whole round fits.
+    fn chains_in_rounds(&mut self, first: (NodeId, Chain), horizon: SimTime) -> bool {
+        let slice = self.cpu.timeslice.expect("chains run on a sliced cpu");
+        let chains = || std::iter::once(&first.1).chain(self.slices.chains());
+        // Every chain keeps work for a slice after the rounds.
+        let mut rounds = chains()
+            .map(|c| c.left.ps().div_ceil(slice.ps()) - 1)
+            .min()
+            .unwrap_or(0);
+        // The latest end taken in a round is the last chain's: within the horizon.
+        let latest = chains().map(|c| c.at).max().unwrap_or(first.1.at);
+        rounds = rounds.min(match horizon.ps().checked_sub(latest.ps()) {
+            Some(room) => (room / slice.ps()).saturating_add(1),
+            None => 0,
+        });
+        if rounds == 0 {
+            return false;
+        }
+        let mut order = vec![first];
+        while let Some((at, event)) = self.queue.pop() {
+            let Event::Slice(p, node) = event else {
+                unreachable!("only the chains' slice events are queued")
+            };
+            let chain = self.slices.take(node, p).expect("a running chain's event");
+            debug_assert_eq!(chain.at, at, "a chain's event is queued where it says");
+            order.push((node, chain));
+        }
+        let work = slice.times(rounds);
+        for &(node, chain) in &order {
+            (self.now, self.current) = (chain.at, chain.program);
+            let end = self.reserve_cpu(node, work, false);
+            self.slices
+                .start(node, chain.program, chain.left - work, end);
+            self.schedule(end, Event::Slice(chain.program, node));
+            self.programs[chain.program as usize].wait = Wait::Time(end);
+        }
+        // The event taken counted the first end.
+        self.events += rounds * order.len() as u64 - 1;
+        self.now = latest + slice.times(rounds - 1);
+        true
     }
 
     pub fn register_program(&mut self, node: NodeId, name: String, daemon: bool, program: Program) {

@@ -16,6 +16,12 @@
 //! slice by slice as before. So every slice starts, ends and is counted where the plain way
 //! has it, and the events around it keep their order (the tests compare the two).
 //!
+//! Chains on several nodes interleave: each one's next end comes before the others' ends
+//! of the slice after, so one alone takes a step a slice. When the queue holds nothing but
+//! the chains' slice events, the executor takes whole rounds of all of them at once
+//! (`State::chains_in_rounds`): the ends of a round come in the same order every round, and
+//! each reserves on its own node only.
+//!
 //! Owns which computations are chains; must never poll a program or reserve a cpu itself.
 
 use super::executor::ProgramId;
@@ -28,6 +34,8 @@ pub(super) struct Chain {
     pub program: ProgramId,
     /// Work not reserved yet (more than zero while the chain runs).
     pub left: SimTime,
+    /// Where its slice event is queued: the end of the slice reserved last.
+    pub at: SimTime,
 }
 
 #[derive(Default)]
@@ -51,12 +59,22 @@ impl Slices {
     }
 
     /// Starts a chain on `node` for `program`, with `left` work to reserve after the slice
-    /// whose end its slice event is queued at.
-    pub fn start(&mut self, node: NodeId, program: ProgramId, left: SimTime) {
+    /// whose end, `at`, its slice event is queued at.
+    pub fn start(&mut self, node: NodeId, program: ProgramId, left: SimTime, at: SimTime) {
         debug_assert!(left > SimTime::ZERO, "a chain has work left");
         debug_assert!(self.by_node[node as usize].is_none(), "one chain a node");
-        self.by_node[node as usize] = Some(Chain { program, left });
+        self.by_node[node as usize] = Some(Chain { program, left, at });
         self.running += 1;
+    }
+
+    /// How many chains run.
+    pub fn running(&self) -> usize {
+        self.running
+    }
+
+    /// The chains that run.
+    pub fn chains(&self) -> impl Iterator<Item = &Chain> {
+        self.by_node.iter().flatten()
     }
 
     /// Takes `program`'s chain on `node` at its slice event, to go on (and be started again)
