@@ -126,6 +126,9 @@ impl Interfaces {
     /// link runs at `rate` (a gap after the interface is free, which it is again once the
     /// bytes have left), with its place among the messages sent: the key it waits by
     /// ([`Interfaces::send`]) or is held by to its arrival ([`Interfaces::arrive_known`]).
+    /// This, `arrive_known` and `pop_due` run once a message: marked inline so that they stay
+    /// inlined into `Network` whichever codegen unit the compiler puts them in.
+    #[inline]
     pub(super) fn depart(
         &mut self,
         now: SimTime,
@@ -145,6 +148,7 @@ impl Interfaces {
     /// order the messages left, which is the order of (leaving instant, place sent): so it
     /// does here. It must arrive after it leaves: one arriving as it left would have been
     /// delivered at its leaving, among the other events of that instant.
+    #[inline]
     pub(super) fn arrive_known(&mut self, at: SimTime, leaves: SimTime, seq: u64, msg: MsgId) {
         assert!(
             at > leaves,
@@ -175,6 +179,7 @@ impl Interfaces {
 
     /// The next held message due at or before `now`, with its instant: of a leaving and an
     /// arrival at the same instant, the one held first.
+    #[inline]
     pub(super) fn pop_due(&mut self, now: SimTime) -> Option<(SimTime, Due)> {
         let start = self.next_start().filter(|&((at, _), _)| at <= now);
         let arrival = self.next_arrival().filter(|&(at, _, _)| at <= now);
