@@ -487,14 +487,13 @@ impl<M: Payload> State<M> {
     /// done, when not one whole round fits.
     fn chains_in_rounds(&mut self, first: (NodeId, Chain), horizon: SimTime) -> bool {
         let slice = self.cpu.timeslice.expect("chains run on a sliced cpu");
-        let chains = || std::iter::once(&first.1).chain(self.slices.chains());
-        // Every chain keeps work for a slice after the rounds.
-        let mut rounds = chains()
-            .map(|c| c.left.ps().div_ceil(slice.ps()) - 1)
-            .min()
-            .unwrap_or(0);
-        // The latest end taken in a round is the last chain's: within the horizon.
-        let latest = chains().map(|c| c.at).max().unwrap_or(first.1.at);
+        // Every chain keeps work for a slice after the rounds, and the latest end taken in a
+        // round (the last chain's) stays within the horizon: one pass over the chains.
+        let rounds_left = |c: &Chain| c.left.ps().div_ceil(slice.ps()) - 1;
+        let (mut rounds, latest) = self.slices.chains().fold(
+            (rounds_left(&first.1), first.1.at),
+            |(rounds, latest), c| (rounds.min(rounds_left(c)), latest.max(c.at)),
+        );
         rounds = rounds.min(match horizon.ps().checked_sub(latest.ps()) {
             Some(room) => (room / slice.ps()).saturating_add(1),
             None => 0,
